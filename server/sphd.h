@@ -1,0 +1,39 @@
+/* sphd: internal interfaces of the daemon's modules. */
+#ifndef SPHD_H
+#define SPHD_H
+
+#include <stddef.h>
+
+/* sysexits.h codes used by sphd and sphctl (DESIGN.md section 3). */
+#define SPHD_EX_OK          0
+#define SPHD_EX_FAILED      1
+#define SPHD_EX_USAGE       64
+#define SPHD_EX_DATAERR     65
+#define SPHD_EX_NOINPUT     66
+#define SPHD_EX_UNAVAILABLE 69
+#define SPHD_EX_SOFTWARE    70
+#define SPHD_EX_CANTCREAT   73
+#define SPHD_EX_TEMPFAIL    75
+
+#define SPHD_MAX_SETS 64
+
+typedef struct sphd_run_opts {
+    const char *case_file; /* the case */
+    const char *out_dir;   /* NULL: out/<job> */
+    const char *job;       /* NULL: the case's name */
+    const char *sets[SPHD_MAX_SETS];
+    int nsets;
+    int threads; /* 0: OpenMP's default */
+} sphd_run_opts;
+
+/* `sphd --run`: runs one case in the foreground, events as JSON Lines on stdout. Returns the
+ * process exit code. */
+int sphd_run(const sphd_run_opts *opts);
+
+/* Writes len bytes to path atomically (temporary name, fsync, rename). Returns 0 or -1 (errno). */
+int sphd_write_atomic(const char *path, const char *data, size_t len);
+
+/* mkdir -p with mode 0700 for created directories. Returns 0 or -1 (errno). */
+int sphd_mkdirs(const char *path);
+
+#endif

@@ -1,0 +1,164 @@
+/*
+ * sphd --run: batch mode. One case, in the foreground, no socket. Events go to stdout as JSON
+ * Lines (the same objects the stream carries); messages go to stderr; outputs go to the out dir.
+ */
+#include "sph_case.h"
+#include "sph_events.h"
+#include "sph_json.h"
+#include "sph_study.h"
+#include "sphd.h"
+
+#include <errno.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct emitter {
+    const char *job;
+    long seq;
+} emitter;
+
+/* Prints one event (stolen reference) as a line on stdout. */
+static void emit(emitter *em, const char *type, json_t *body)
+{
+    json_t *ev = sph_event_new(em->job, ++em->seq, type);
+    if (body)
+        json_object_update(ev, body);
+    json_decref(body);
+    char *line = json_dumps(ev, JSON_COMPACT | JSON_REAL_PRECISION(10));
+    if (line) {
+        fputs(line, stdout);
+        fputc('\n', stdout);
+        fflush(stdout);
+        free(line);
+    }
+    json_decref(ev);
+}
+
+static void emit_state(emitter *em, const char *state, const char *reason)
+{
+    json_t *b = json_pack("{s:s}", "state", state);
+    if (reason)
+        json_object_set_new(b, "reason", json_string(reason));
+    emit(em, "state", b);
+}
+
+static int write_json(const char *dir, const char *name, const json_t *j)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    char *text = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(17));
+    if (!text)
+        return -1;
+    size_t len = strlen(text);
+    int rc = sphd_write_atomic(path, text, len);
+    free(text);
+    if (rc != 0)
+        fprintf(stderr, "sphd: cannot write %s: %s\n", path, strerror(errno));
+    return rc;
+}
+
+/* A job id is used as a file name: letters, digits, '.', '_', '-', 1 to 63 characters, not
+ * starting with '.'. */
+static int job_id_ok(const char *id)
+{
+    size_t n = strlen(id);
+    if (n == 0 || n > 63 || id[0] == '.')
+        return 0;
+    for (size_t i = 0; i < n; i++) {
+        char c = id[i];
+        if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+              c == '.' || c == '_' || c == '-'))
+            return 0;
+    }
+    return 1;
+}
+
+int sphd_run(const sphd_run_opts *o)
+{
+    sph_error err;
+    sph_error_clear(&err);
+    json_t *root = NULL;
+    if (sph_case_load(o->case_file, &root, &err)) {
+        fprintf(stderr, "sphd: %s\n", err.message);
+        return err.code == SPH_ERR_IO ? SPHD_EX_NOINPUT : SPHD_EX_DATAERR;
+    }
+    for (int i = 0; i < o->nsets; i++) {
+        if (sph_json_apply_set(root, o->sets[i], &err)) {
+            fprintf(stderr, "sphd: %s: %s\n", o->case_file, err.message);
+            json_decref(root);
+            return SPHD_EX_DATAERR;
+        }
+    }
+    sph_case *c = calloc(1, sizeof *c);
+    if (!c) {
+        json_decref(root);
+        return SPHD_EX_SOFTWARE;
+    }
+    if (sph_case_from_json(root, c, &err)) {
+        fprintf(stderr, "sphd: %s: invalid case: %s%s%s\n", o->case_file, err.message,
+                err.path[0] ? " (at " : "", err.path[0] ? err.path : "");
+        if (err.path[0])
+            fputs(")\n", stderr);
+        free(c);
+        json_decref(root);
+        return SPHD_EX_DATAERR;
+    }
+    const char *job = o->job ? o->job : c->name;
+    if (!job_id_ok(job)) {
+        fprintf(stderr,
+                "sphd: job id '%s' is not usable as a file name: use 1-63 letters, digits, '.', "
+                "'_' or '-' (set one with --id)\n",
+                job);
+        free(c);
+        json_decref(root);
+        return SPHD_EX_USAGE;
+    }
+    char outdir[4096];
+    if (o->out_dir)
+        snprintf(outdir, sizeof outdir, "%s", o->out_dir);
+    else
+        snprintf(outdir, sizeof outdir, "out/%s", job);
+    if (sphd_mkdirs(outdir) != 0) {
+        fprintf(stderr, "sphd: cannot create output directory '%s': %s\n", outdir, strerror(errno));
+        free(c);
+        json_decref(root);
+        return SPHD_EX_CANTCREAT;
+    }
+    if (o->threads > 0)
+        omp_set_num_threads(o->threads);
+
+    emitter em = {.job = job, .seq = 0};
+    int rc = SPHD_EX_OK;
+    write_json(outdir, "case.json", root);
+    emit_state(&em, "running", NULL);
+    switch (c->method) {
+    case SPH_METHOD_KERNEL_STUDY: {
+        sph_study_result *res = calloc(1, sizeof *res);
+        if (!res || sph_study_run(&c->study, res, &err)) {
+            char reason[512];
+            snprintf(reason, sizeof reason, "%s: %s",
+                     sph_error_code_name(res ? err.code : SPH_ERR_NOMEM),
+                     res ? err.message : "out of memory");
+            emit_state(&em, "failed", reason);
+            rc = SPHD_EX_FAILED;
+        } else {
+            json_t *result = sph_study_result_json(&c->study, res);
+            write_json(outdir, "result.json", result);
+            emit(&em, "result", result);
+            emit_state(&em, "done", NULL);
+        }
+        free(res);
+        break;
+    }
+    default:
+        emit_state(&em, "failed", "internal: method not implemented");
+        rc = SPHD_EX_FAILED;
+        break;
+    }
+    fprintf(stderr, "sphd: %s %s; outputs in %s\n", job, rc == 0 ? "done" : "failed", outdir);
+    free(c);
+    json_decref(root);
+    return rc;
+}
