@@ -97,10 +97,11 @@ int sphd_run(const sphd_run_opts *o)
         return SPHD_EX_SOFTWARE;
     }
     if (sph_case_from_json(root, c, &err)) {
-        fprintf(stderr, "sphd: %s: invalid case: %s%s%s\n", o->case_file, err.message,
-                err.path[0] ? " (at " : "", err.path[0] ? err.path : "");
         if (err.path[0])
-            fputs(")\n", stderr);
+            fprintf(stderr, "sphd: %s: invalid case: %s (at %s)\n", o->case_file, err.message,
+                    err.path);
+        else
+            fprintf(stderr, "sphd: %s: invalid case: %s\n", o->case_file, err.message);
         free(c);
         json_decref(root);
         return SPHD_EX_DATAERR;

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Installs what sphd needs to build and test, from Debian's packages. Does nothing when all is
+# there. Runs apt-get as root, or through sudo.
+set -euo pipefail
+pkgs=(gcc make cmake pkg-config libzmq3-dev libjansson-dev libhdf5-dev libcmocka-dev
+      python3 python3-zmq python3-h5py python3-numpy)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+echo "setup: installing ${missing[*]}" >&2
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

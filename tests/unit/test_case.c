@@ -1,0 +1,135 @@
+/*
+ * Case parsing, data-driven: every tests/cases/invalid/NAME.json is rejected with SPH_ERR_INVALID
+ * and the JSON pointer in NAME.expect (empty: a file-level error); every cases/ *.json is valid.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "sph_case.h"
+#include "sph_json.h"
+
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *srcdir(void)
+{
+    const char *s = getenv("SPH_SOURCE_DIR");
+    return s ? s : ".";
+}
+
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && strcmp(s + n - m, suffix) == 0;
+}
+
+static void test_invalid_cases(void **state)
+{
+    (void)state;
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%s/tests/cases/invalid", srcdir());
+    DIR *d = opendir(dir);
+    assert_non_null(d);
+    int count = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (!ends_with(e->d_name, ".json"))
+            continue;
+        char path[8192], expect_path[8192], want[256] = "";
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        snprintf(expect_path, sizeof expect_path, "%.*s.expect", (int)(strlen(path) - 5), path);
+        FILE *f = fopen(expect_path, "r");
+        assert_non_null(f);
+        if (fgets(want, sizeof want, f))
+            want[strcspn(want, "\n")] = '\0';
+        fclose(f);
+
+        sph_error err;
+        json_t *root = NULL;
+        int rc = sph_case_load(path, &root, &err);
+        sph_case *c = calloc(1, sizeof *c);
+        if (rc == 0)
+            rc = sph_case_from_json(root, c, &err);
+        if (rc != SPH_ERR_INVALID)
+            fail_msg("%s: expected invalid_case, got code %d", e->d_name, rc);
+        if (strcmp(err.path, want) != 0)
+            fail_msg("%s: error names '%s', expected '%s' (%s)", e->d_name, err.path, want,
+                     err.message);
+        assert_true(strlen(err.message) > 10);
+        free(c);
+        json_decref(root);
+        count++;
+    }
+    closedir(d);
+    assert_true(count >= 20);
+}
+
+static void test_shipped_cases_valid(void **state)
+{
+    (void)state;
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%s/cases", srcdir());
+    DIR *d = opendir(dir);
+    assert_non_null(d);
+    int count = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (!ends_with(e->d_name, ".json"))
+            continue;
+        char path[8192];
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        sph_error err;
+        json_t *root = NULL;
+        sph_case *c = calloc(1, sizeof *c);
+        int rc = sph_case_load(path, &root, &err);
+        if (rc == 0)
+            rc = sph_case_from_json(root, c, &err);
+        if (rc)
+            fail_msg("%s: %s (at %s)", e->d_name, err.message, err.path);
+        free(c);
+        json_decref(root);
+        count++;
+    }
+    closedir(d);
+    assert_true(count >= 1);
+}
+
+static void test_apply_set(void **state)
+{
+    (void)state;
+    sph_error err;
+    json_t *root = json_loads("{\"dx\": 0.01, \"kernel\": {\"type\": \"wendland_c2\"}, "
+                              "\"kernels\": [{\"type\": \"double_cosine\"}]}",
+                              0, NULL);
+    assert_int_equal(sph_json_apply_set(root, "dx=0.004", &err), 0);
+    assert_true(json_real_value(json_object_get(root, "dx")) == 0.004);
+    assert_int_equal(sph_json_apply_set(root, "kernel.type=cubic_spline", &err), 0);
+    assert_string_equal(json_string_value(json_object_get(json_object_get(root, "kernel"), "type")),
+                        "cubic_spline");
+    assert_int_equal(sph_json_apply_set(root, "kernels.0.kappa=2.5", &err), 0);
+    assert_true(json_number_value(json_object_get(
+                    json_array_get(json_object_get(root, "kernels"), 0), "kappa")) == 2.5);
+    assert_int_equal(sph_json_apply_set(root, "output.every=0.1", &err), 0);
+    assert_true(json_is_object(json_object_get(root, "output")));
+    assert_int_equal(sph_json_apply_set(root, "kernels.3.kappa=2", &err), SPH_ERR_INVALID);
+    assert_int_equal(sph_json_apply_set(root, "dx.y=2", &err), SPH_ERR_INVALID);
+    assert_int_equal(sph_json_apply_set(root, "novalue", &err), SPH_ERR_INVALID);
+    assert_int_equal(sph_json_apply_set(root, "=3", &err), SPH_ERR_INVALID);
+    json_decref(root);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_invalid_cases),
+        cmocka_unit_test(test_shipped_cases_valid),
+        cmocka_unit_test(test_apply_set),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
