@@ -7,7 +7,9 @@
 #include "sph_json.h"
 #include "sph_study.h"
 #include "sphd.h"
+#include "sphd_exec.h"
 
+#include <math.h>
 #include <errno.h>
 #include <omp.h>
 #include <stdio.h>
@@ -16,6 +18,7 @@
 
 typedef struct emitter {
     const char *job;
+    const char *outdir;
     long seq;
 } emitter;
 
@@ -34,6 +37,17 @@ static void emit(emitter *em, const char *type, json_t *body)
         free(line);
     }
     json_decref(ev);
+}
+
+static int write_json(const char *dir, const char *name, const json_t *j);
+
+/* sphd_emit_fn for the executor: prints the event; keeps the result in result.json too. */
+static void on_event(void *ud, const char *type, json_t *body)
+{
+    emitter *em = ud;
+    if (strcmp(type, "result") == 0)
+        write_json(em->outdir, "result.json", body);
+    emit(em, type, body);
 }
 
 static void emit_state(emitter *em, const char *state, const char *reason)
@@ -130,34 +144,31 @@ int sphd_run(const sphd_run_opts *o)
     if (o->threads > 0)
         omp_set_num_threads(o->threads);
 
-    emitter em = {.job = job, .seq = 0};
+    emitter em = {.job = job, .seq = 0, .outdir = outdir};
     int rc = SPHD_EX_OK;
     write_json(outdir, "case.json", root);
+    sphd_exec *x = sphd_exec_new(c, outdir, &err);
+    if (!x) {
+        fprintf(stderr, "sphd: %s: %s: %s\n", o->case_file, sph_error_code_name(err.code),
+                err.message);
+        free(c);
+        json_decref(root);
+        return err.code == SPH_ERR_INVALID || err.code == SPH_ERR_NOMEM ? SPHD_EX_DATAERR
+                                                                        : SPHD_EX_SOFTWARE;
+    }
     emit_state(&em, "running", NULL);
-    switch (c->method) {
-    case SPH_METHOD_KERNEL_STUDY: {
-        sph_study_result *res = calloc(1, sizeof *res);
-        if (!res || sph_study_run(&c->study, res, &err)) {
-            char reason[512];
-            snprintf(reason, sizeof reason, "%s: %s",
-                     sph_error_code_name(res ? err.code : SPH_ERR_NOMEM),
-                     res ? err.message : "out of memory");
-            emit_state(&em, "failed", reason);
-            rc = SPHD_EX_FAILED;
-        } else {
-            json_t *result = sph_study_result_json(&c->study, res);
-            write_json(outdir, "result.json", result);
-            emit(&em, "result", result);
-            emit_state(&em, "done", NULL);
-        }
-        free(res);
-        break;
-    }
-    default:
-        emit_state(&em, "failed", "internal: method not implemented");
+    sphd_exec_status st;
+    while ((st = sphd_exec_advance(x, 1000, INFINITY, on_event, &em, &err)) == SPHD_EXEC_RUNNING)
+        ;
+    if (st == SPHD_EXEC_DONE) {
+        emit_state(&em, "done", NULL);
+    } else {
+        char reason[SPH_ERROR_TEXT_MAX + 32];
+        snprintf(reason, sizeof reason, "%s: %s", sph_error_code_name(err.code), err.message);
+        emit_state(&em, "failed", reason);
         rc = SPHD_EX_FAILED;
-        break;
     }
+    sphd_exec_free(x);
     fprintf(stderr, "sphd: %s %s; outputs in %s\n", job, rc == 0 ? "done" : "failed", outdir);
     free(c);
     json_decref(root);
