@@ -97,7 +97,7 @@ double sph_kernel_sigma(const sph_kernel_spec *spec, int dim)
         return pi / ((4.0 * pi * pi - 30.0) * k * k * k);
     }
     case SPH_KERNEL_WENDLAND_C2: {
-        /* Integral of (2-q)^4 (1+2q) q^(d-1) over [0,2]: 32/3, 32/7, 128/21 (times the sphere). */
+        /* Integral of (2-q)^4 (1+2q) q^(d-1) over [0,2]: 32/3, 32/7, 64/21 (times the sphere). */
         static const double sigma[4] = {0, 3.0 / 64.0, 7.0 / (64.0 * M_PI), 21.0 / (256.0 * M_PI)};
         return sigma[dim];
     }
