@@ -1,0 +1,197 @@
+/* Particle snapshots (HDF5) and the helpers the other HDF5 files share. */
+#include "sphd_h5.h"
+#include "sphd_h5_util.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <hdf5.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static herr_t walk_cb(unsigned n, const H5E_error2_t *e, void *ud)
+{
+    (void)n;
+    char *msg = ud;
+    if (msg[0] == '\0' && e->desc)
+        snprintf(msg, 200, "%s", e->desc);
+    return 0;
+}
+
+void sphd_h5_quiet(void)
+{
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+}
+
+int sphd_h5_fail(sph_error *err, const char *what, const char *path)
+{
+    char msg[200] = "";
+    H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, walk_cb, msg);
+    H5Eclear2(H5E_DEFAULT);
+    const int e = errno;
+    return sph_error_set(err, SPH_ERR_IO, "", "%s '%s' failed: %s%s%s", what, path,
+                         msg[0] ? msg : "HDF5 error", e ? "; " : "", e ? strerror(e) : "");
+}
+
+hid_t sphd_h5_type_id(sphd_h5_type t)
+{
+    switch (t) {
+    case SPHD_H5_F32:
+        return H5T_NATIVE_FLOAT;
+    case SPHD_H5_F64:
+        return H5T_NATIVE_DOUBLE;
+    case SPHD_H5_I8:
+        return H5T_NATIVE_INT8;
+    case SPHD_H5_I32:
+        return H5T_NATIVE_INT32;
+    case SPHD_H5_I64:
+    default:
+        return H5T_NATIVE_INT64;
+    }
+}
+
+size_t sphd_h5_type_size(sphd_h5_type t)
+{
+    switch (t) {
+    case SPHD_H5_I8:
+        return 1;
+    case SPHD_H5_F32:
+    case SPHD_H5_I32:
+        return 4;
+    default:
+        return 8;
+    }
+}
+
+int sphd_h5_attr_string(hid_t obj, const char *name, const char *value)
+{
+    hid_t type = H5Tcopy(H5T_C_S1);
+    H5Tset_size(type, strlen(value) + 1);
+    hid_t space = H5Screate(H5S_SCALAR);
+    hid_t a = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+    herr_t rc = a < 0 ? -1 : H5Awrite(a, type, value);
+    if (a >= 0)
+        H5Aclose(a);
+    H5Sclose(space);
+    H5Tclose(type);
+    return rc < 0 ? -1 : 0;
+}
+
+int sphd_h5_attr_number(hid_t obj, const char *name, hid_t type, const void *value)
+{
+    hid_t space = H5Screate(H5S_SCALAR);
+    hid_t a = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+    herr_t rc = a < 0 ? -1 : H5Awrite(a, type, value);
+    if (a >= 0)
+        H5Aclose(a);
+    H5Sclose(space);
+    return rc < 0 ? -1 : 0;
+}
+
+int sphd_fsync_path(const char *path)
+{
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return -1;
+    int rc = fsync(fd);
+    int saved = errno;
+    close(fd);
+    errno = saved;
+    return rc;
+}
+
+/* One field as an (n) or (n, 3) dataset, interleaving components into a row buffer. */
+static int write_field(hid_t file, const sphd_h5_field *f, long n, int compress)
+{
+    const int vec = f->ncomp > 1;
+    const int width = vec ? 3 : 1;
+    const size_t es = sphd_h5_type_size(f->type);
+    hsize_t dims[2] = {(hsize_t)n, (hsize_t)width};
+    hid_t space = H5Screate_simple(vec ? 2 : 1, dims, NULL);
+    hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    if (n > 0) {
+        hsize_t chunk[2] = {(hsize_t)(n < 65536 ? n : 65536), (hsize_t)width};
+        H5Pset_chunk(dcpl, vec ? 2 : 1, chunk);
+        if (compress > 0) {
+            H5Pset_shuffle(dcpl);
+            H5Pset_deflate(dcpl, (unsigned)(compress > 9 ? 9 : compress));
+        }
+    }
+    const hid_t mtype = sphd_h5_type_id(f->type);
+    hid_t d = H5Dcreate2(file, f->name, mtype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    int rc = d < 0 ? -1 : 0;
+    if (rc == 0 && f->units)
+        rc = sphd_h5_attr_string(d, "units", f->units);
+    if (rc == 0 && n > 0) {
+        const void *src = f->comp[0];
+        char *buf = NULL;
+        if (vec) {
+            buf = calloc((size_t)n * 3, es);
+            if (!buf)
+                rc = -1;
+            for (long i = 0; buf && i < n; i++)
+                for (int c = 0; c < f->ncomp && c < 3; c++)
+                    memcpy(buf + ((size_t)i * 3 + (size_t)c) * es,
+                           (const char *)f->comp[c] + (size_t)i * es, es);
+            src = buf;
+        }
+        if (rc == 0 && H5Dwrite(d, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, src) < 0)
+            rc = -1;
+        free(buf);
+    }
+    if (d >= 0)
+        H5Dclose(d);
+    H5Pclose(dcpl);
+    H5Sclose(space);
+    return rc;
+}
+
+int sphd_h5_write_snapshot(const char *path, const sphd_h5_header *hdr, const sphd_h5_field *fields,
+                           int nfields, int compress, sph_error *err)
+{
+    sphd_h5_quiet();
+    char tmp[4096];
+    if (snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid()) >= (int)sizeof tmp)
+        return sph_error_set(err, SPH_ERR_IO, "", "snapshot path too long: %s", path);
+    errno = 0;
+    hid_t file = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (file < 0)
+        return sphd_h5_fail(err, "creating snapshot", tmp);
+    const long long step = hdr->step, n = hdr->n, nf = hdr->n_fluid, nb = hdr->n_boundary,
+                    nbody = hdr->n_body;
+    const int dim = hdr->dim;
+    int rc = 0;
+    rc |= sphd_h5_attr_number(file, "time", H5T_NATIVE_DOUBLE, &hdr->t);
+    rc |= sphd_h5_attr_number(file, "step", H5T_NATIVE_LLONG, &step);
+    rc |= sphd_h5_attr_number(file, "dim", H5T_NATIVE_INT, &dim);
+    rc |= sphd_h5_attr_number(file, "dx", H5T_NATIVE_DOUBLE, &hdr->dx);
+    rc |= sphd_h5_attr_number(file, "n_particles", H5T_NATIVE_LLONG, &n);
+    rc |= sphd_h5_attr_number(file, "n_fluid", H5T_NATIVE_LLONG, &nf);
+    rc |= sphd_h5_attr_number(file, "n_boundary", H5T_NATIVE_LLONG, &nb);
+    rc |= sphd_h5_attr_number(file, "n_body", H5T_NATIVE_LLONG, &nbody);
+    rc |= sphd_h5_attr_string(file, "kernel", hdr->kernel ? hdr->kernel : "");
+    rc |= sphd_h5_attr_string(file, "job", hdr->job ? hdr->job : "");
+    rc |= sphd_h5_attr_string(file, "code_version", "sphd " SPH_VERSION);
+    rc |= sphd_h5_attr_string(file, "units", "SI: m, s, kg; time in s, pressure in Pa");
+    for (int i = 0; rc == 0 && i < nfields; i++)
+        rc = write_field(file, &fields[i], hdr->n, compress);
+    if (rc != 0) {
+        sphd_h5_fail(err, "writing snapshot", tmp);
+        H5Fclose(file);
+        unlink(tmp);
+        return SPH_ERR_IO;
+    }
+    if (H5Fclose(file) < 0) {
+        sphd_h5_fail(err, "closing snapshot", tmp);
+        unlink(tmp);
+        return SPH_ERR_IO;
+    }
+    if (sphd_fsync_path(tmp) != 0 || rename(tmp, path) != 0) {
+        int e = errno;
+        unlink(tmp);
+        return sph_error_set(err, SPH_ERR_IO, "", "saving snapshot '%s' failed: %s", path,
+                             strerror(e));
+    }
+    return 0;
+}

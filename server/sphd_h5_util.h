@@ -1,0 +1,20 @@
+/* Helpers shared by the HDF5 writers (server/sphd_h5*.c); not a public interface. */
+#ifndef SPHD_H5_UTIL_H
+#define SPHD_H5_UTIL_H
+
+#include "sphd_h5.h"
+
+#include <hdf5.h>
+
+/* Turns off HDF5's printing of error stacks (errors are reported through sph_error). */
+void sphd_h5_quiet(void);
+/* Fills err (SPH_ERR_IO) from HDF5's error stack and errno; returns SPH_ERR_IO. */
+int sphd_h5_fail(sph_error *err, const char *what, const char *path);
+hid_t sphd_h5_type_id(sphd_h5_type t);
+size_t sphd_h5_type_size(sphd_h5_type t);
+int sphd_h5_attr_string(hid_t obj, const char *name, const char *value);
+int sphd_h5_attr_number(hid_t obj, const char *name, hid_t type, const void *value);
+/* fsync a file by path (after HDF5 has closed it). */
+int sphd_fsync_path(const char *path);
+
+#endif
