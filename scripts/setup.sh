@@ -2,7 +2,7 @@
 # Installs what sphd needs to build and test, from Debian's packages. Does nothing when all is
 # there. Runs apt-get as root, or through sudo.
 set -euo pipefail
-pkgs=(gcc make cmake pkg-config libzmq3-dev libjansson-dev libhdf5-dev libcmocka-dev
+pkgs=(gcc make cmake pkg-config libzmq3-dev libjansson-dev libhdf5-dev zlib1g-dev libcmocka-dev
       python3 python3-zmq python3-h5py python3-numpy)
 missing=()
 for p in "${pkgs[@]}"; do

@@ -17,7 +17,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 static char dir[256];
@@ -254,13 +257,53 @@ static void test_unwritable(void **state)
     free(P);
 }
 
+/* Disk full (a file-size limit, which binds root too): the snapshot write fails with io_error,
+ * the file already at that path is untouched and no temporary file is left. */
+static void test_disk_full(void **state)
+{
+    (void)state;
+    particles *P = calloc(1, sizeof *P);
+    fill(P, 0.5);
+    sphd_h5_field f[6];
+    int nf = make_fields(P, f);
+    sphd_h5_header h = {.t = 0.5, .step = 7, .dim = 2, .n = N, .n_fluid = N};
+    char path[512];
+    snprintf(path, sizeof path, "%s/full.h5", dir);
+    sph_error err;
+    assert_int_equal(sphd_h5_write_snapshot(path, &h, f, nf, 0, &err), 0);
+    struct stat before;
+    stat(path, &before);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        signal(SIGXFSZ, SIG_IGN);
+        struct rlimit rl = {16 * 1024, 16 * 1024};
+        setrlimit(RLIMIT_FSIZE, &rl);
+        h.step = 8;
+        int rc = sphd_h5_write_snapshot(path, &h, f, nf, 0, &err);
+        _exit(rc == SPH_ERR_IO ? 0 : 1);
+    }
+    int status;
+    waitpid(pid, &status, 0);
+    assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    struct stat after;
+    stat(path, &after);
+    assert_int_equal(before.st_size, after.st_size);
+    assert_int_equal(before.st_ino, after.st_ino);
+    DIR *dd = opendir(dir);
+    struct dirent *e;
+    while ((e = readdir(dd)))
+        assert_null(strstr(e->d_name, ".tmp."));
+    closedir(dd);
+    free(P);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_snapshot),
-        cmocka_unit_test(test_xdmf),
-        cmocka_unit_test(test_diagfile),
-        cmocka_unit_test(test_unwritable),
+        cmocka_unit_test(test_snapshot),  cmocka_unit_test(test_xdmf),
+        cmocka_unit_test(test_diagfile),  cmocka_unit_test(test_unwritable),
+        cmocka_unit_test(test_disk_full),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

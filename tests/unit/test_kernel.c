@@ -73,10 +73,10 @@ typedef struct {
 } variant;
 
 static const variant sph_variants[] = {
-    {SPH_KERNEL_CUBIC_SPLINE, 2, 3},   {SPH_KERNEL_GAUSSIAN, 2, 3},
-    {SPH_KERNEL_GAUSSIAN, 2, 4.5},     {SPH_KERNEL_DOUBLE_COSINE, 2.0, 3},
+    {SPH_KERNEL_CUBIC_SPLINE, 2, 3},    {SPH_KERNEL_GAUSSIAN, 2, 3},
+    {SPH_KERNEL_GAUSSIAN, 2, 4.5},      {SPH_KERNEL_DOUBLE_COSINE, 2.0, 3},
     {SPH_KERNEL_DOUBLE_COSINE, 2.5, 3}, {SPH_KERNEL_DOUBLE_COSINE, 3.0, 3},
-    {SPH_KERNEL_WENDLAND_C2, 2, 3},    {SPH_KERNEL_RENORMALIZED_GAUSSIAN, 2, 3},
+    {SPH_KERNEL_WENDLAND_C2, 2, 3},     {SPH_KERNEL_RENORMALIZED_GAUSSIAN, 2, 3},
 };
 #define NVARIANTS (sizeof sph_variants / sizeof sph_variants[0])
 
@@ -305,10 +305,10 @@ int main(void)
 {
     gl_init();
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_normalisation),  cmocka_unit_test(test_compact_support),
-        cmocka_unit_test(test_gradient_fd),    cmocka_unit_test(test_symmetry),
+        cmocka_unit_test(test_normalisation),     cmocka_unit_test(test_compact_support),
+        cmocka_unit_test(test_gradient_fd),       cmocka_unit_test(test_symmetry),
         cmocka_unit_test(test_printed_constants), cmocka_unit_test(test_sheu_quartic),
-        cmocka_unit_test(test_koshizuka),      cmocka_unit_test(test_init_errors),
+        cmocka_unit_test(test_koshizuka),         cmocka_unit_test(test_init_errors),
         cmocka_unit_test(test_dispatch),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

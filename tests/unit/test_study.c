@@ -115,8 +115,8 @@ static void test_table1(void **state)
                 continue;
             double tol = j < 2 ? rows[i].tol_f : rows[i].tol_d;
             if (fabs(got[j] - want[j]) > tol * 1.0001)
-                fail_msg("%s entry %d: %.4f%%, Table 1 says %.3f%%", sph_kernel_type_name(rows[i].t),
-                         j, got[j], want[j]);
+                fail_msg("%s entry %d: %.4f%%, Table 1 says %.3f%%",
+                         sph_kernel_type_name(rows[i].t), j, got[j], want[j]);
         }
         /* for exp and sin the relative error is the same at every interior particle */
         assert_true(fabs(k.f[0].max - k.f[0].rms) < 1e-9);
