@@ -13,6 +13,7 @@
 #include "sph_sim_impl.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -241,13 +242,61 @@ static void test_sort(void **state)
     sph_sim_destroy(s);
 }
 
+/* A small dam break stepped with 1 and with 2 threads: bitwise the same state (the pair loops
+ * visit pairs in an order fixed by the grid, and the reductions are max/min or serial). */
+static sph_sim *small_dambreak(int threads)
+{
+    sph_config c = sph_config_default();
+    c.dx = 0.01;
+    c.h_over_dx = 1.414;
+    c.domain = (sph_box){{0, 0, 0}, {0.5, 0.5, 0}};
+    c.nfluid = 1;
+    c.fluid[0] = (sph_box){{0, 0, 0}, {0.1, 0.2, 0}};
+    c.has_tank = 1;
+    c.tank = (sph_box){{0, 0, 0}, {0.5, 0.3, 0}};
+    c.c0 = 25.0;
+    c.alpha = 0.1;
+    c.turb = SPH_TURB_SPS;
+    c.delta_sph = 0.1;
+    c.t_end = 1.0;
+    omp_set_num_threads(threads);
+    sph_error err;
+    sph_sim *s = sph_sim_create(&c, &err);
+    assert_non_null(s);
+    assert_int_equal(sph_sim_step(s, 300, &err), 0);
+    return s;
+}
+
+static void test_reproducible(void **state)
+{
+    (void)state;
+    const int saved = omp_get_max_threads();
+    sph_sim *a = small_dambreak(1), *b = small_dambreak(1), *c = small_dambreak(2);
+    omp_set_num_threads(saved);
+    const sph_sim *other[2] = {b, c};
+    for (int k = 0; k < 2; k++) {
+        const sph_particles *P = &a->P, *Q = &other[k]->P;
+        assert_int_equal(P->n, Q->n);
+        const size_t nb = (size_t)P->n * sizeof(double);
+        assert_memory_equal(P->x, Q->x, nb);
+        assert_memory_equal(P->y, Q->y, nb);
+        assert_memory_equal(P->vx, Q->vx, nb);
+        assert_memory_equal(P->vy, Q->vy, nb);
+        assert_memory_equal(P->rho, Q->rho, nb);
+        assert_memory_equal(&a->diag, &other[k]->diag, sizeof a->diag);
+    }
+    assert_true(a->diag.ekin > 0.0);
+    sph_sim_destroy(a);
+    sph_sim_destroy(b);
+    sph_sim_destroy(c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_sort),
-        cmocka_unit_test(test_artificial),
-        cmocka_unit_test(test_laminar_sps),
-        cmocka_unit_test(test_delta),
+        cmocka_unit_test(test_sort),         cmocka_unit_test(test_artificial),
+        cmocka_unit_test(test_laminar_sps),  cmocka_unit_test(test_delta),
+        cmocka_unit_test(test_reproducible),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
