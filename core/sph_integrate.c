@@ -18,9 +18,10 @@
 #include <math.h>
 #include <omp.h>
 
-#define SPH_RHO_LOW     0.5   /* density collapse below rho0 times this */
-#define SPH_RHO_HIGH    2.0   /* and above rho0 times this */
-#define SPH_DT_COLLAPSE 1e-12 /* an adaptive dt below this (relative to h / c0) is a blow-up */
+#define SPH_RHO_LOW  0.5 /* density collapse below rho0 times this */
+#define SPH_RHO_HIGH 2.0 /* and above rho0 times this */
+/* An adaptive dt below this fraction of cfl h / c0 is a blow-up (it would take forever). */
+#define SPH_DT_COLLAPSE 1e-3
 
 double sph_integrate_dt(const sph_sim *s)
 {
@@ -64,7 +65,7 @@ int sph_integrate_step(sph_sim *s, double dt_cap, sph_error *err)
     const double t0 = omp_get_wtime();
     const double dt_free = sph_integrate_dt(s);
     const long step = s->step + 1;
-    if (!(dt_free >= SPH_DT_COLLAPSE * s->h / c->c0))
+    if (!(dt_free >= SPH_DT_COLLAPSE * c->cfl * s->h / c->c0))
         return sph_error_set(err, SPH_ERR_UNSTABLE, "",
                              "time step collapsed to %g s at step %ld (t = %g s, max acceleration "
                              "%g m/s^2)",
