@@ -47,7 +47,7 @@ long sph_cells_sort(sph_cells *g, sph_particles *P)
     const long n = P->n, ncells = g->ncells;
     const int nx = g->nx, ny = g->ny;
     int *restrict key = g->key;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++) {
         const double fx = (P->x[i] - g->x0) * g->inv_size, fy = (P->y[i] - g->y0) * g->inv_size;
         int k = (int)ncells;
