@@ -292,12 +292,54 @@ static void test_reproducible(void **state)
     sph_sim_destroy(c);
 }
 
+/* The front and height probes ignore a droplet far ahead of (or above) the connected fluid. */
+static void test_probes(void **state)
+{
+    (void)state;
+    sph_config c = sph_config_default();
+    c.dx = 0.01;
+    c.domain = (sph_box){{0, 0, 0}, {1.0, 1.0, 0}};
+    c.nfluid = 1;
+    c.fluid[0] = (sph_box){{0, 0, 0}, {0.2, 0.1, 0}}; /* 20 x 10 particles */
+    c.boundary = SPH_BOUNDARY_NONE;
+    c.t_end = 1.0;
+    sph_error err;
+    sph_sim *s = sph_sim_create(&c, &err);
+    assert_non_null(s);
+    assert_true(fabs(s->diag.front_x - 0.2) < 1e-12);
+    assert_true(fabs(s->diag.height_left - 0.1) < 1e-12);
+    /* two particles from inside the block become droplets: one far ahead, one high above the
+     * column at the wall (id = 10 ix + iy, at x = (ix + 0.5) dx, y = (iy + 0.5) dx) */
+    for (long i = 0; i < s->P.n; i++) {
+        if (s->P.id[i] == 195) {
+            s->P.x[i] = 0.7;
+            s->P.y[i] = 0.005;
+        }
+        if (s->P.id[i] == 105) {
+            s->P.x[i] = 0.005;
+            s->P.y[i] = 0.6;
+        }
+    }
+    sph_diag_compute(s);
+    assert_true(fabs(s->diag.front_x - 0.2) < 1e-12);
+    assert_true(fabs(s->diag.height_left - 0.1) < 1e-12);
+    /* a tongue of fluid along the bed, one particle thick, is connected: it counts */
+    for (long i = 0; i < s->P.n; i++)
+        if (s->P.id[i] == 195) {
+            s->P.x[i] = 0.215;
+            s->P.y[i] = 0.005;
+        }
+    sph_diag_compute(s);
+    assert_true(fabs(s->diag.front_x - 0.22) < 1e-12);
+    sph_sim_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sort),         cmocka_unit_test(test_artificial),
         cmocka_unit_test(test_laminar_sps),  cmocka_unit_test(test_delta),
-        cmocka_unit_test(test_reproducible),
+        cmocka_unit_test(test_reproducible), cmocka_unit_test(test_probes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
