@@ -76,11 +76,12 @@ void sph_particles_permute(sph_particles *P, const long *perm)
     }
     /* the 1- and 4-byte fields go through the scratch buffer too (it holds n doubles) */
     unsigned char *t = (unsigned char *)P->scratch;
-    for (long i = 0; i < n; i++)
+    int *id = (int *)(t + ((n + 7) / 8) * 8); /* n bytes, then n ints: fits in n doubles */
+#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++) {
         t[i] = P->type[perm[i]];
-    memcpy(P->type, t, (size_t)n);
-    int *id = (int *)P->scratch;
-    for (long i = 0; i < n; i++)
         id[i] = P->id[perm[i]];
+    }
+    memcpy(P->type, t, (size_t)n);
     memcpy(P->id, id, (size_t)n * sizeof(int));
 }
