@@ -194,20 +194,12 @@ static void prepare(sph_sim *s)
     const sph_config *cfg = &s->cfg;
     sph_particles *P = &s->P;
     const long n = s->nactive;
-    const double c2 = cfg->c0 * cfg->c0, rho0 = cfg->rho0, B = c2 * rho0 / 7.0;
-    const int tait = cfg->eos == SPH_EOS_TAIT;
     const double smag = (SPH_SPS_CS * cfg->dx) * (SPH_SPS_CS * cfg->dx);
     const double blin = 2.0 / 3.0 * SPH_SPS_CI * cfg->dx * cfg->dx;
 #pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++) {
         const double rho = P->rho[i];
-        double p;
-        if (tait) {
-            const double q = rho / rho0, q2 = q * q;
-            p = B * (q2 * q2 * q2 * q - 1.0); /* Tait, gamma = 7 */
-        } else {
-            p = c2 * (rho - rho0); /* Yang et al. 2014, eq. (16) */
-        }
+        const double p = sph_eos(cfg, rho);
         P->p[i] = p;
         P->pr[i] = p / (rho * rho);
         P->ax[i] = 0.0;
