@@ -162,5 +162,9 @@ int main(int argc, char **argv)
             fflush(stdout);
         }
     }
+    printf("reference: DualSPHysics 5.4 CPU, same configuration at about 20k fluid particles, 2 "
+           "threads, this machine: about 1.9 M particle-steps/s (target here: >= 3.8).\n"
+           "A step here is one force evaluation (velocity Verlet); DualSPHysics' symplectic step "
+           "makes two. Timings on a machine shared with other work are noisy: compare medians.\n");
     return 0;
 }
