@@ -17,7 +17,7 @@ sph_config sph_config_default(void)
     memset(&c, 0, sizeof c);
     c.dim = 2;
     c.kernel = sph_kernel_spec_default(SPH_KERNEL_WENDLAND_C2);
-    c.h_over_dx = 1.3;
+    c.h_over_dx = 1.414; /* sqrt(2): what the shipped cases are validated with */
     c.boundary = SPH_BOUNDARY_DYNAMIC;
     c.layers = 3;
     c.rho0 = 1000.0;
