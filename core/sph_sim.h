@@ -19,6 +19,7 @@
 #define SPH_SIM_H
 
 #include "sph_config.h"
+#include <stddef.h>
 #include "sph_error.h"
 
 typedef struct sph_sim sph_sim;
@@ -86,6 +87,15 @@ double sph_sim_bytes(const sph_sim *s);
 
 /* destroy(NULL) is a no-op. */
 void sph_sim_destroy(sph_sim *s);
+
+/* The state needed to continue the run exactly (configuration included), as a new malloc'd
+ * buffer in *buf (the caller frees it). Returns 0 or SPH_ERR_NOMEM. */
+int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err);
+
+/* A sim from a saved state: continues bitwise as the saved one would have (same thread count
+ * or not: runs do not depend on it). Returns NULL with SPH_ERR_IO for a state that is not one,
+ * or the errors of sph_sim_create. */
+sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err);
 
 /* Bytes sph_sim_create() would need for cfg (what max_bytes is compared with). Also reports the
  * particle counts. */
