@@ -1,0 +1,86 @@
+#include "sph_cells.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int axis_cells(double lo, double hi, double size)
+{
+    return (int)ceil((hi - lo) / size) + 2; /* plus one padding cell at each end */
+}
+
+double sph_cells_count(const double lo[2], const double hi[2], double size)
+{
+    return ((hi[0] - lo[0]) / size + 3.0) * ((hi[1] - lo[1]) / size + 3.0);
+}
+
+int sph_cells_alloc(sph_cells *g, const double lo[2], const double hi[2], double size, long n)
+{
+    memset(g, 0, sizeof *g);
+    g->size = size;
+    g->inv_size = 1.0 / size;
+    g->nx = axis_cells(lo[0], hi[0], size);
+    g->ny = axis_cells(lo[1], hi[1], size);
+    g->x0 = lo[0] - size;
+    g->y0 = lo[1] - size;
+    g->ncells = (long)g->nx * g->ny;
+    g->counts = calloc((size_t)g->ncells + 4, sizeof *g->counts);
+    g->start = g->counts ? g->counts + 2 : NULL;
+    g->key = calloc((size_t)(n > 0 ? n : 1), sizeof *g->key);
+    g->perm = calloc((size_t)(n > 0 ? n : 1), sizeof *g->perm);
+    if (!g->start || !g->key || !g->perm) {
+        sph_cells_free(g);
+        return -1;
+    }
+    return 0;
+}
+
+void sph_cells_free(sph_cells *g)
+{
+    free(g->counts);
+    free(g->key);
+    free(g->perm);
+    memset(g, 0, sizeof *g);
+}
+
+long sph_cells_sort(sph_cells *g, sph_particles *P)
+{
+    const long n = P->n, ncells = g->ncells;
+    const int nx = g->nx, ny = g->ny;
+    int *restrict key = g->key;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++) {
+        const double fx = (P->x[i] - g->x0) * g->inv_size, fy = (P->y[i] - g->y0) * g->inv_size;
+        int k = (int)ncells;
+        /* the comparisons are false for NaN: a non-finite particle is lost, never indexed */
+        if (P->type[i] != SPH_LOST && fx >= 1.0 && fx < nx - 1.0 && fy >= 1.0 && fy < ny - 1.0)
+            k = (int)fx * ny + (int)fy;
+        else
+            P->type[i] = SPH_LOST;
+        key[i] = k;
+    }
+    /* counts[k + 2]: particles in cell k; the prefix sum makes it the end of cell k; the
+     * backward scatter moves it down to the beginning of cell k, so that start = counts + 2
+     * holds the beginnings, start[ncells] the active count and start[ncells + 1] = n. Stable:
+     * particles of one cell keep their order. */
+    int *restrict counts = g->counts;
+    const long nc = ncells + 4;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (nc >= 16 * SPH_OMP_MIN)
+    for (long c = 0; c < nc; c++)
+        counts[c] = 0;
+    for (long i = 0; i < n; i++)
+        counts[key[i] + 2]++;
+    for (long c = 0; c + 1 < nc; c++)
+        counts[c + 1] += counts[c];
+    long moved = 0;
+    for (long i = n - 1; i >= 0; i--) {
+        const long to = --counts[key[i] + 2];
+        g->perm[to] = i;
+        moved += to != i;
+    }
+    const int sorted = moved == 0;
+    if (!sorted)
+        sph_particles_permute(P, g->perm);
+    const int *start = g->start;
+    return start[ncells];
+}
