@@ -323,7 +323,7 @@ static int parse_names(const json_t *obj, const char *base, const char *key,
     return 0;
 }
 
-static int parse_sim(const json_t *root, sph_config *c, sph_error *err)
+static int parse_sim(const json_t *root, sph_config *c, sph_output_config *out, sph_error *err)
 {
     static const char *const keys[] = {"name", "description", "method",      "dim",      "kernel",
                                        "dx",   "domain",      "fluid",       "boundary", "physics",
@@ -331,11 +331,12 @@ static int parse_sim(const json_t *root, sph_config *c, sph_error *err)
     static const char *const kernel_keys[] = {"type", "kappa", "radius", "h_over_dx", NULL};
     static const char *const boundary_keys[] = {"type", "layers", "tank", NULL};
     static const char *const time_keys[] = {"end", "cfl", "dt", NULL};
-    static const char *const output_keys[] = {"every", "fields", NULL};
+    static const char *const output_keys[] = {"every", "fields", "compress", NULL};
     static const char *const diag_keys[] = {"every", "probes", NULL};
     /* probe names: bit k of the mask is known[k]; the first two are SPH_PROBE_* */
     static const char *const probes[] = {"front_x", "height_left", "ekin", "epot", "vmax", NULL};
-    static const char *const fields[] = {"pos", "vel", "rho", "p", "type", NULL};
+    /* bit k is known[k]: the SPH_FIELD_* of sph_case.h */
+    static const char *const fields[] = {"pos", "vel", "rho", "p", "type", "id", "mass", NULL};
     char path[SPH_ERROR_PATH_MAX];
     json_t *o;
 
@@ -446,12 +447,18 @@ static int parse_sim(const json_t *root, sph_config *c, sph_error *err)
     unsigned mask = 0;
     if (get_object(root, "", "output", 0, &o, path, sizeof path, err))
         return SPH_ERR_INVALID;
-    if (o) { /* particle snapshots arrive with the HDF5 writer; validated now */
-        double every = 0.0;
+    out->every = 0.0;
+    out->fields = SPH_FIELD_POS | SPH_FIELD_VEL | SPH_FIELD_RHO | SPH_FIELD_P | SPH_FIELD_TYPE;
+    out->compress = 0;
+    if (o) {
+        long compress = 0;
         if (sph_json_check_keys(o, path, output_keys, err) ||
-            sph_json_number(o, path, "every", 0, 1e-9, 1e6, &every, err) ||
-            parse_names(o, path, "fields", fields, &mask, err))
+            sph_json_number(o, path, "every", 1, 1e-9, 1e6, &out->every, err) ||
+            parse_names(o, path, "fields", fields, &out->fields, err) ||
+            sph_json_integer(o, path, "compress", 0, 0, 9, &compress, err))
             return SPH_ERR_INVALID;
+        out->fields |= SPH_FIELD_POS;
+        out->compress = (int)compress;
     }
     if (get_object(root, "", "diagnostics", 0, &o, path, sizeof path, err))
         return SPH_ERR_INVALID;
@@ -485,7 +492,7 @@ int sph_case_from_json(const json_t *root, sph_case *out, sph_error *err)
     }
     if (strcmp(method, "wcsph") == 0) {
         out->method = SPH_METHOD_WCSPH;
-        return parse_sim(root, &out->sim, err);
+        return parse_sim(root, &out->sim, &out->output, err);
     }
     if (strcmp(method, "mps") == 0)
         return sph_error_set(err, SPH_ERR_INVALID, "/method",

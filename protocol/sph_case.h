@@ -20,11 +20,29 @@ typedef enum {
     SPH_METHOD_MPS,
 } sph_method;
 
+/* Particle snapshots (the case's "output"); the core knows nothing of them. */
+enum {
+    SPH_FIELD_POS = 1 << 0,
+    SPH_FIELD_VEL = 1 << 1,
+    SPH_FIELD_RHO = 1 << 2,
+    SPH_FIELD_P = 1 << 3,
+    SPH_FIELD_TYPE = 1 << 4,
+    SPH_FIELD_ID = 1 << 5,
+    SPH_FIELD_MASS = 1 << 6,
+};
+
+typedef struct sph_output_config {
+    double every;    /* simulated time between snapshots [s]; 0: no snapshots */
+    unsigned fields; /* SPH_FIELD_* mask; pos is always written */
+    int compress;    /* 0 none, 1-9 deflate level (with shuffle) */
+} sph_output_config;
+
 typedef struct sph_case {
     char name[SPH_CASE_NAME_MAX]; /* the case's "name" */
     sph_method method;
-    sph_study_config study; /* method == SPH_METHOD_KERNEL_STUDY */
-    sph_config sim;         /* method == SPH_METHOD_WCSPH */
+    sph_study_config study;   /* method == SPH_METHOD_KERNEL_STUDY */
+    sph_config sim;           /* method == SPH_METHOD_WCSPH */
+    sph_output_config output; /* method == SPH_METHOD_WCSPH */
 } sph_case;
 
 /* Reads a case file into a new JSON object (*root, new reference). SPH_ERR_IO if the file cannot

@@ -24,6 +24,7 @@ typedef struct sphd_run_opts {
     const char *sets[SPHD_MAX_SETS];
     int nsets;
     int threads; /* 0: OpenMP's default */
+    int resume;  /* continue from the checkpoint in the out dir, if there is one */
 } sphd_run_opts;
 
 /* `sphd --run`: runs one case in the foreground, events as JSON Lines on stdout. Returns the

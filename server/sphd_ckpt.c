@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 #include <zlib.h>
 
@@ -102,6 +103,13 @@ int sphd_ckpt_write(const char *dir, const sphd_ckpt_section *s, int n, sph_erro
     uint32_t running = 0;
     static const char zeros[8] = {0};
     int rc = write_all(fd, &h, sizeof h, &running);
+    /* fault injection for the crash tests: a window in which the checkpoint is half written */
+    const char *delay = getenv("SPHD_FAULT_CKPT_DELAY_MS");
+    if (delay && rc == 0) {
+        long ms = atol(delay);
+        struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
+        nanosleep(&ts, NULL);
+    }
     for (int i = 0; rc == 0 && i < n; i++) {
         ckpt_section_header sh = {.size = s[i].size, .crc = crc(0, s[i].data, s[i].size)};
         snprintf(sh.name, sizeof sh.name, "%s", s[i].name);

@@ -3,6 +3,8 @@
 #include "sph_events.h"
 #include "sph_sim.h"
 #include "sph_study.h"
+#include "sphd_ckpt.h"
+#include "sphd_outputs.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -13,11 +15,23 @@ struct sphd_exec {
     sph_case c;
     char *outdir;
     int finished;
-    sph_sim *sim;   /* SPH_METHOD_WCSPH */
-    double wall;    /* wall-clock seconds spent advancing [s] */
-    long last_diag; /* step of the latest diag event, -1 before the first */
-    json_t *diag;   /* latest diag body (owned) */
+    sph_sim *sim;             /* SPH_METHOD_WCSPH */
+    double wall;              /* wall-clock seconds spent advancing [s] */
+    long last_diag;           /* step of the latest diag event, -1 before the first */
+    json_t *diag;             /* latest diag body (owned) */
+    sphd_outputs *out;        /* result files (with an outdir) */
+    double ckpt_interval;     /* wall-clock seconds between checkpoints [s] */
+    int ckpt_every_outputs;   /* a checkpoint after every K snapshots [-] */
+    double last_ckpt;         /* wall clock of the latest checkpoint [s] */
+    int snapshots_since_ckpt; /* [-] */
 };
+
+/* The job id: the last component of the output directory. */
+static const char *job_of(const char *outdir)
+{
+    const char *slash = strrchr(outdir, '/');
+    return slash ? slash + 1 : outdir;
+}
 
 static double now(void)
 {
@@ -35,6 +49,9 @@ sphd_exec *sphd_exec_new(const sph_case *c, const char *outdir, sph_error *err)
     }
     x->c = *c;
     x->last_diag = -1;
+    x->ckpt_interval = SPHD_CKPT_INTERVAL_DEFAULT;
+    x->ckpt_every_outputs = 1;
+    x->last_ckpt = now();
     if (outdir && !(x->outdir = strdup(outdir))) {
         free(x);
         sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory");
@@ -48,7 +65,8 @@ sphd_exec *sphd_exec_new(const sph_case *c, const char *outdir, sph_error *err)
         }
         break;
     case SPH_METHOD_WCSPH:
-        if (!(x->sim = sph_sim_create(&c->sim, err))) {
+        if (!(x->sim = sph_sim_create(&c->sim, err)) ||
+            (outdir && !(x->out = sphd_outputs_open(outdir, job_of(outdir), c, -1, err)))) {
             sphd_exec_free(x);
             return NULL;
         }
@@ -105,27 +123,52 @@ static json_t *diag_json(const sph_diag *d, unsigned probes)
     return b;
 }
 
-static void emit_diag(sphd_exec *x, sphd_emit_fn emit, void *ud)
+static int emit_diag(sphd_exec *x, sphd_emit_fn emit, void *ud, sph_error *err)
 {
     const sph_diag *d = sph_sim_diag(x->sim);
     json_decref(x->diag);
     x->diag = diag_json(d, x->c.sim.probes);
     x->last_diag = d->step;
     emit(ud, "diag", json_deep_copy(x->diag));
+    return x->out ? sphd_outputs_diag(x->out, d, err) : 0;
+}
+
+/* A snapshot when the time has come (and at the end), then a checkpoint when due. */
+static int outputs_due(sphd_exec *x, int at_end, sphd_emit_fn emit, void *ud, sph_error *err)
+{
+    if (!x->out)
+        return 0;
+    const double t = sph_sim_time(x->sim);
+    const double next = sphd_outputs_next_time(x->out);
+    if (t >= next - 1e-12 * (1.0 + fabs(next)) || (at_end && isfinite(next))) {
+        json_t *ev = sphd_outputs_snapshot(x->out, x->sim, err);
+        if (!ev)
+            return err ? (int)err->code : SPH_ERR_IO;
+        emit(ud, "output", ev);
+        x->snapshots_since_ckpt++;
+    }
+    if (!at_end && (x->snapshots_since_ckpt >= x->ckpt_every_outputs ||
+                    now() - x->last_ckpt >= x->ckpt_interval))
+        return sphd_exec_checkpoint(x, err);
+    return 0;
 }
 
 static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, sphd_emit_fn emit,
                                     void *ud, sph_error *err)
 {
     const double t_end = x->c.sim.t_end;
-    const double t_stop = until < t_end ? until : t_end;
     const long every = x->c.sim.diag_every;
     const double w0 = now();
-    if (x->last_diag < 0)
-        emit_diag(x, emit, ud); /* the initial state */
-    long done = 0;
     int rc = 0;
-    while (done < max_steps && sph_sim_time(x->sim) < t_stop) {
+    if (x->last_diag < 0) /* the initial state */
+        rc = emit_diag(x, emit, ud, err) || outputs_due(x, 0, emit, ud, err);
+    long done = 0;
+    while (rc == 0 && done < max_steps) {
+        double t_stop = until < t_end ? until : t_end;
+        if (x->out && sphd_outputs_next_time(x->out) < t_stop)
+            t_stop = sphd_outputs_next_time(x->out); /* land on the output time */
+        if (sph_sim_time(x->sim) >= t_stop)
+            break;
         const long step = sph_sim_diag(x->sim)->step;
         long chunk = every - step % every;
         if (chunk > max_steps - done)
@@ -135,19 +178,24 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
         if (rc)
             break;
         if (sph_sim_diag(x->sim)->step % every == 0)
-            emit_diag(x, emit, ud);
+            rc = emit_diag(x, emit, ud, err);
+        if (rc == 0 && sph_sim_time(x->sim) < t_end)
+            rc = outputs_due(x, 0, emit, ud, err);
     }
     x->wall += now() - w0;
     if (rc) {
-        if (x->last_diag != sph_sim_diag(x->sim)->step)
-            emit_diag(x, emit, ud); /* the state that failed */
+        if (x->last_diag != sph_sim_diag(x->sim)->step) {
+            sph_error ignored;
+            emit_diag(x, emit, ud, &ignored); /* the state that failed */
+        }
         return SPHD_EXEC_FAILED;
     }
     if (sph_sim_time(x->sim) < t_end)
         return SPHD_EXEC_RUNNING;
     const sph_diag *d = sph_sim_diag(x->sim);
-    if (x->last_diag != d->step)
-        emit_diag(x, emit, ud);
+    if ((x->last_diag != d->step && emit_diag(x, emit, ud, err)) ||
+        outputs_due(x, 1, emit, ud, err))
+        return SPHD_EXEC_FAILED;
     json_t *res = json_pack("{s:s, s:I, s:o, s:o, s:{s:I, s:I, s:I}, s:O}", "method", "wcsph",
                             "steps", (json_int_t)d->step, "t", num(d->t), "wall_time", num(x->wall),
                             "particles", "fluid", (json_int_t)d->nfluid, "boundary",
@@ -253,10 +301,98 @@ json_t *sphd_exec_particles(const sphd_exec *x, const char *const *fields, int n
                      "fields", out);
 }
 
+void sphd_exec_set_checkpoint_policy(sphd_exec *x, double interval, int every_outputs)
+{
+    x->ckpt_interval = interval;
+    x->ckpt_every_outputs = every_outputs;
+}
+
+int sphd_exec_checkpoint(sphd_exec *x, sph_error *err)
+{
+    if (!x->sim || !x->outdir)
+        return 0; /* nothing to continue: one-shot jobs, or no place to write */
+    void *state;
+    size_t len;
+    if (sph_sim_save(x->sim, &state, &len, err))
+        return err ? (int)err->code : SPH_ERR_NOMEM;
+    json_t *ex =
+        json_pack("{s:o, s:f, s:I}", "outputs", x->out ? sphd_outputs_state(x->out) : json_object(),
+                  "wall", x->wall, "last_diag", (json_int_t)x->last_diag);
+    char *text = json_dumps(ex, JSON_COMPACT | JSON_REAL_PRECISION(17));
+    json_decref(ex);
+    if (!text) {
+        free(state);
+        return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory");
+    }
+    const sphd_ckpt_section sections[] = {{"sim", state, len}, {"exec", text, strlen(text)}};
+    int rc = sphd_ckpt_write(x->outdir, sections, 2, err);
+    free(state);
+    free(text);
+    if (rc == 0) {
+        x->last_ckpt = now();
+        x->snapshots_since_ckpt = 0;
+    }
+    return rc;
+}
+
+sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_back, sph_error *err)
+{
+    if (c->method != SPH_METHOD_WCSPH) {
+        sph_error_set(err, SPH_ERR_INVALID, "", "only simulations resume from checkpoints");
+        return NULL;
+    }
+    sph_error why;
+    sph_error_clear(&why);
+    sphd_ckpt *ck = sphd_ckpt_load(outdir, fell_back, &why);
+    if (!ck) {
+        sph_error_set(err, SPH_ERR_IO, "", "%s", why.message);
+        return NULL;
+    }
+    if (err && fell_back && *fell_back)
+        *err = why; /* says which checkpoint was damaged; code SPH_OK */
+    size_t len = 0, tlen = 0;
+    const void *state = sphd_ckpt_get(ck, "sim", &len);
+    const char *text = sphd_ckpt_get(ck, "exec", &tlen);
+    json_t *ex = text ? json_loadb(text, tlen, 0, NULL) : NULL;
+    sphd_exec *x = calloc(1, sizeof *x);
+    if (!state || !ex || !x) {
+        json_decref(ex);
+        sphd_ckpt_free(ck);
+        free(x);
+        sph_error_set(err, SPH_ERR_IO, "", "checkpoint in '%s' lacks the job's state", outdir);
+        return NULL;
+    }
+    x->c = *c;
+    x->ckpt_interval = SPHD_CKPT_INTERVAL_DEFAULT;
+    x->ckpt_every_outputs = 1;
+    x->last_ckpt = now();
+    x->wall = json_number_value(json_object_get(ex, "wall"));
+    x->last_diag = (long)json_integer_value(json_object_get(ex, "last_diag"));
+    x->outdir = strdup(outdir);
+    x->sim = x->outdir ? sph_sim_restore(state, len, err) : NULL;
+    sphd_ckpt_free(ck);
+    if (x->sim) {
+        const sph_diag *d = sph_sim_diag(x->sim);
+        x->diag = diag_json(d, x->c.sim.probes);
+        x->out = sphd_outputs_open(outdir, job_of(outdir), c, d->step, err);
+        if (x->out && sphd_outputs_restore(x->out, json_object_get(ex, "outputs"), err)) {
+            sphd_outputs_close(x->out);
+            x->out = NULL;
+        }
+    }
+    json_decref(ex);
+    if (!x->sim || !x->out) {
+        sphd_exec_free(x);
+        return NULL;
+    }
+    return x;
+}
+
 void sphd_exec_free(sphd_exec *x)
 {
     if (!x)
         return;
+    sphd_outputs_close(x->out);
     sph_sim_destroy(x->sim);
     json_decref(x->diag);
     free(x->outdir);

@@ -50,6 +50,22 @@ json_t *sphd_exec_progress(const sphd_exec *x);
 json_t *sphd_exec_particles(const sphd_exec *x, const char *const *fields, int nfields,
                             long max_particles, sph_error *err);
 
+/* Checkpoints (simulations with an outdir): written after every `every_outputs` snapshots and
+ * whenever `interval` wall-clock seconds have passed since the latest (checked between steps).
+ * Defaults: 60 s, 1. */
+#define SPHD_CKPT_INTERVAL_DEFAULT 60.0
+void sphd_exec_set_checkpoint_policy(sphd_exec *x, double interval, int every_outputs);
+
+/* Writes a checkpoint now (the daemon calls it on pause and on shutdown). Returns 0 (also for
+ * jobs with nothing to checkpoint) or an error code (io_error: disk full...). */
+int sphd_exec_checkpoint(sphd_exec *x, sph_error *err);
+
+/* Continues a simulation from the latest valid checkpoint in outdir (the case must be the one the
+ * job was submitted with). *fell_back is set when the latest checkpoint was damaged and the
+ * previous one used; err->message then says why (code SPH_OK). NULL with err when there is no
+ * valid checkpoint. */
+sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_back, sph_error *err);
+
 /* destroy(NULL) is a no-op. */
 void sphd_exec_free(sphd_exec *x);
 

@@ -17,6 +17,8 @@ static const char usage_text[] =
     "                     --set dx=0.004 --set kernel.type=cubic_spline (repeatable); the value\n"
     "                     is parsed as JSON where it parses, else taken as a string\n"
     "  --id JOB           the job id (default: the case's name)\n"
+    "  --resume           continue from the checkpoint in the output directory (after a crash or\n"
+    "                     a kill); starts from the beginning when there is none\n"
     "  --threads N        OpenMP threads for the solver (default: all cores)\n"
     "\n"
     "Daemon mode:\n"
@@ -44,13 +46,15 @@ int main(int argc, char **argv)
         OPT_LISTEN,
         OPT_PUBLISH,
         OPT_STATE,
-        OPT_MAXJOBS
+        OPT_MAXJOBS,
+        OPT_RESUME
     };
     static const struct option longopts[] = {
         {"run", required_argument, NULL, OPT_RUN},
         {"out", required_argument, NULL, OPT_OUT},
         {"set", required_argument, NULL, OPT_SET},
         {"id", required_argument, NULL, OPT_ID},
+        {"resume", no_argument, NULL, OPT_RESUME},
         {"threads", required_argument, NULL, OPT_THREADS},
         {"listen", required_argument, NULL, OPT_LISTEN},
         {"publish", required_argument, NULL, OPT_PUBLISH},
@@ -79,6 +83,9 @@ int main(int argc, char **argv)
             break;
         case OPT_ID:
             run.job = optarg;
+            break;
+        case OPT_RESUME:
+            run.resume = 1;
             break;
         case OPT_THREADS: {
             char *end;

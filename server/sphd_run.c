@@ -147,7 +147,22 @@ int sphd_run(const sphd_run_opts *o)
     emitter em = {.job = job, .seq = 0, .outdir = outdir};
     int rc = SPHD_EX_OK;
     write_json(outdir, "case.json", root);
-    sphd_exec *x = sphd_exec_new(c, outdir, &err);
+    sphd_exec *x = NULL;
+    if (o->resume && c->method == SPH_METHOD_WCSPH) {
+        int fell_back = 0;
+        char ck[4200];
+        snprintf(ck, sizeof ck, "%s/checkpoint", outdir);
+        x = sphd_exec_resume(c, outdir, &fell_back, &err);
+        if (x && fell_back)
+            fprintf(stderr, "sphd: %s\n", err.message);
+        else if (x)
+            fprintf(stderr, "sphd: %s: resuming from its checkpoint\n", job);
+        else
+            fprintf(stderr, "sphd: %s: no checkpoint to resume from (%s); starting afresh\n", job,
+                    err.message);
+    }
+    if (!x)
+        x = sphd_exec_new(c, outdir, &err);
     if (!x) {
         fprintf(stderr, "sphd: %s: %s: %s\n", o->case_file, sph_error_code_name(err.code),
                 err.message);

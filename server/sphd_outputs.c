@@ -1,0 +1,222 @@
+#include "sphd_outputs.h"
+
+#include "sphd_h5.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The diagnostics series' columns, after "step" (units in PROTOCOL.md). */
+static const char *const diag_columns[] = {"t",       "dt",      "ekin",    "epot",        "vmax",
+                                           "rho_min", "rho_max", "front_x", "height_left", "lost"};
+#define NDIAG ((int)(sizeof diag_columns / sizeof diag_columns[0]))
+
+struct sphd_outputs {
+    char dir[4096];
+    char job[64];
+    sph_output_config cfg;
+    int dim;
+    double dx;   /* [m] */
+    double mass; /* particle mass [kg] (per metre in 2D) */
+    char kernel[32];
+    sphd_diagfile *diag;
+    sphd_xdmf_entry *entries; /* snapshots written */
+    int nentries, capentries;
+};
+
+sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case *c,
+                                long resume_step, sph_error *err)
+{
+    sphd_outputs *o = calloc(1, sizeof *o);
+    if (!o) {
+        sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory");
+        return NULL;
+    }
+    snprintf(o->dir, sizeof o->dir, "%s", dir);
+    snprintf(o->job, sizeof o->job, "%s", job);
+    snprintf(o->kernel, sizeof o->kernel, "%s", sph_kernel_type_name(c->sim.kernel.type));
+    o->cfg = c->output;
+    o->dim = c->sim.dim;
+    o->dx = c->sim.dx;
+    o->mass = c->sim.rho0 * pow(c->sim.dx, c->sim.dim);
+    char path[4200];
+    snprintf(path, sizeof path, "%s/diag.h5", dir);
+    o->diag = sphd_diagfile_open(path, diag_columns, NDIAG, resume_step, err);
+    if (!o->diag) {
+        free(o);
+        return NULL;
+    }
+    return o;
+}
+
+int sphd_outputs_diag(sphd_outputs *o, const sph_diag *d, sph_error *err)
+{
+    const double v[NDIAG] = {d->t,       d->dt,      d->ekin,    d->epot,        d->vmax,
+                             d->rho_min, d->rho_max, d->front_x, d->height_left, (double)d->lost};
+    return sphd_diagfile_append(o->diag, d->step, v, err);
+}
+
+double sphd_outputs_next_time(const sphd_outputs *o)
+{
+    if (!(o->cfg.every > 0.0))
+        return INFINITY;
+    return (double)o->nentries * o->cfg.every;
+}
+
+/* Gathers src[where[k]] for k in creation order into dst (elements of size es). */
+static void gather(void *dst, const void *src, const long *where, long n, size_t es)
+{
+    for (long k = 0; k < n; k++)
+        memcpy((char *)dst + (size_t)k * es, (const char *)src + (size_t)where[k] * es, es);
+}
+
+json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err)
+{
+    sph_particle_view v;
+    sph_sim_particles(s, &v);
+    const sph_diag *d = sph_sim_diag(s);
+    const long n = v.n;
+    const size_t nn = (size_t)(n > 0 ? n : 1);
+    long *where = malloc(nn * sizeof *where);
+    double *buf = malloc(nn * sizeof(double) * 9);
+    unsigned char *type = malloc(nn);
+    int32_t *id = malloc(nn * sizeof *id);
+    if (!where || !buf || !type || !id) {
+        free(where), free(buf), free(type), free(id);
+        sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for a snapshot of %ld particles", n);
+        return NULL;
+    }
+    for (long i = 0; i < n; i++)
+        where[v.id[i]] = i;
+    double *col[9];
+    for (int k = 0; k < 9; k++)
+        col[k] = buf + (size_t)k * nn;
+    sphd_h5_field f[8];
+    int nf = 0;
+    const unsigned want = o->cfg.fields;
+    long nfluid = 0, nboundary = 0;
+    for (long i = 0; i < n; i++) {
+        nfluid += v.type[i] != 1;
+        nboundary += v.type[i] == 1;
+    }
+    int c = 0;
+    sphd_h5_field pos = {"pos", "m", SPHD_H5_F64, v.dim, {0}};
+    for (int k = 0; k < v.dim; k++) {
+        gather(col[c], v.pos[k], where, n, sizeof(double));
+        pos.comp[k] = col[c++];
+    }
+    f[nf++] = pos;
+    if (want & SPH_FIELD_VEL) {
+        sphd_h5_field vel = {"vel", "m/s", SPHD_H5_F64, v.dim, {0}};
+        for (int k = 0; k < v.dim; k++) {
+            gather(col[c], v.vel[k], where, n, sizeof(double));
+            vel.comp[k] = col[c++];
+        }
+        f[nf++] = vel;
+    }
+    if (want & SPH_FIELD_RHO) {
+        gather(col[c], v.rho, where, n, sizeof(double));
+        f[nf++] = (sphd_h5_field){"rho", "kg/m^3", SPHD_H5_F64, 1, {col[c++]}};
+    }
+    if (want & SPH_FIELD_P) {
+        gather(col[c], v.p, where, n, sizeof(double));
+        f[nf++] = (sphd_h5_field){"p", "Pa", SPHD_H5_F64, 1, {col[c++]}};
+    }
+    if (want & SPH_FIELD_MASS) {
+        for (long k = 0; k < n; k++)
+            col[c][k] = o->mass;
+        f[nf++] = (sphd_h5_field){"mass", o->dim == 2 ? "kg/m" : "kg", SPHD_H5_F64, 1, {col[c++]}};
+    }
+    if (want & SPH_FIELD_TYPE) {
+        gather(type, v.type, where, n, 1);
+        f[nf++] = (sphd_h5_field){"type", "0 fluid, 1 boundary, 2 lost", SPHD_H5_I8, 1, {type}};
+    }
+    if (want & SPH_FIELD_ID) {
+        for (long k = 0; k < n; k++)
+            id[k] = (int32_t)k;
+        f[nf++] = (sphd_h5_field){"id", "", SPHD_H5_I32, 1, {id}};
+    }
+
+    if (o->nentries == o->capentries) {
+        int cap = o->capentries ? 2 * o->capentries : 64;
+        sphd_xdmf_entry *e = realloc(o->entries, (size_t)cap * sizeof *e);
+        if (!e) {
+            free(where), free(buf), free(type), free(id);
+            sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory");
+            return NULL;
+        }
+        o->entries = e;
+        o->capentries = cap;
+    }
+    sphd_xdmf_entry *e = &o->entries[o->nentries];
+    snprintf(e->file, sizeof e->file, "snap_%06d.h5", o->nentries);
+    e->t = d->t;
+    e->step = d->step;
+    e->n = n;
+    sphd_h5_header h = {.t = d->t,
+                        .step = d->step,
+                        .dim = o->dim,
+                        .dx = o->dx,
+                        .kernel = o->kernel,
+                        .job = o->job,
+                        .n = n,
+                        .n_fluid = nfluid,
+                        .n_boundary = nboundary,
+                        .n_body = 0};
+    char path[4400], xmf[4200];
+    snprintf(path, sizeof path, "%s/%s", o->dir, e->file);
+    snprintf(xmf, sizeof xmf, "%s/particles.xmf", o->dir);
+    int rc = sphd_h5_write_snapshot(path, &h, f, nf, o->cfg.compress, err);
+    if (rc == 0)
+        rc = sphd_xdmf_write(xmf, o->entries, o->nentries + 1, f, nf, err);
+    free(where), free(buf), free(type), free(id);
+    if (rc)
+        return NULL;
+    o->nentries++;
+    return json_pack("{s:s, s:f, s:I}", "file", e->file, "t", e->t, "step", (json_int_t)e->step);
+}
+
+json_t *sphd_outputs_state(const sphd_outputs *o)
+{
+    json_t *list = json_array();
+    for (int i = 0; i < o->nentries; i++)
+        json_array_append_new(list,
+                              json_pack("{s:s, s:f, s:I, s:I}", "file", o->entries[i].file, "t",
+                                        o->entries[i].t, "step", (json_int_t)o->entries[i].step,
+                                        "n", (json_int_t)o->entries[i].n));
+    return json_pack("{s:o}", "snapshots", list);
+}
+
+int sphd_outputs_restore(sphd_outputs *o, const json_t *state, sph_error *err)
+{
+    json_t *list = json_object_get(state, "snapshots");
+    if (!json_is_array(list))
+        return sph_error_set(err, SPH_ERR_IO, "", "checkpoint lacks the outputs' state");
+    size_t n = json_array_size(list);
+    sphd_xdmf_entry *e = calloc(n ? n : 1, sizeof *e);
+    if (!e)
+        return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory");
+    for (size_t i = 0; i < n; i++) {
+        json_t *it = json_array_get(list, i);
+        const char *file = json_string_value(json_object_get(it, "file"));
+        snprintf(e[i].file, sizeof e[i].file, "%s", file ? file : "");
+        e[i].t = json_number_value(json_object_get(it, "t"));
+        e[i].step = (long)json_integer_value(json_object_get(it, "step"));
+        e[i].n = (long)json_integer_value(json_object_get(it, "n"));
+    }
+    free(o->entries);
+    o->entries = e;
+    o->nentries = o->capentries = (int)n;
+    return 0;
+}
+
+void sphd_outputs_close(sphd_outputs *o)
+{
+    if (!o)
+        return;
+    sphd_diagfile_close(o->diag);
+    free(o->entries);
+    free(o);
+}
