@@ -196,7 +196,7 @@ static void run_job(sphd_worker *w, void *sock, sphd_wcmd *cmd)
         const double t = progress_t(p, "t"), t_end = progress_t(p, "t_end");
         if (wall > 0 && isfinite(t) && isfinite(sim0) && t > sim0 && isfinite(t_end))
             eta = (t_end - t) / ((t - sim0) / wall);
-        if (ended || s1 - last_progress >= PROGRESS_EVERY_S) {
+        if (!ended && s1 - last_progress >= PROGRESS_EVERY_S) {
             sphd_wev pe = {.kind = SPHD_WEV_PROGRESS,
                            .job = cmd->job,
                            .body = p,
@@ -212,6 +212,11 @@ static void run_job(sphd_worker *w, void *sock, sphd_wcmd *cmd)
     }
     flush_diag(&r);
     end.wall = sphd_mono() - t0;
+    /* the final progress, whatever ended the run */
+    json_t *fp = sphd_exec_progress(x);
+    sphd_wev pe = {.kind = SPHD_WEV_PROGRESS, .job = cmd->job, .body = fp, .wall = end.wall};
+    if (fp && send_wev(sock, &pe) != 0)
+        json_decref(fp);
     if (send_wev(sock, &end) != 0)
         sphd_log("worker %d: cannot report the end of a run: %s", w->index, zmq_strerror(errno));
 }
