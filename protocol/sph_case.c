@@ -1,4 +1,5 @@
 #include "sph_case.h"
+#include "sph_geometry.h"
 #include "sph_json.h"
 
 #include <errno.h>
@@ -39,9 +40,9 @@ int sph_case_load(const char *file, json_t **root, sph_error *err)
 }
 
 /* A kernel object {"type": ..., "kappa": ..., "radius": ...} at path base. */
-static int parse_kernel(const json_t *obj, const char *base, sph_kernel_spec *spec, sph_error *err)
+static int parse_kernel_keys(const json_t *obj, const char *base, const char *const *keys,
+                             sph_kernel_spec *spec, sph_error *err)
 {
-    static const char *const keys[] = {"type", "kappa", "radius", NULL};
     if (!json_is_object(obj))
         return sph_error_set(err, SPH_ERR_INVALID, base,
                              "a kernel must be an object like {\"type\": \"wendland_c2\"}, not %s",
@@ -78,6 +79,12 @@ static int parse_kernel(const json_t *obj, const char *base, sph_kernel_spec *sp
                         SPH_KERNEL_GAUSS_RADIUS_MAX, &spec->radius, err))
         return SPH_ERR_INVALID;
     return 0;
+}
+
+static int parse_kernel(const json_t *obj, const char *base, sph_kernel_spec *spec, sph_error *err)
+{
+    static const char *const keys[] = {"type", "kappa", "radius", NULL};
+    return parse_kernel_keys(obj, base, keys, spec, err);
 }
 
 static int parse_study(const json_t *root, sph_study_config *c, sph_error *err)
@@ -175,6 +182,290 @@ static int parse_study(const json_t *root, sph_study_config *c, sph_error *err)
     return sph_study_validate(c, err);
 }
 
+/* An object member at base/key (required or optional); *out NULL when absent. */
+static int get_object(const json_t *obj, const char *base, const char *key, int required,
+                      json_t **out, char *path, size_t pathsize, sph_error *err)
+{
+    if (sph_json_get(obj, base, key, required, out, err))
+        return SPH_ERR_INVALID;
+    snprintf(path, pathsize, "%s/%s", base, key);
+    if (*out && !json_is_object(*out))
+        return sph_error_set(err, SPH_ERR_INVALID, path, "'%s' must be an object, not %s", key,
+                             sph_json_type_name(*out));
+    return 0;
+}
+
+/* {"min": [x, y], "max": [x, y]} with max > min. */
+static int parse_box(const json_t *obj, const char *base, sph_box *b, sph_error *err)
+{
+    static const char *const keys[] = {"min", "max", NULL};
+    if (!json_is_object(obj))
+        return sph_error_set(err, SPH_ERR_INVALID, base,
+                             "a box must be an object {\"min\": [x, y], \"max\": [x, y]}");
+    memset(b, 0, sizeof *b);
+    if (sph_json_check_keys(obj, base, keys, err) ||
+        sph_json_vector(obj, base, "min", 1, 2, b->min, err) ||
+        sph_json_vector(obj, base, "max", 1, 2, b->max, err))
+        return SPH_ERR_INVALID;
+    for (int d = 0; d < 2; d++)
+        if (!(b->max[d] > b->min[d])) {
+            char path[SPH_ERROR_PATH_MAX];
+            snprintf(path, sizeof path, "%s/max/%d", base, d);
+            return sph_error_set(err, SPH_ERR_INVALID, path,
+                                 "max (%g) must be greater than min (%g)", b->max[d], b->min[d]);
+        }
+    return 0;
+}
+
+static int parse_physics(const json_t *root, sph_config *c, sph_error *err)
+{
+    static const char *const keys[] = {"rho0",       "gravity",   "eos", "viscosity",
+                                       "turbulence", "delta_sph", NULL};
+    static const char *const eos_keys[] = {"type", "c0", NULL};
+    static const char *const visc_keys[] = {"type", "alpha", "nu", NULL};
+    char path[SPH_ERROR_PATH_MAX], sub[SPH_ERROR_PATH_MAX];
+    json_t *ph, *o;
+    if (get_object(root, "", "physics", 1, &ph, path, sizeof path, err) ||
+        sph_json_check_keys(ph, path, keys, err) ||
+        sph_json_number(ph, path, "rho0", 0, 1e-3, 1e6, &c->rho0, err) ||
+        sph_json_vector(ph, path, "gravity", 0, 2, c->gravity, err) ||
+        sph_json_number(ph, path, "delta_sph", 0, 0.0, 1.0, &c->delta_sph, err))
+        return SPH_ERR_INVALID;
+    for (int d = 0; d < 2; d++)
+        if (fabs(c->gravity[d]) > 1e3)
+            return sph_error_set(err, SPH_ERR_INVALID, "/physics/gravity",
+                                 "gravity components must be within +-1000 m/s^2");
+
+    const char *type = NULL;
+    if (get_object(ph, path, "eos", 1, &o, sub, sizeof sub, err) ||
+        sph_json_check_keys(o, sub, eos_keys, err) ||
+        sph_json_string(o, sub, "type", 1, &type, err) ||
+        sph_json_number(o, sub, "c0", 1, 1e-3, 1e5, &c->c0, err))
+        return SPH_ERR_INVALID;
+    if (strcmp(type, "linear") == 0)
+        c->eos = SPH_EOS_LINEAR;
+    else if (strcmp(type, "tait") == 0)
+        c->eos = SPH_EOS_TAIT;
+    else
+        return sph_error_set(err, SPH_ERR_INVALID, "/physics/eos/type",
+                             "unknown eos '%s' (known: linear, tait)", type);
+
+    if (get_object(ph, path, "viscosity", 0, &o, sub, sizeof sub, err))
+        return SPH_ERR_INVALID;
+    if (o) {
+        if (sph_json_check_keys(o, sub, visc_keys, err) ||
+            sph_json_string(o, sub, "type", 1, &type, err))
+            return SPH_ERR_INVALID;
+        if (strcmp(type, "artificial") == 0) {
+            c->visc = SPH_VISC_ARTIFICIAL;
+            if (json_object_get(o, "nu"))
+                return sph_error_set(err, SPH_ERR_INVALID, "/physics/viscosity/nu",
+                                     "'nu' applies to laminar viscosity only");
+            if (sph_json_number(o, sub, "alpha", 0, 0.0, 10.0, &c->alpha, err))
+                return SPH_ERR_INVALID;
+        } else if (strcmp(type, "laminar") == 0) {
+            c->visc = SPH_VISC_LAMINAR;
+            if (json_object_get(o, "alpha"))
+                return sph_error_set(err, SPH_ERR_INVALID, "/physics/viscosity/alpha",
+                                     "'alpha' applies to artificial viscosity only");
+            if (sph_json_number(o, sub, "nu", 1, 0.0, 1e3, &c->nu, err))
+                return SPH_ERR_INVALID;
+        } else {
+            return sph_error_set(err, SPH_ERR_INVALID, "/physics/viscosity/type",
+                                 "unknown viscosity '%s' (known: artificial, laminar)", type);
+        }
+    }
+    const char *turb = "none";
+    if (sph_json_string(ph, path, "turbulence", 0, &turb, err))
+        return SPH_ERR_INVALID;
+    if (strcmp(turb, "none") == 0)
+        c->turb = SPH_TURB_NONE;
+    else if (strcmp(turb, "sps") == 0)
+        c->turb = SPH_TURB_SPS;
+    else
+        return sph_error_set(err, SPH_ERR_INVALID, "/physics/turbulence",
+                             "unknown turbulence model '%s' (known: none, sps)", turb);
+    return 0;
+}
+
+/* Names in an array of strings, each from `known` (NULL-terminated); returns a bit per name. */
+static int parse_names(const json_t *obj, const char *base, const char *key,
+                       const char *const *known, unsigned *mask, sph_error *err)
+{
+    json_t *a;
+    if (sph_json_get(obj, base, key, 0, &a, err))
+        return SPH_ERR_INVALID;
+    if (!a)
+        return 0;
+    char path[SPH_ERROR_PATH_MAX];
+    snprintf(path, sizeof path, "%s/%s", base, key);
+    if (!json_is_array(a))
+        return sph_error_set(err, SPH_ERR_INVALID, path, "'%s' must be an array of names", key);
+    *mask = 0;
+    size_t i;
+    json_t *v;
+    json_array_foreach(a, i, v)
+    {
+        int k = -1;
+        for (int j = 0; json_is_string(v) && known[j]; j++)
+            if (strcmp(json_string_value(v), known[j]) == 0)
+                k = j;
+        if (k < 0) {
+            char ipath[SPH_ERROR_PATH_MAX + 32];
+            snprintf(ipath, sizeof ipath, "%s/%zu", path, i);
+            return sph_error_set(err, SPH_ERR_INVALID, ipath,
+                                 "unknown name in '%s' (known: %s%s%s%s%s)", key, known[0],
+                                 known[1] ? ", " : "", known[1] ? known[1] : "",
+                                 known[1] && known[2] ? ", ..." : "", "");
+        }
+        *mask |= 1u << k;
+    }
+    return 0;
+}
+
+static int parse_sim(const json_t *root, sph_config *c, sph_error *err)
+{
+    static const char *const keys[] = {"name", "description", "method",      "dim",      "kernel",
+                                       "dx",   "domain",      "fluid",       "boundary", "physics",
+                                       "time", "output",      "diagnostics", NULL};
+    static const char *const kernel_keys[] = {"type", "kappa", "radius", "h_over_dx", NULL};
+    static const char *const boundary_keys[] = {"type", "layers", "tank", NULL};
+    static const char *const time_keys[] = {"end", "cfl", "dt", NULL};
+    static const char *const output_keys[] = {"every", "fields", NULL};
+    static const char *const diag_keys[] = {"every", "probes", NULL};
+    /* probe names: bit k of the mask is known[k]; the first two are SPH_PROBE_* */
+    static const char *const probes[] = {"front_x", "height_left", "ekin", "epot", "vmax", NULL};
+    static const char *const fields[] = {"pos", "vel", "rho", "p", "type", NULL};
+    char path[SPH_ERROR_PATH_MAX];
+    json_t *o;
+
+    if (sph_json_check_keys(root, "", keys, err))
+        return SPH_ERR_INVALID;
+    *c = sph_config_default();
+    long dim = 2;
+    if (sph_json_integer(root, "", "dim", 0, 1, 3, &dim, err))
+        return SPH_ERR_INVALID;
+    if (dim != 2)
+        return sph_error_set(err, SPH_ERR_INVALID, "/dim",
+                             "wcsph is available in 2D only in this version (dim = 2)");
+
+    if (get_object(root, "", "kernel", 0, &o, path, sizeof path, err))
+        return SPH_ERR_INVALID;
+    if (o) {
+        if (parse_kernel_keys(o, path, kernel_keys, &c->kernel, err) ||
+            sph_json_number(o, path, "h_over_dx", 0, 0.5, 4.0, &c->h_over_dx, err))
+            return SPH_ERR_INVALID;
+        if (sph_kernel_is_mps(c->kernel.type))
+            return sph_error_set(err, SPH_ERR_INVALID, "/kernel/type",
+                                 "'%s' is an MPS weight function, not a WCSPH kernel",
+                                 sph_kernel_type_name(c->kernel.type));
+    }
+    if (sph_json_number(root, "", "dx", 1, -INFINITY, 1e3, &c->dx, err))
+        return SPH_ERR_INVALID;
+    if (!(c->dx > 0.0))
+        return sph_error_set(err, SPH_ERR_INVALID, "/dx", "'dx' must be positive, got %g", c->dx);
+
+    json_t *dom;
+    if (sph_json_get(root, "", "domain", 1, &dom, err) ||
+        parse_box(dom, "/domain", &c->domain, err))
+        return SPH_ERR_INVALID;
+
+    json_t *fluid;
+    if (sph_json_get(root, "", "fluid", 1, &fluid, err))
+        return SPH_ERR_INVALID;
+    if (!json_is_array(fluid) || json_array_size(fluid) < 1 ||
+        json_array_size(fluid) > SPH_CONFIG_MAX_BOXES)
+        return sph_error_set(err, SPH_ERR_INVALID, "/fluid",
+                             "'fluid' must be an array of 1 to %d objects {\"box\": {...}}",
+                             SPH_CONFIG_MAX_BOXES);
+    size_t i;
+    json_t *v;
+    json_array_foreach(fluid, i, v)
+    {
+        static const char *const fkeys[] = {"box", NULL};
+        char base[64], bpath[80];
+        snprintf(base, sizeof base, "/fluid/%zu", i);
+        snprintf(bpath, sizeof bpath, "%s/box", base);
+        json_t *box;
+        if (!json_is_object(v))
+            return sph_error_set(err, SPH_ERR_INVALID, base,
+                                 "a fluid block must be an object {\"box\": {...}}");
+        if (sph_json_check_keys(v, base, fkeys, err) ||
+            sph_json_get(v, base, "box", 1, &box, err) || parse_box(box, bpath, &c->fluid[i], err))
+            return SPH_ERR_INVALID;
+        for (int d = 0; d < 2; d++) {
+            if (c->fluid[i].min[d] < c->domain.min[d]) {
+                snprintf(path, sizeof path, "%s/min/%d", bpath, d);
+                return sph_error_set(err, SPH_ERR_INVALID, path, "the fluid is outside the domain");
+            }
+            if (c->fluid[i].max[d] > c->domain.max[d]) {
+                snprintf(path, sizeof path, "%s/max/%d", bpath, d);
+                return sph_error_set(err, SPH_ERR_INVALID, path, "the fluid is outside the domain");
+            }
+        }
+        if (sph_geometry_box_count(&c->fluid[i], 2, c->dx) == 0)
+            return sph_error_set(err, SPH_ERR_INVALID, bpath,
+                                 "the box holds no particles at dx = %g m (it is thinner than dx)",
+                                 c->dx);
+    }
+    c->nfluid = (int)json_array_size(fluid);
+
+    c->boundary = SPH_BOUNDARY_NONE;
+    if (get_object(root, "", "boundary", 0, &o, path, sizeof path, err))
+        return SPH_ERR_INVALID;
+    if (o) {
+        const char *type = NULL;
+        long layers = 3;
+        if (sph_json_check_keys(o, path, boundary_keys, err) ||
+            sph_json_string(o, path, "type", 1, &type, err) ||
+            sph_json_integer(o, path, "layers", 0, 1, 8, &layers, err))
+            return SPH_ERR_INVALID;
+        if (strcmp(type, "dynamic") == 0)
+            c->boundary = SPH_BOUNDARY_DYNAMIC;
+        else if (strcmp(type, "none") != 0)
+            return sph_error_set(err, SPH_ERR_INVALID, "/boundary/type",
+                                 "unknown boundary '%s' (known: dynamic, none)", type);
+        c->layers = (int)layers;
+        json_t *tank;
+        if (sph_json_get(o, path, "tank", 0, &tank, err) ||
+            (tank && parse_box(tank, "/boundary/tank", &c->tank, err)))
+            return SPH_ERR_INVALID;
+        c->has_tank = tank != NULL;
+    }
+
+    if (parse_physics(root, c, err))
+        return SPH_ERR_INVALID;
+
+    if (get_object(root, "", "time", 1, &o, path, sizeof path, err) ||
+        sph_json_check_keys(o, path, time_keys, err) ||
+        sph_json_number(o, path, "end", 1, 1e-9, 1e6, &c->t_end, err) ||
+        sph_json_number(o, path, "cfl", 0, 1e-3, 1.0, &c->cfl, err) ||
+        sph_json_number(o, path, "dt", 0, 1e-12, 1.0, &c->dt_fixed, err))
+        return SPH_ERR_INVALID;
+
+    unsigned mask = 0;
+    if (get_object(root, "", "output", 0, &o, path, sizeof path, err))
+        return SPH_ERR_INVALID;
+    if (o) { /* particle snapshots arrive with the HDF5 writer; validated now */
+        double every = 0.0;
+        if (sph_json_check_keys(o, path, output_keys, err) ||
+            sph_json_number(o, path, "every", 0, 1e-9, 1e6, &every, err) ||
+            parse_names(o, path, "fields", fields, &mask, err))
+            return SPH_ERR_INVALID;
+    }
+    if (get_object(root, "", "diagnostics", 0, &o, path, sizeof path, err))
+        return SPH_ERR_INVALID;
+    if (o) {
+        mask = SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT;
+        if (sph_json_check_keys(o, path, diag_keys, err) ||
+            sph_json_integer(o, path, "every", 0, 1, 1000000000L, &c->diag_every, err) ||
+            parse_names(o, path, "probes", probes, &mask, err))
+            return SPH_ERR_INVALID;
+        c->probes = mask & (SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT);
+    }
+    return 0;
+}
+
 int sph_case_from_json(const json_t *root, sph_case *out, sph_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -192,7 +483,11 @@ int sph_case_from_json(const json_t *root, sph_case *out, sph_error *err)
         out->method = SPH_METHOD_KERNEL_STUDY;
         return parse_study(root, &out->study, err);
     }
-    if (strcmp(method, "wcsph") == 0 || strcmp(method, "mps") == 0)
+    if (strcmp(method, "wcsph") == 0) {
+        out->method = SPH_METHOD_WCSPH;
+        return parse_sim(root, &out->sim, err);
+    }
+    if (strcmp(method, "mps") == 0)
         return sph_error_set(err, SPH_ERR_INVALID, "/method",
                              "method '%s' is not available in this version of sphd yet", method);
     return sph_error_set(err, SPH_ERR_INVALID, "/method",

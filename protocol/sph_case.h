@@ -6,6 +6,7 @@
 #ifndef SPH_CASE_H
 #define SPH_CASE_H
 
+#include "sph_config.h"
 #include "sph_error.h"
 #include "sph_study.h"
 
@@ -23,6 +24,7 @@ typedef struct sph_case {
     char name[SPH_CASE_NAME_MAX]; /* the case's "name" */
     sph_method method;
     sph_study_config study; /* method == SPH_METHOD_KERNEL_STUDY */
+    sph_config sim;         /* method == SPH_METHOD_WCSPH */
 } sph_case;
 
 /* Reads a case file into a new JSON object (*root, new reference). SPH_ERR_IO if the file cannot

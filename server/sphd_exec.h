@@ -39,8 +39,16 @@ sphd_exec *sphd_exec_new(const sph_case *c, const char *outdir, sph_error *err);
 sphd_exec_status sphd_exec_advance(sphd_exec *x, long max_steps, double until, sphd_emit_fn emit,
                                    void *ud, sph_error *err);
 
-/* Progress for status/query: {"t", "t_end", "step", "diag": {...latest diag...}} (new ref). */
+/* Progress for status/query: {"t", "t_end", "step", "finished", "diag": {...latest diag...}}
+ * (new ref; a kernel study has only step and finished). */
 json_t *sphd_exec_progress(const sphd_exec *x);
+
+/* Particle fields of a simulation job ("pos", "vel", "rho", "p", "type", "id"; at most 8),
+ * downsampled evenly over the particles' creation order to at most max_particles:
+ * {"total": N, "count": n, "fields": {"pos": [[x, y], ...], "rho": [...], ...}} (new ref).
+ * NULL with err for a job without particles or an unknown field. */
+json_t *sphd_exec_particles(const sphd_exec *x, const char *const *fields, int nfields,
+                            long max_particles, sph_error *err);
 
 /* destroy(NULL) is a no-op. */
 void sphd_exec_free(sphd_exec *x);

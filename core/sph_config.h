@@ -1,0 +1,61 @@
+/*
+ * sph_config: the plain configuration of a particle simulation (what a case file says), filled
+ * by protocol/sph_case.c and read by sph_sim_create(). No JSON here: the core knows nothing of
+ * files. Every length is in metres, every time in seconds, densities in kg/m^3.
+ */
+#ifndef SPH_CONFIG_H
+#define SPH_CONFIG_H
+
+#include "sph_kernel.h"
+
+#define SPH_CONFIG_MAX_BOXES 16
+
+/* An axis-aligned box; components beyond dim are ignored. */
+typedef struct sph_box {
+    double min[3]; /* lower corner [m] */
+    double max[3]; /* upper corner [m] */
+} sph_box;
+
+typedef enum { SPH_BOUNDARY_NONE = 0, SPH_BOUNDARY_DYNAMIC } sph_boundary_type;
+typedef enum { SPH_EOS_LINEAR = 0, SPH_EOS_TAIT } sph_eos_type;
+typedef enum { SPH_VISC_ARTIFICIAL = 0, SPH_VISC_LAMINAR } sph_visc_type;
+typedef enum { SPH_TURB_NONE = 0, SPH_TURB_SPS } sph_turb_type;
+
+/* Probes a diag can carry besides the always-present fields (bit mask). */
+enum { SPH_PROBE_FRONT_X = 1 << 0, SPH_PROBE_HEIGHT_LEFT = 1 << 1 };
+
+typedef struct sph_config {
+    int dim;                             /* 2 (3D later) */
+    sph_kernel_spec kernel;              /* kernel type and parameters */
+    double h_over_dx;                    /* smoothing length in units of dx [-] */
+    double dx;                           /* initial particle spacing [m] */
+    sph_box domain;                      /* fluid leaving this box is lost [m] */
+    int nfluid;                          /* number of fluid boxes */
+    sph_box fluid[SPH_CONFIG_MAX_BOXES]; /* fluid blocks, filled at spacing dx [m] */
+    sph_boundary_type boundary;          /* wall treatment */
+    int layers;                          /* layers of dynamic boundary particles [-] */
+    int has_tank;                        /* 1 if `tank` holds walls */
+    sph_box tank;       /* inner faces of the tank walls (bottom, left, right; open top) [m] */
+    double rho0;        /* reference density [kg/m^3] */
+    double gravity[3];  /* [m/s^2] */
+    sph_eos_type eos;   /* linear (Yang et al. eq. 16) or Tait (gamma = 7) */
+    double c0;          /* numerical speed of sound [m/s] */
+    sph_visc_type visc; /* artificial (Monaghan) or laminar (Yang et al. eq. 14) */
+    double alpha;       /* artificial viscosity coefficient [-] */
+    double nu;          /* kinematic viscosity for laminar [m^2/s] */
+    sph_turb_type turb; /* none or SPS (Yang et al. eqs. 7-9, 15) */
+    double delta_sph;   /* delta-SPH density diffusion coefficient, 0 = off [-] */
+    double t_end;       /* end time [s] */
+    double cfl;         /* CFL number for the adaptive time step [-] */
+    double dt_fixed;    /* fixed time step, 0 = adaptive [s] */
+    long diag_every;    /* steps between diagnostics events [-] */
+    unsigned probes;    /* SPH_PROBE_* mask */
+    double max_bytes;   /* memory a simulation may use [bytes] */
+} sph_config;
+
+#define SPH_CONFIG_DEFAULT_MAX_BYTES (4.0 * 1024 * 1024 * 1024)
+
+/* A config with every optional field at its default (no fluid, no tank). */
+sph_config sph_config_default(void);
+
+#endif

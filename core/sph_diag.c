@@ -1,0 +1,96 @@
+/*
+ * sph_diag: diagnostics of the current state. Serial sums in the particles' (deterministic)
+ * order, so that runs are reproducible.
+ *
+ * Front position: the fluid is binned along x in bins of width dx; starting from the leftmost
+ * occupied bin, the walk continues to the right across gaps of at most (support / dx + 1) empty
+ * bins. The front is the right edge (x + dx/2) of the last particle reached: droplets farther
+ * ahead than a kernel support from the connected fluid do not count. The height at the left
+ * wall is the same walk upwards over the fluid within 2 dx of the wall.
+ */
+#include "sph_sim_impl.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Walks bins [0, nb) from the first occupied one; returns the largest coordinate reached, or
+ * NAN when no bin is occupied. */
+static double walk(const int *count, const double *maxc, long nb, long gap)
+{
+    long i = 0;
+    while (i < nb && count[i] == 0)
+        i++;
+    if (i == nb)
+        return NAN;
+    double best = maxc[i];
+    long empty = 0;
+    for (; i < nb; i++) {
+        if (count[i] == 0) {
+            if (++empty > gap)
+                break;
+            continue;
+        }
+        empty = 0;
+        best = maxc[i] > best ? maxc[i] : best;
+    }
+    return best;
+}
+
+/* Histogram of coordinate u of the fluid particles with v in [vlo, vhi) over [lo, lo + nb dx). */
+static double probe(sph_sim *s, const double *u, const double *v, double lo, double vlo, double vhi)
+{
+    const sph_particles *P = &s->P;
+    const double dx = s->cfg.dx;
+    memset(s->bin_count, 0, (size_t)s->nbins * sizeof *s->bin_count);
+    for (long b = 0; b < s->nbins; b++)
+        s->bin_max[b] = -INFINITY;
+    for (long i = 0; i < s->nactive; i++) {
+        if (P->type[i] != SPH_FLUID || v[i] < vlo || v[i] >= vhi)
+            continue;
+        long b = (long)floor((u[i] - lo) / dx);
+        if (b < 0)
+            b = 0;
+        if (b >= s->nbins)
+            b = s->nbins - 1;
+        s->bin_count[b]++;
+        if (u[i] > s->bin_max[b])
+            s->bin_max[b] = u[i];
+    }
+    const long gap = (long)ceil(s->kernel.support / dx) + 1;
+    return walk(s->bin_count, s->bin_max, s->nbins, gap) + 0.5 * dx;
+}
+
+void sph_diag_compute(sph_sim *s)
+{
+    const sph_config *c = &s->cfg;
+    const sph_particles *P = &s->P;
+    sph_diag *d = &s->diag;
+    const double m = s->mass, gx = c->gravity[0], gy = c->gravity[1];
+    double ekin = 0.0, epot = 0.0, v2max = 0.0, rlo = INFINITY, rhi = -INFINITY;
+    for (long i = 0; i < s->nactive; i++) {
+        if (P->type[i] != SPH_FLUID)
+            continue;
+        const double v2 = P->vx[i] * P->vx[i] + P->vy[i] * P->vy[i];
+        ekin += 0.5 * m * v2;
+        epot -= m * (gx * P->x[i] + gy * P->y[i]);
+        v2max = v2 > v2max ? v2 : v2max;
+        rlo = P->rho[i] < rlo ? P->rho[i] : rlo;
+        rhi = P->rho[i] > rhi ? P->rho[i] : rhi;
+    }
+    d->t = s->t;
+    d->step = s->step;
+    d->dt = s->dt;
+    d->ekin = ekin;
+    d->epot = epot;
+    d->vmax = sqrt(v2max);
+    d->rho_min = rlo;
+    d->rho_max = rhi;
+    d->lost = s->P.n - s->nactive;
+    d->nfluid = s->nfluid;
+    d->nboundary = s->nboundary;
+
+    const double wall = c->has_tank ? c->tank.min[0] : c->domain.min[0];
+    const double bottom = c->has_tank ? c->tank.min[1] : c->domain.min[1];
+    d->front_x = probe(s, P->x, P->y, c->domain.min[0], -INFINITY, INFINITY);
+    d->height_left = probe(s, P->y, P->x, bottom, wall, wall + 2.0 * c->dx) - bottom;
+}

@@ -1,0 +1,111 @@
+#include "sph_geometry.h"
+
+#include <math.h>
+
+static long axis_count(double lo, double hi, double dx)
+{
+    const double n = floor((hi - lo) / dx + 1e-6);
+    return n > 0 ? (long)n : 0;
+}
+
+long sph_geometry_box_count(const sph_box *b, int dim, double dx)
+{
+    long n = 1;
+    for (int d = 0; d < dim; d++)
+        n *= axis_count(b->min[d], b->max[d], dx);
+    return n;
+}
+
+/* Wall particles: bottom row (with the corners) and the two sides. */
+static void tank_counts(const sph_config *c, long *nbottom, long *nside)
+{
+    const long L = c->layers;
+    *nbottom = (axis_count(c->tank.min[0], c->tank.max[0], c->dx) + 2 * L) * L;
+    *nside = axis_count(c->tank.min[1], c->tank.max[1], c->dx) * L;
+}
+
+void sph_geometry_count(const sph_config *c, long *nfluid, long *nboundary)
+{
+    *nfluid = 0;
+    for (int b = 0; b < c->nfluid; b++)
+        *nfluid += sph_geometry_box_count(&c->fluid[b], c->dim, c->dx);
+    *nboundary = 0;
+    if (c->has_tank && c->boundary == SPH_BOUNDARY_DYNAMIC) {
+        long nb, ns;
+        tank_counts(c, &nb, &ns);
+        *nboundary = nb + 2 * ns;
+    }
+}
+
+double sph_geometry_eos_density(const sph_config *c, double p)
+{
+    if (c->eos == SPH_EOS_TAIT) {
+        /* p = B ((rho/rho0)^7 - 1), B = c0^2 rho0 / 7 */
+        const double B = c->c0 * c->c0 * c->rho0 / 7.0;
+        return c->rho0 * pow(1.0 + p / B, 1.0 / 7.0);
+    }
+    return c->rho0 + p / (c->c0 * c->c0); /* Yang et al. 2014, eq. (16) */
+}
+
+/* Hydrostatic density at (x, y): the deepest fluid box above it (within `margin` in x). */
+static double initial_density(const sph_config *c, double x, double y, double margin)
+{
+    const double g = -c->gravity[1];
+    double depth = 0.0;
+    if (g > 0.0)
+        for (int b = 0; b < c->nfluid; b++) {
+            const sph_box *f = &c->fluid[b];
+            if (x >= f->min[0] - margin && x <= f->max[0] + margin && y < f->max[1] &&
+                f->max[1] - y > depth)
+                depth = f->max[1] - y;
+        }
+    return sph_geometry_eos_density(c, c->rho0 * g * depth);
+}
+
+static void put(sph_particles *P, long i, double x, double y, int type, double rho)
+{
+    P->x[i] = x;
+    P->y[i] = y;
+    P->vx[i] = 0.0;
+    P->vy[i] = 0.0;
+    P->rho[i] = rho;
+    P->type[i] = (unsigned char)type;
+    P->id[i] = (int)i;
+}
+
+void sph_geometry_fill(const sph_config *c, sph_particles *P)
+{
+    const double dx = c->dx;
+    long i = 0;
+    for (int b = 0; b < c->nfluid; b++) {
+        const sph_box *f = &c->fluid[b];
+        const long nx = axis_count(f->min[0], f->max[0], dx);
+        const long ny = axis_count(f->min[1], f->max[1], dx);
+        for (long ix = 0; ix < nx; ix++)
+            for (long iy = 0; iy < ny; iy++) {
+                const double x = f->min[0] + (ix + 0.5) * dx, y = f->min[1] + (iy + 0.5) * dx;
+                put(P, i++, x, y, SPH_FLUID, initial_density(c, x, y, 0.0));
+            }
+    }
+    if (!(c->has_tank && c->boundary == SPH_BOUNDARY_DYNAMIC))
+        return;
+    const long L = c->layers;
+    const double margin = (L + 0.5) * dx;
+    const sph_box *t = &c->tank;
+    const long nx = axis_count(t->min[0], t->max[0], dx);
+    const long ny = axis_count(t->min[1], t->max[1], dx);
+    for (long k = 0; k < L; k++) {
+        const double y = t->min[1] - (k + 0.5) * dx;
+        for (long ix = -L; ix < nx + L; ix++) {
+            const double x = t->min[0] + (ix + 0.5) * dx;
+            put(P, i++, x, y, SPH_BOUNDARY, initial_density(c, x, y, margin));
+        }
+    }
+    for (long k = 0; k < L; k++)
+        for (long iy = 0; iy < ny; iy++) {
+            const double y = t->min[1] + (iy + 0.5) * dx;
+            const double xl = t->min[0] - (k + 0.5) * dx, xr = t->max[0] + (k + 0.5) * dx;
+            put(P, i++, xl, y, SPH_BOUNDARY, initial_density(c, xl, y, margin));
+            put(P, i++, xr, y, SPH_BOUNDARY, initial_density(c, xr, y, margin));
+        }
+}

@@ -1,0 +1,25 @@
+/*
+ * sph_geometry: builders that fill the particle arrays from a configuration's geometry: fluid
+ * boxes at spacing dx (particles at cell centres), and the walls of a tank as `layers` layers of
+ * dynamic boundary particles outside its inner faces (bottom, left and right; the top is open).
+ */
+#ifndef SPH_GEOMETRY_H
+#define SPH_GEOMETRY_H
+
+#include "sph_config.h"
+#include "sph_particles.h"
+
+/* Particles a box holds at spacing dx (0 if thinner than dx along an axis). */
+long sph_geometry_box_count(const sph_box *b, int dim, double dx);
+
+/* Counts the particles of a configuration without building them. */
+void sph_geometry_count(const sph_config *c, long *nfluid, long *nboundary);
+
+/* Fills P (allocated for nfluid + nboundary particles): fluid first, then boundary; velocity
+ * zero; density hydrostatic under each fluid box (so that a column at rest starts at rest). */
+void sph_geometry_fill(const sph_config *c, sph_particles *P);
+
+/* Density at which the configuration's EOS gives pressure p [kg/m^3]. */
+double sph_geometry_eos_density(const sph_config *c, double p);
+
+#endif

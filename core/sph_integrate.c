@@ -1,0 +1,165 @@
+/*
+ * sph_integrate: time integration. Velocity Verlet with one force evaluation per step, the
+ * velocity-dependent terms evaluated with the predicted velocity, and the density advanced with
+ * the trapezoidal rule over the two density rates:
+ *
+ *     x(n+1)  = x(n) + dt v(n) + dt^2/2 a(n)
+ *     v*      = v(n) + dt a(n),            rho* = rho(n) + dt D(n)
+ *     a(n+1), D(n+1) from (x(n+1), v*, rho*)
+ *     v(n+1)  = v* + dt/2 (a(n+1) - a(n)), rho(n+1) = rho* + dt/2 (D(n+1) - D(n))
+ *
+ * The time step is fixed (the case's `time.dt`) or adaptive: dt = CFL min(h / (c0 + vmax),
+ * sqrt(h / amax)), and at most h^2 / (8 nu) with laminar viscosity.
+ * After every step the state is checked: non-finite values, density outside [rho0/2, 2 rho0],
+ * too many particles lost, a collapsing time step are blow-ups reported with the step.
+ */
+#include "sph_sim_impl.h"
+
+#include <math.h>
+#include <omp.h>
+
+#define SPH_RHO_LOW     0.5   /* density collapse below rho0 times this */
+#define SPH_RHO_HIGH    2.0   /* and above rho0 times this */
+#define SPH_DT_COLLAPSE 1e-12 /* an adaptive dt below this (relative to h / c0) is a blow-up */
+
+double sph_integrate_dt(const sph_sim *s)
+{
+    const sph_config *c = &s->cfg;
+    if (c->dt_fixed > 0.0)
+        return c->dt_fixed;
+    double dt = s->h / (c->c0 + s->vmax);
+    if (s->amax > 0.0) {
+        const double df = sqrt(s->h / s->amax);
+        dt = df < dt ? df : dt;
+    }
+    dt *= c->cfl;
+    if (c->visc == SPH_VISC_LAMINAR && c->nu > 0.0) {
+        const double dv = 0.125 * s->h * s->h / c->nu;
+        dt = dv < dt ? dv : dt;
+    }
+    return dt;
+}
+
+static void swap(double **a, double **b)
+{
+    double *t = *a;
+    *a = *b;
+    *b = t;
+}
+
+/* The first non-finite particle, for the message. */
+static long first_bad(const sph_particles *P, long n)
+{
+    for (long i = 0; i < n; i++)
+        if (!isfinite(P->x[i]) || !isfinite(P->y[i]) || !isfinite(P->vx[i]) ||
+            !isfinite(P->vy[i]) || !isfinite(P->rho[i]))
+            return i;
+    return -1;
+}
+
+int sph_integrate_step(sph_sim *s, double dt_cap, sph_error *err)
+{
+    const sph_config *c = &s->cfg;
+    sph_particles *P = &s->P;
+    const double t0 = omp_get_wtime();
+    const double dt_free = sph_integrate_dt(s);
+    const long step = s->step + 1;
+    if (!(dt_free >= SPH_DT_COLLAPSE * s->h / c->c0))
+        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                             "time step collapsed to %g s at step %ld (t = %g s, max acceleration "
+                             "%g m/s^2)",
+                             dt_free, step, s->t, s->amax);
+    const double dt = dt_cap < dt_free ? dt_cap : dt_free;
+    s->dt = dt;
+
+    /* the latest rates become the old ones */
+    swap(&P->ax, &P->ax0);
+    swap(&P->ay, &P->ay0);
+    swap(&P->drho, &P->drho0);
+
+    /* predictor */
+    const double xlo = c->domain.min[0], xhi = c->domain.max[0];
+    const double ylo = c->domain.min[1], yhi = c->domain.max[1];
+    const long n0 = s->nactive;
+    long bad = 0;
+#pragma omp parallel for schedule(static) reduction(+ : bad)
+    for (long i = 0; i < n0; i++) {
+        if (P->type[i] == SPH_FLUID) {
+            const double ax = P->ax0[i], ay = P->ay0[i];
+            const double x = P->x[i] + dt * (P->vx[i] + 0.5 * dt * ax);
+            const double y = P->y[i] + dt * (P->vy[i] + 0.5 * dt * ay);
+            bad += !isfinite(x) || !isfinite(y);
+            if (x >= xlo && x <= xhi && y >= ylo && y <= yhi) {
+                P->x[i] = x;
+                P->y[i] = y;
+                P->vx[i] += dt * ax;
+                P->vy[i] += dt * ay;
+            } else {
+                P->type[i] = SPH_LOST; /* frozen where it left */
+                P->vx[i] = P->vy[i] = 0.0;
+            }
+        }
+        P->rho[i] += dt * P->drho0[i];
+    }
+    if (bad)
+        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                             "blow-up at step %ld (t = %g s, dt = %g s): non-finite position of "
+                             "%ld particles",
+                             step, s->t, dt, bad);
+    s->timing.integration += omp_get_wtime() - t0;
+
+    sph_wcsph_forces(s); /* sorts by cell: the arrays are permuted, nactive updated */
+
+    /* corrector and checks */
+    const double t1 = omp_get_wtime();
+    const long n = s->nactive;
+    const double rho0 = c->rho0;
+    double vmax2 = 0.0, rlo = INFINITY, rhi = -INFINITY;
+    bad = 0;
+#pragma omp parallel for schedule(static) reduction(+ : bad) reduction(max : vmax2, rhi)          \
+    reduction(min : rlo)
+    for (long i = 0; i < n; i++) {
+        double rho = P->rho[i] + 0.5 * dt * (P->drho[i] - P->drho0[i]);
+        if (P->type[i] == SPH_FLUID) {
+            const double vx = P->vx[i] + 0.5 * dt * (P->ax[i] - P->ax0[i]);
+            const double vy = P->vy[i] + 0.5 * dt * (P->ay[i] - P->ay0[i]);
+            P->vx[i] = vx;
+            P->vy[i] = vy;
+            const double v2 = vx * vx + vy * vy;
+            vmax2 = v2 > vmax2 ? v2 : vmax2;
+            bad += !isfinite(v2);
+        } else if (rho < rho0) {
+            rho = rho0; /* walls do not pull fluid in (as DualSPHysics does) */
+        }
+        P->rho[i] = rho;
+        bad += !isfinite(rho);
+        rlo = rho < rlo ? rho : rlo;
+        rhi = rho > rhi ? rho : rhi;
+    }
+    s->vmax = sqrt(vmax2);
+    s->t += dt;
+    s->step = step;
+    s->timing.integration += omp_get_wtime() - t1;
+
+    if (bad) {
+        const long i = first_bad(P, n);
+        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                             "blow-up at step %ld (t = %g s, dt = %g s): non-finite velocity or "
+                             "density (%ld particles, first: particle %d)",
+                             step, s->t, dt, bad, i >= 0 ? P->id[i] : -1);
+    }
+    if (rlo < SPH_RHO_LOW * rho0 || rhi > SPH_RHO_HIGH * rho0)
+        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                             "blow-up at step %ld (t = %g s, dt = %g s): density %s: %g kg/m^3 is "
+                             "outside [%g, %g] (rho0 = %g)",
+                             step, s->t, dt, rlo < SPH_RHO_LOW * rho0 ? "collapse" : "explosion",
+                             rlo < SPH_RHO_LOW * rho0 ? rlo : rhi, SPH_RHO_LOW * rho0,
+                             SPH_RHO_HIGH * rho0, rho0);
+    const long lost = P->n - n;
+    if (lost > s->max_lost)
+        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                             "blow-up at step %ld (t = %g s): %ld fluid particles left the domain "
+                             "(more than %ld allowed)",
+                             step, s->t, lost, s->max_lost);
+    return 0;
+}

@@ -1,0 +1,46 @@
+/*
+ * sph_particles: particle storage as structure of arrays (2D). Hot fields (what the pair loops
+ * read and write) are separate arrays of doubles; every per-particle array that must follow a
+ * particle when the particles are reordered by cell is listed in sph_particles_permute().
+ */
+#ifndef SPH_PARTICLES_H
+#define SPH_PARTICLES_H
+
+#include <stddef.h>
+
+/* Particle kinds (the `type` array). */
+enum {
+    SPH_FLUID = 0,    /* moves, feels forces */
+    SPH_BOUNDARY = 1, /* dynamic boundary particle: fixed, density by continuity */
+    SPH_LOST = 2      /* fluid that left the domain: frozen, excluded from interactions */
+};
+
+typedef struct sph_particles {
+    long n;                  /* particles stored (fluid + boundary, lost included) */
+    double *x, *y;           /* position [m] */
+    double *vx, *vy;         /* velocity [m/s] */
+    double *rho;             /* density [kg/m^3] */
+    double *p;               /* pressure [Pa] */
+    double *pr;              /* p / rho^2, scratch of the force loop [m^5/(kg s^2)] */
+    double *ax, *ay;         /* acceleration of the latest force evaluation [m/s^2] */
+    double *drho;            /* density rate of the latest force evaluation [kg/(m^3 s)] */
+    double *ax0, *ay0;       /* acceleration of the previous evaluation [m/s^2] */
+    double *drho0;           /* density rate of the previous evaluation [kg/(m^3 s)] */
+    double *gxx, *gxy, *gyy; /* SPS: du/dx, du/dy + dv/dx, dv/dy [1/s] (NULL without SPS) */
+    double *txx, *txy, *tyy; /* SPS: sub-particle stress / rho, Yang et al. eq. (7) [m^2/s^2] */
+    unsigned char *type;     /* SPH_FLUID, SPH_BOUNDARY, SPH_LOST */
+    int *id;                 /* creation index, stable across reorderings [-] */
+    double *scratch;         /* n doubles for permutations */
+} sph_particles;
+
+/* Bytes per particle the storage needs (with or without the SPS arrays). */
+size_t sph_particles_bytes_per_particle(int sps);
+
+/* Allocates n particles (zeroed). Returns 0 or -1 when out of memory (then frees what it got). */
+int sph_particles_alloc(sph_particles *P, long n, int sps);
+void sph_particles_free(sph_particles *P);
+
+/* Reorders every persistent field by perm: new[i] = old[perm[i]]. */
+void sph_particles_permute(sph_particles *P, const long *perm);
+
+#endif

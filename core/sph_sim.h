@@ -1,0 +1,92 @@
+/*
+ * sph_sim: a particle simulation behind an opaque handle. Method-agnostic: the configuration says
+ * which method (only WCSPH today), the handle is created, stepped, observed and destroyed:
+ *
+ *     sph_sim *s = sph_sim_create(&cfg, &err);
+ *     while (sph_sim_time(s) < cfg.t_end)
+ *         if (sph_sim_advance(s, 100, cfg.t_end, &err)) ... err.code == SPH_ERR_UNSTABLE ...
+ *     const sph_diag *d = sph_sim_diag(s);
+ *     sph_sim_destroy(s);
+ *
+ * No global state: any number of sims may live in one process. The core parallelises inside a
+ * step with OpenMP; with a fixed number of threads a run is bitwise reproducible (the pair loops
+ * visit the cells in an order that does not depend on the number of threads, so the results do
+ * not depend on it either). Not thread-safe: one thread drives a sim at a time.
+ */
+#ifndef SPH_SIM_H
+#define SPH_SIM_H
+
+#include "sph_config.h"
+#include "sph_error.h"
+
+typedef struct sph_sim sph_sim;
+
+/* Diagnostics of the latest completed step (SI units). */
+typedef struct sph_diag {
+    double t;           /* time [s] */
+    long step;          /* steps done [-] */
+    double dt;          /* latest time step [s] */
+    double ekin;        /* kinetic energy of the fluid, sum m v^2 / 2 [J] (per metre in 2D) */
+    double epot;        /* potential energy of the fluid, -sum m g.x [J] (per metre in 2D) */
+    double vmax;        /* largest fluid speed [m/s] */
+    double rho_min;     /* smallest fluid density [kg/m^3] */
+    double rho_max;     /* largest fluid density [kg/m^3] */
+    double front_x;     /* x of the leading edge of the connected fluid [m] */
+    double height_left; /* water height at the left wall (tank or domain) above its bottom [m] */
+    long lost;          /* fluid particles that left the domain [-] */
+    long nfluid;        /* fluid particles (lost included) [-] */
+    long nboundary;     /* boundary particles [-] */
+} sph_diag;
+
+/* Read access to the particles. Arrays are in the sim's current (cell-sorted) order; `id` maps
+ * them to their creation index. Valid until the next step or destroy. */
+typedef struct sph_particle_view {
+    long n;                    /* particles (fluid, boundary and lost) */
+    int dim;                   /* 2 */
+    const double *pos[3];      /* position components [m] (pos[2] NULL in 2D) */
+    const double *vel[3];      /* velocity components [m/s] */
+    const double *rho;         /* density [kg/m^3] */
+    const double *p;           /* pressure [Pa] */
+    const unsigned char *type; /* 0 fluid, 1 boundary, 2 lost (see sph_particles.h) */
+    const int *id;             /* creation index */
+} sph_particle_view;
+
+/* Cumulative wall-clock time spent in each part of the steps (for benchmarks). */
+typedef struct sph_timing {
+    double neighbours;   /* cell list build and particle reordering [s] */
+    double interactions; /* pair loops [s] */
+    double integration;  /* time integration, checks, diagnostics [s] */
+    long pairs;          /* interacting pairs (r < support) in the latest force evaluation */
+    long active;         /* particles in the latest force evaluation */
+} sph_timing;
+
+/* Creates the simulation: builds the particles, the cell list and the initial forces. Fails with
+ * SPH_ERR_INVALID (bad configuration, path names the case field), SPH_ERR_NOMEM ("too_large": the
+ * case needs more than cfg->max_bytes, or memory ran out). */
+sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err);
+
+/* Advances by at most max_steps steps and not past time t_until (the last step is shortened to
+ * land on it). Returns 0, or SPH_ERR_UNSTABLE with a message naming the step and the quantity
+ * (non-finite values, density collapse, too many particles lost, time step collapse); a failed
+ * sim refuses further steps. The diagnostics are updated at the end of every call. */
+int sph_sim_advance(sph_sim *s, long max_steps, double t_until, sph_error *err);
+
+/* sph_sim_advance(s, nsteps, INFINITY, err). */
+int sph_sim_step(sph_sim *s, long nsteps, sph_error *err);
+
+const sph_diag *sph_sim_diag(const sph_sim *s);
+double sph_sim_time(const sph_sim *s);
+const sph_config *sph_sim_config(const sph_sim *s);
+void sph_sim_particles(const sph_sim *s, sph_particle_view *view);
+void sph_sim_timing(const sph_sim *s, sph_timing *timing);
+/* Resident bytes of the sim's particle and cell storage. */
+double sph_sim_bytes(const sph_sim *s);
+
+/* destroy(NULL) is a no-op. */
+void sph_sim_destroy(sph_sim *s);
+
+/* Bytes sph_sim_create() would need for cfg (what max_bytes is compared with). Also reports the
+ * particle counts. */
+double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nboundary);
+
+#endif

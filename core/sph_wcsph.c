@@ -1,0 +1,311 @@
+/*
+ * sph_wcsph: the WCSPH pair loops (Yang, Peng & Liu 2014, section 2.2; Macia et al. for the
+ * artificial viscosity), 2D.
+ *
+ * Each pair is computed once and applied to both particles with opposite signs. The loop is
+ * written once, strip_generic(), a `static inline` function taking the kernel type and the
+ * option flags as compile-time constants; SPH_KERNEL_DISPATCH picks its instantiation for the
+ * job's kernel once per force evaluation, so no pair goes through a function pointer.
+ *
+ * Parallel without atomics: the grid's columns are grouped in strips two columns wide. A cell
+ * interacts with itself, the cell above it and the three cells of the next column, so a strip
+ * writes only to its own columns and the first column of the next strip: strips of the same
+ * parity never write to the same particle. The even strips run in parallel, then the odd ones.
+ * The order in which a particle receives its contributions is fixed by the grid alone, so the
+ * results are bitwise the same whatever the number of threads.
+ */
+#include "sph_sim_impl.h"
+
+#include <math.h>
+#include <omp.h>
+#include <string.h>
+
+/* Option flags, instantiated as constants. */
+enum { F_LAMINAR = 1, F_SPS = 2, F_DELTA = 4, F_COUNT = 8 };
+
+#define SPH_SPS_CS 0.12   /* Smagorinsky constant, Yang et al. after Lo & Shao */
+#define SPH_SPS_CI 0.0066 /* isotropic part, Dalrymple & Rogers 2006 */
+
+typedef struct fctx {
+    const double *x, *y, *vx, *vy, *rho, *pr;
+    const unsigned char *type;
+    double *ax, *ay, *drho;
+    double *gxx, *gxy, *gyy;
+    const double *txx, *txy, *tyy;
+    const long *start;
+    int nx, ny;
+    const sph_kernel *k;
+    double m;        /* particle mass [kg] */
+    double h;        /* smoothing length [m] */
+    double eta2;     /* 0.01 h^2 [m^2] */
+    double support2; /* support radius squared [m^2] */
+    double tiny;     /* guards r = 0 [m] */
+    double alpha_c0; /* artificial viscosity alpha c0 [m/s] */
+    double mu8;      /* laminar: 8 mu = 8 rho0 nu [Pa s] */
+    double dcoef;    /* delta-SPH: 2 delta h c0 m [kg m^2/s] */
+} fctx;
+
+typedef struct acc {
+    double ax, ay, drho, gxx, gxy, gyy;
+    long pairs;
+} acc;
+
+/* Interactions of particle i with particles [jb, je). */
+static inline __attribute__((always_inline)) void interact(sph_kernel_type T, unsigned F,
+                                                           const fctx *restrict c, long i, long jb,
+                                                           long je, acc *restrict ai)
+{
+    const double *restrict x = c->x, *restrict y = c->y, *restrict vx = c->vx, *restrict vy = c->vy,
+                           *restrict rho = c->rho, *restrict pr = c->pr;
+    double *restrict ax = c->ax, *restrict ay = c->ay, *restrict drho = c->drho;
+    const double xi = x[i], yi = y[i], vxi = vx[i], vyi = vy[i], rhoi = rho[i], pri = pr[i];
+    const int bi = c->type[i] == SPH_BOUNDARY;
+    const double m = c->m, support2 = c->support2, eta2 = c->eta2;
+    for (long j = jb; j < je; j++) {
+        const double dx = xi - x[j], dy = yi - y[j];
+        const double r2 = dx * dx + dy * dy;
+        if (r2 >= support2)
+            continue;
+        const int bj = c->type[j] == SPH_BOUNDARY;
+        if (bi & bj) /* fixed walls: no relative motion, no force that matters */
+            continue;
+        ai->pairs++;
+        const double r = sqrt(r2);
+        double dwdr;
+        (void)sph_kernel_eval_t(T, c->k, r, &dwdr);
+        const double fw = dwdr / (r + c->tiny); /* grad_a W_ab = fw (x_a - x_b) */
+        const double dvx = vxi - vx[j], dvy = vyi - vy[j];
+        const double vr = dvx * dx + dvy * dy;
+        const double rhoj = rho[j];
+
+        /* Yang et al. 2014, eq. (12): continuity; the same for both particles */
+        const double dd = m * vr * fw;
+        ai->drho += dd;
+        drho[j] += dd;
+
+        /* eq. (13): pressure, with Monaghan's artificial viscosity Pi_ab (Macia et al.) */
+        double pt = pri + pr[j];
+        if (!(F & F_LAMINAR) && vr < 0.0) {
+            const double mu = c->h * vr / (r2 + eta2);
+            pt -= c->alpha_c0 * mu * 2.0 / (rhoi + rhoj);
+        }
+        double fx = -m * pt * fw * dx, fy = -m * pt * fw * dy;
+
+        if (F & F_LAMINAR) { /* eq. (14) */
+            const double rs = rhoi + rhoj;
+            const double lc = c->mu8 * m * fw * r2 / (rs * rs * (r2 + eta2));
+            fx += lc * dvx;
+            fy += lc * dvy;
+        }
+        if (F & F_SPS) { /* eq. (15): sub-particle stress; velocity gradients for eq. (9) */
+            const double sxx = c->txx[i] + c->txx[j], sxy = c->txy[i] + c->txy[j],
+                         syy = c->tyy[i] + c->tyy[j];
+            fx += m * fw * (sxx * dx + sxy * dy);
+            fy += m * fw * (sxy * dx + syy * dy);
+            const double gx = fw * dx, gy = fw * dy;
+            const double vi = -m / rhoj, vj = -m / rhoi;
+            ai->gxx += vi * dvx * gx;
+            ai->gxy += vi * (dvx * gy + dvy * gx);
+            ai->gyy += vi * dvy * gy;
+            c->gxx[j] += vj * dvx * gx;
+            c->gxy[j] += vj * (dvx * gy + dvy * gx);
+            c->gyy[j] += vj * dvy * gy;
+        }
+        if ((F & F_DELTA) && !(bi | bj)) {
+            /* delta-SPH (Molteni & Colagrossi 2009): 2 delta h c0 sum (rho_b - rho_a)
+             * (x_b - x_a).grad_a W / (r^2 + eta^2) V_b, fluid pairs only */
+            const double w = c->dcoef * (rhoj - rhoi) * (-fw * r2) / (r2 + eta2);
+            ai->drho += w / rhoj;
+            drho[j] -= w / rhoi;
+        }
+        ai->ax += fx;
+        ai->ay += fy;
+        ax[j] -= fx;
+        ay[j] -= fy;
+    }
+}
+
+/* The pairs of strip `strip` (columns 1 + 2 strip and 2 + 2 strip). Returns the pair count. */
+static inline __attribute__((always_inline)) long strip_generic(sph_kernel_type T, unsigned F,
+                                                                const fctx *c, int strip)
+{
+    const int ny = c->ny;
+    const long *start = c->start;
+    const int cx0 = 1 + 2 * strip, cx1 = cx0 + 2 < c->nx - 1 ? cx0 + 2 : c->nx - 1;
+    long pairs = 0;
+    for (int cx = cx0; cx < cx1; cx++)
+        for (int cy = 1; cy < ny - 1; cy++) {
+            const long cell = (long)cx * ny + cy;
+            const long ib = start[cell], ie = start[cell + 1];
+            if (ib == ie)
+                continue;
+            const long up = start[cell + 2]; /* end of the cell above */
+            const long nb = start[cell + ny - 1], ne = start[cell + ny + 2]; /* next column */
+            for (long i = ib; i < ie; i++) {
+                acc a = {0};
+                interact(T, F, c, i, i + 1, up, &a);
+                interact(T, F, c, i, nb, ne, &a);
+                c->ax[i] += a.ax;
+                c->ay[i] += a.ay;
+                c->drho[i] += a.drho;
+                if (F & F_SPS) {
+                    c->gxx[i] += a.gxx;
+                    c->gxy[i] += a.gxy;
+                    c->gyy[i] += a.gyy;
+                }
+                pairs += a.pairs;
+            }
+        }
+    return pairs;
+}
+
+typedef long (*strip_fn)(const fctx *c, int strip);
+
+/* One instantiation per kernel type and option set: strips_<TYPE>[flags]. */
+#define SPH_STRIP_FN(T, FL)                                                                        \
+    static long strip_##T##_##FL(const fctx *c, int strip)                                         \
+    {                                                                                              \
+        return strip_generic(T, FL, c, strip);                                                     \
+    }
+#define SPH_STRIP_TABLE(T)                                                                         \
+    SPH_STRIP_FN(T, 0)                                                                             \
+    SPH_STRIP_FN(T, 1)                                                                             \
+    SPH_STRIP_FN(T, 2)                                                                             \
+    SPH_STRIP_FN(T, 3)                                                                             \
+    SPH_STRIP_FN(T, 4)                                                                             \
+    SPH_STRIP_FN(T, 5)                                                                             \
+    SPH_STRIP_FN(T, 6)                                                                             \
+    SPH_STRIP_FN(T, 7)                                                                             \
+    static const strip_fn strips_##T[F_COUNT] = {strip_##T##_0, strip_##T##_1, strip_##T##_2,      \
+                                                 strip_##T##_3, strip_##T##_4, strip_##T##_5,      \
+                                                 strip_##T##_6, strip_##T##_7};
+
+SPH_STRIP_TABLE(SPH_KERNEL_CUBIC_SPLINE)
+SPH_STRIP_TABLE(SPH_KERNEL_GAUSSIAN)
+SPH_STRIP_TABLE(SPH_KERNEL_DOUBLE_COSINE)
+SPH_STRIP_TABLE(SPH_KERNEL_WENDLAND_C2)
+SPH_STRIP_TABLE(SPH_KERNEL_RENORMALIZED_GAUSSIAN)
+SPH_STRIP_TABLE(SPH_KERNEL_KOSHIZUKA)
+SPH_STRIP_TABLE(SPH_KERNEL_SHEU_QUARTIC)
+
+/* EOS, p / rho^2, SPS stresses from the previous velocity gradients; zeroes the accumulators. */
+static void prepare(sph_sim *s)
+{
+    const sph_config *cfg = &s->cfg;
+    sph_particles *P = &s->P;
+    const long n = s->nactive;
+    const double c2 = cfg->c0 * cfg->c0, rho0 = cfg->rho0, B = c2 * rho0 / 7.0;
+    const int tait = cfg->eos == SPH_EOS_TAIT;
+    const double smag = (SPH_SPS_CS * cfg->dx) * (SPH_SPS_CS * cfg->dx);
+    const double blin = 2.0 / 3.0 * SPH_SPS_CI * cfg->dx * cfg->dx;
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < n; i++) {
+        const double rho = P->rho[i];
+        double p;
+        if (tait) {
+            const double q = rho / rho0, q2 = q * q;
+            p = B * (q2 * q2 * q2 * q - 1.0); /* Tait, gamma = 7 */
+        } else {
+            p = c2 * (rho - rho0); /* Yang et al. 2014, eq. (16) */
+        }
+        P->p[i] = p;
+        P->pr[i] = p / (rho * rho);
+        P->ax[i] = 0.0;
+        P->ay[i] = 0.0;
+        P->drho[i] = 0.0;
+        if (P->gxx) {
+            /* Yang et al. eqs. (7)-(9), Smagorinsky; isotropic part after Dalrymple & Rogers
+             * 2006. Stored as R / rho as eq. (15) uses it. Boundary particles carry none. */
+            double txx = 0.0, txy = 0.0, tyy = 0.0;
+            if (P->type[i] == SPH_FLUID) {
+                const double dudx = P->gxx[i], sxy = P->gxy[i], dvdy = P->gyy[i];
+                const double s2 = 2.0 * (dudx * dudx + dvdy * dvdy) + sxy * sxy; /* 2 S:S */
+                const double nut = smag * sqrt(s2);                              /* eq. (8) */
+                const double iso = -(2.0 / 3.0 * nut * (dudx + dvdy) + blin * s2);
+                txx = (2.0 * nut * dudx + iso) / rho;
+                txy = nut * sxy / rho;
+                tyy = (2.0 * nut * dvdy + iso) / rho;
+            }
+            P->txx[i] = txx;
+            P->txy[i] = txy;
+            P->tyy[i] = tyy;
+            P->gxx[i] = P->gxy[i] = P->gyy[i] = 0.0;
+        }
+    }
+}
+
+void sph_wcsph_forces(sph_sim *s)
+{
+    const sph_config *cfg = &s->cfg;
+    sph_particles *P = &s->P;
+    double t0 = omp_get_wtime();
+    s->nactive = sph_cells_sort(&s->cells, P);
+    double t1 = omp_get_wtime();
+    s->timing.neighbours += t1 - t0;
+
+    prepare(s);
+    const unsigned flags = (cfg->visc == SPH_VISC_LAMINAR ? F_LAMINAR : 0) |
+                           (cfg->turb == SPH_TURB_SPS ? F_SPS : 0) |
+                           (cfg->delta_sph > 0.0 ? F_DELTA : 0);
+    const fctx c = {.x = P->x,
+                    .y = P->y,
+                    .vx = P->vx,
+                    .vy = P->vy,
+                    .rho = P->rho,
+                    .pr = P->pr,
+                    .type = P->type,
+                    .ax = P->ax,
+                    .ay = P->ay,
+                    .drho = P->drho,
+                    .gxx = P->gxx,
+                    .gxy = P->gxy,
+                    .gyy = P->gyy,
+                    .txx = P->txx,
+                    .txy = P->txy,
+                    .tyy = P->tyy,
+                    .start = s->cells.start,
+                    .nx = s->cells.nx,
+                    .ny = s->cells.ny,
+                    .k = &s->kernel,
+                    .m = s->mass,
+                    .h = s->h,
+                    .eta2 = 0.01 * s->h * s->h,
+                    .support2 = s->kernel.support * s->kernel.support,
+                    .tiny = 1e-12 * s->h,
+                    .alpha_c0 = cfg->alpha * cfg->c0,
+                    .mu8 = 8.0 * cfg->rho0 * cfg->nu,
+                    .dcoef = 2.0 * cfg->delta_sph * s->h * cfg->c0 * s->mass};
+    strip_fn fn = NULL;
+#define SPH_PICK(T) fn = strips_##T[flags]
+    SPH_KERNEL_DISPATCH(s->kernel.type, SPH_PICK);
+#undef SPH_PICK
+    const int nstrips = (s->cells.nx - 2 + 1) / 2;
+    long pairs = 0;
+    for (int parity = 0; parity < 2; parity++) {
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : pairs)
+        for (int st = parity; st < nstrips; st += 2)
+            pairs += fn(&c, st);
+    }
+
+    /* gravity on the fluid; walls and lost particles do not move */
+    const double gx = cfg->gravity[0], gy = cfg->gravity[1];
+    const long n = s->nactive;
+    double amax2 = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : amax2)
+    for (long i = 0; i < n; i++) {
+        if (P->type[i] == SPH_FLUID) {
+            P->ax[i] += gx;
+            P->ay[i] += gy;
+            const double a2 = P->ax[i] * P->ax[i] + P->ay[i] * P->ay[i];
+            amax2 = a2 > amax2 ? a2 : amax2;
+        } else {
+            P->ax[i] = P->ay[i] = 0.0;
+        }
+    }
+    for (long i = n; i < P->n; i++)
+        P->ax[i] = P->ay[i] = P->drho[i] = 0.0;
+    s->amax = sqrt(amax2);
+    s->timing.interactions += omp_get_wtime() - t1;
+    s->timing.pairs = pairs;
+    s->timing.active = n;
+}

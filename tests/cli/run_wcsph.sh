@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# `sphd --run` on a WCSPH case: JSON Lines events (diag with the probes, result, the final state),
+# exit 0; a case needing more memory than allowed exits 65 with too_large.
+# Usage: run_wcsph.sh SPHD SOURCE_DIR
+set -u
+sphd=$1; src=$2
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail=0
+"$sphd" --run "$src/cases/dambreak.json" --out "$tmp/out" --set time.end=0.02 >"$tmp/ev" 2>"$tmp/err"
+rc=$?
+[ $rc = 0 ] || { echo "FAIL: dam break exit $rc"; cat "$tmp/err"; fail=1; }
+/usr/bin/python3 - "$tmp/ev" <<'PY' || fail=1
+import json, sys
+ev = [json.loads(l) for l in open(sys.argv[1])]
+assert ev[-1]["type"] == "state" and ev[-1]["state"] == "done", ev[-1]
+assert [e["seq"] for e in ev] == list(range(1, len(ev) + 1)), "seq gaps"
+diags = [e for e in ev if e["type"] == "diag"]
+assert len(diags) >= 2 and diags[0]["step"] == 0, diags[:1]
+for k in ("step", "t", "dt", "ekin", "epot", "vmax", "rho_min", "rho_max", "front_x", "height_left"):
+    assert k in diags[-1], k
+assert abs(diags[-1]["t"] - 0.02) < 1e-12, diags[-1]["t"]
+res = [e for e in ev if e["type"] == "result"]
+assert len(res) == 1 and res[0]["particles"]["fluid"] == 800, res
+print("dam break events OK:", len(ev), "events, front_x", diags[-1]["front_x"])
+PY
+"$sphd" --run "$src/cases/dambreak.json" --out "$tmp/o2" --set dx=1e-5 >"$tmp/ev2" 2>"$tmp/err2"
+rc=$?
+if [ $rc != 65 ] || ! grep -q too_large "$tmp/err2" || [ -s "$tmp/ev2" ]; then
+  echo "FAIL: too large case: exit $rc"; cat "$tmp/err2"; fail=1
+else
+  echo "too large OK: $(cat "$tmp/err2")"
+fi
+exit $fail

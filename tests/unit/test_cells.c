@@ -1,0 +1,302 @@
+/*
+ * The cell-list pair loops (each pair once, applied to both particles, strips in parallel)
+ * against the obvious all-pairs loop on a random cloud, for every SPH kernel and each option:
+ * accelerations, density rates and SPS velocity gradients must agree to round-off.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "sph_sim_impl.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define NCLOUD 400
+
+static double urand(unsigned *s)
+{
+    *s = *s * 1103515245u + 12345u;
+    return ((*s >> 8) & 0xffffff) / (double)0x1000000;
+}
+
+/* A sim whose particles are replaced by a random cloud of fluid and boundary particles. */
+static sph_sim *cloud(sph_kernel_type type, sph_visc_type visc, sph_turb_type turb, double delta)
+{
+    sph_config c = sph_config_default();
+    c.kernel = sph_kernel_spec_default(type);
+    if (type == SPH_KERNEL_DOUBLE_COSINE)
+        c.kernel.kappa = 2.5;
+    c.dx = 0.01;
+    c.h_over_dx = 1.3;
+    c.domain = (sph_box){{0, 0, 0}, {0.2, 0.2, 0}};
+    c.nfluid = 1;
+    c.fluid[0] = (sph_box){{0, 0, 0}, {0.2, 0.2, 0}}; /* 400 particles */
+    c.boundary = SPH_BOUNDARY_NONE;
+    c.visc = visc;
+    c.alpha = 0.1;
+    c.nu = 1e-3;
+    c.turb = turb;
+    c.delta_sph = delta;
+    c.t_end = 1.0;
+    sph_error err;
+    sph_sim *s = sph_sim_create(&c, &err);
+    assert_non_null(s);
+    assert_int_equal(s->P.n, NCLOUD);
+    unsigned seed = 12345u + (unsigned)type;
+    sph_particles *P = &s->P;
+    for (long i = 0; i < P->n; i++) {
+        P->x[i] = 0.2 * urand(&seed);
+        P->y[i] = 0.2 * urand(&seed);
+        P->vx[i] = urand(&seed) - 0.5;
+        P->vy[i] = urand(&seed) - 0.5;
+        P->rho[i] = 990.0 + 20.0 * urand(&seed);
+        P->type[i] = urand(&seed) < 0.3 ? SPH_BOUNDARY : SPH_FLUID;
+        if (P->gxx) { /* velocity gradients of a "previous" evaluation, for the SPS stresses */
+            P->gxx[i] = urand(&seed) - 0.5;
+            P->gxy[i] = urand(&seed) - 0.5;
+            P->gyy[i] = urand(&seed) - 0.5;
+        }
+    }
+    return s;
+}
+
+typedef struct ref {
+    double ax[NCLOUD], ay[NCLOUD], drho[NCLOUD], gxx[NCLOUD], gxy[NCLOUD], gyy[NCLOUD];
+    double txx[NCLOUD], txy[NCLOUD], tyy[NCLOUD];
+} ref;
+
+/* The obvious loop, over every ordered pair (a, b), in creation order. The SPS stresses are
+ * taken from the sim (computed from the "previous" gradients, which the test does not check). */
+static void all_pairs(const sph_sim *s, ref *R)
+{
+    const sph_particles *P = &s->P;
+    const sph_config *c = &s->cfg;
+    const long n = P->n;
+    memset(R->ax, 0, sizeof R->ax);
+    memset(R->ay, 0, sizeof R->ay);
+    memset(R->drho, 0, sizeof R->drho);
+    memset(R->gxx, 0, sizeof R->gxx);
+    memset(R->gxy, 0, sizeof R->gxy);
+    memset(R->gyy, 0, sizeof R->gyy);
+    const double m = s->mass, h = s->h, eta2 = 0.01 * h * h;
+    for (long a = 0; a < n; a++) {
+        const double pa = c->c0 * c->c0 * (P->rho[a] - c->rho0);
+        for (long b = 0; b < n; b++) {
+            if (a == b || (P->type[a] == SPH_BOUNDARY && P->type[b] == SPH_BOUNDARY))
+                continue;
+            const double rv[2] = {P->x[a] - P->x[b], P->y[a] - P->y[b]};
+            const double r2 = rv[0] * rv[0] + rv[1] * rv[1];
+            if (r2 >= s->kernel.support * s->kernel.support)
+                continue;
+            double g[2];
+            sph_kernel_grad(&s->kernel, rv, g);
+            const double pb = c->c0 * c->c0 * (P->rho[b] - c->rho0);
+            const double ra = P->rho[a], rb = P->rho[b];
+            const double v[2] = {P->vx[a] - P->vx[b], P->vy[a] - P->vy[b]};
+            const double vr = v[0] * rv[0] + v[1] * rv[1];
+            R->drho[a] += m * (v[0] * g[0] + v[1] * g[1]);
+            double pt = pa / (ra * ra) + pb / (rb * rb);
+            if (c->visc == SPH_VISC_ARTIFICIAL && vr < 0.0)
+                pt += -c->alpha * c->c0 * (h * vr / (r2 + eta2)) / (0.5 * (ra + rb));
+            for (int d = 0; d < 2; d++) {
+                double acc = -m * pt * g[d];
+                if (c->visc == SPH_VISC_LAMINAR)
+                    acc += 8.0 * c->rho0 * c->nu * m * (rv[0] * g[0] + rv[1] * g[1]) /
+                           ((ra + rb) * (ra + rb) * (r2 + eta2)) * v[d];
+                if (c->turb == SPH_TURB_SPS) {
+                    const double t0 = P->txx[a] + P->txx[b], t1 = P->txy[a] + P->txy[b],
+                                 t2 = P->tyy[a] + P->tyy[b];
+                    acc += m * (d == 0 ? t0 * g[0] + t1 * g[1] : t1 * g[0] + t2 * g[1]);
+                }
+                if (d == 0)
+                    R->ax[a] += acc;
+                else
+                    R->ay[a] += acc;
+            }
+            if (c->turb == SPH_TURB_SPS) {
+                const double w = m / rb; /* sum_b V_b (v_b - v_a) (x) grad_a W */
+                R->gxx[a] += w * -v[0] * g[0];
+                R->gxy[a] += w * (-v[0] * g[1] - v[1] * g[0]);
+                R->gyy[a] += w * -v[1] * g[1];
+            }
+            if (c->delta_sph > 0.0 && P->type[a] == SPH_FLUID && P->type[b] == SPH_FLUID)
+                R->drho[a] += c->delta_sph * h * c->c0 * 2.0 * (rb - ra) *
+                              -(rv[0] * g[0] + rv[1] * g[1]) / (r2 + eta2) * m / rb;
+        }
+        if (P->type[a] == SPH_FLUID) {
+            R->ax[a] += c->gravity[0];
+            R->ay[a] += c->gravity[1];
+        } else {
+            R->ax[a] = R->ay[a] = 0.0;
+        }
+    }
+}
+
+static double maxabs(const double *a, long n)
+{
+    double m = 0.0;
+    for (long i = 0; i < n; i++)
+        m = fmax(m, fabs(a[i]));
+    return m;
+}
+
+/* |fast - ref| <= 1e-10 max|ref| for every particle, matched by id. */
+static void compare(const char *what, const double *fast, const int *id, const double *want, long n)
+{
+    const double scale = maxabs(want, n) + 1e-300;
+    for (long i = 0; i < n; i++) {
+        const double d = fabs(fast[i] - want[id[i]]);
+        if (d > 1e-10 * scale)
+            fail_msg("%s: particle %d: cell list %.17g, all pairs %.17g (scale %g)", what, id[i],
+                     fast[i], want[id[i]], scale);
+    }
+}
+
+static void check(sph_kernel_type type, sph_visc_type visc, sph_turb_type turb, double delta)
+{
+    sph_sim *s = cloud(type, visc, turb, delta);
+    ref *R = calloc(1, sizeof *R);
+    assert_non_null(R);
+    sph_wcsph_forces(s); /* computes the SPS stresses from the gradients, sorts by cell */
+    /* the reference in creation order: undo the sort into a copy */
+    sph_sim *u = cloud(type, visc, turb, delta);
+    sph_particles *P = &s->P, *Q = &u->P;
+    for (long i = 0; i < P->n; i++) {
+        const int k = P->id[i];
+        Q->x[k] = P->x[i];
+        Q->y[k] = P->y[i];
+        Q->vx[k] = P->vx[i];
+        Q->vy[k] = P->vy[i];
+        Q->rho[k] = P->rho[i];
+        Q->type[k] = P->type[i];
+        if (P->txx) {
+            Q->txx[k] = P->txx[i];
+            Q->txy[k] = P->txy[i];
+            Q->tyy[k] = P->tyy[i];
+        }
+    }
+    all_pairs(u, R);
+    assert_true(s->nactive == P->n);
+    compare("ax", P->ax, P->id, R->ax, P->n);
+    compare("ay", P->ay, P->id, R->ay, P->n);
+    compare("drho", P->drho, P->id, R->drho, P->n);
+    if (turb == SPH_TURB_SPS) {
+        compare("du/dx", P->gxx, P->id, R->gxx, P->n);
+        compare("du/dy+dv/dx", P->gxy, P->id, R->gxy, P->n);
+        compare("dv/dy", P->gyy, P->id, R->gyy, P->n);
+    }
+    assert_true(s->timing.pairs > 0);
+    free(R);
+    sph_sim_destroy(s);
+    sph_sim_destroy(u);
+}
+
+static const sph_kernel_type kernels[] = {SPH_KERNEL_CUBIC_SPLINE, SPH_KERNEL_GAUSSIAN,
+                                          SPH_KERNEL_DOUBLE_COSINE, SPH_KERNEL_WENDLAND_C2,
+                                          SPH_KERNEL_RENORMALIZED_GAUSSIAN};
+
+static void test_artificial(void **state)
+{
+    (void)state;
+    for (size_t k = 0; k < sizeof kernels / sizeof kernels[0]; k++)
+        check(kernels[k], SPH_VISC_ARTIFICIAL, SPH_TURB_NONE, 0.0);
+}
+
+static void test_laminar_sps(void **state)
+{
+    (void)state;
+    for (size_t k = 0; k < sizeof kernels / sizeof kernels[0]; k++)
+        check(kernels[k], SPH_VISC_LAMINAR, SPH_TURB_SPS, 0.0);
+}
+
+static void test_delta(void **state)
+{
+    (void)state;
+    for (size_t k = 0; k < sizeof kernels / sizeof kernels[0]; k++)
+        check(kernels[k], SPH_VISC_ARTIFICIAL, SPH_TURB_SPS, 0.1);
+}
+
+/* The counting sort: cells hold exactly the particles whose positions fall in them. */
+static void test_sort(void **state)
+{
+    (void)state;
+    sph_sim *s = cloud(SPH_KERNEL_WENDLAND_C2, SPH_VISC_ARTIFICIAL, SPH_TURB_NONE, 0.0);
+    sph_particles *P = &s->P;
+    P->x[7] = -5.0; /* outside the grid: lost, sorted to the end */
+    const long n = sph_cells_sort(&s->cells, P);
+    assert_int_equal(n, P->n - 1);
+    assert_int_equal(P->type[P->n - 1], SPH_LOST);
+    const sph_cells *g = &s->cells;
+    for (long c = 0; c < g->ncells; c++)
+        for (long i = g->start[c]; i < g->start[c + 1]; i++) {
+            const int cx = (int)((P->x[i] - g->x0) * g->inv_size);
+            const int cy = (int)((P->y[i] - g->y0) * g->inv_size);
+            assert_int_equal((long)cx * g->ny + cy, c);
+        }
+    sph_sim_destroy(s);
+}
+
+/* A small dam break stepped with 1 and with 2 threads: bitwise the same state (the pair loops
+ * visit pairs in an order fixed by the grid, and the reductions are max/min or serial). */
+static sph_sim *small_dambreak(int threads)
+{
+    sph_config c = sph_config_default();
+    c.dx = 0.01;
+    c.h_over_dx = 1.414;
+    c.domain = (sph_box){{0, 0, 0}, {0.5, 0.5, 0}};
+    c.nfluid = 1;
+    c.fluid[0] = (sph_box){{0, 0, 0}, {0.1, 0.2, 0}};
+    c.has_tank = 1;
+    c.tank = (sph_box){{0, 0, 0}, {0.5, 0.3, 0}};
+    c.c0 = 25.0;
+    c.alpha = 0.1;
+    c.turb = SPH_TURB_SPS;
+    c.delta_sph = 0.1;
+    c.t_end = 1.0;
+    omp_set_num_threads(threads);
+    sph_error err;
+    sph_sim *s = sph_sim_create(&c, &err);
+    assert_non_null(s);
+    assert_int_equal(sph_sim_step(s, 300, &err), 0);
+    return s;
+}
+
+static void test_reproducible(void **state)
+{
+    (void)state;
+    const int saved = omp_get_max_threads();
+    sph_sim *a = small_dambreak(1), *b = small_dambreak(1), *c = small_dambreak(2);
+    omp_set_num_threads(saved);
+    const sph_sim *other[2] = {b, c};
+    for (int k = 0; k < 2; k++) {
+        const sph_particles *P = &a->P, *Q = &other[k]->P;
+        assert_int_equal(P->n, Q->n);
+        const size_t nb = (size_t)P->n * sizeof(double);
+        assert_memory_equal(P->x, Q->x, nb);
+        assert_memory_equal(P->y, Q->y, nb);
+        assert_memory_equal(P->vx, Q->vx, nb);
+        assert_memory_equal(P->vy, Q->vy, nb);
+        assert_memory_equal(P->rho, Q->rho, nb);
+        assert_memory_equal(&a->diag, &other[k]->diag, sizeof a->diag);
+    }
+    assert_true(a->diag.ekin > 0.0);
+    sph_sim_destroy(a);
+    sph_sim_destroy(b);
+    sph_sim_destroy(c);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sort),         cmocka_unit_test(test_artificial),
+        cmocka_unit_test(test_laminar_sps),  cmocka_unit_test(test_delta),
+        cmocka_unit_test(test_reproducible),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
