@@ -7,6 +7,7 @@
 #include "sphd_daemon.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -89,19 +90,34 @@ static double progress_t(const json_t *p, const char *key)
 
 int sphd_method_available(sph_method m)
 {
-    return m == SPH_METHOD_KERNEL_STUDY; /* TODO(issue 3 merge): wcsph */
+    return m == SPH_METHOD_KERNEL_STUDY || m == SPH_METHOD_WCSPH;
 }
+
+#define SPHD_MAX_FIELDS 8
 
 json_t *sphd_particles(sphd_exec *x, const sph_case *c, json_t *fields, long max, sphd_err *e)
 {
-    (void)x;
-    (void)fields;
-    (void)max;
-    /* TODO(issue 3 merge): sphd_exec_particles() once the solver lands; kernel studies have no
-     * particles to show. */
-    sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/fields", "%s jobs have no particle fields",
-                 sph_method_name(c->method));
-    return NULL;
+    const char *names[SPHD_MAX_FIELDS];
+    const size_t n = json_array_size(fields);
+    if (c->method == SPH_METHOD_KERNEL_STUDY) {
+        sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/fields", "%s jobs have no particle fields",
+                     sph_method_name(c->method));
+        return NULL;
+    }
+    if (n < 1 || n > SPHD_MAX_FIELDS) {
+        sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/fields", "'fields' names 1 to %d fields",
+                     SPHD_MAX_FIELDS);
+        return NULL;
+    }
+    for (size_t i = 0; i < n; i++)
+        names[i] = json_string_value(json_array_get(fields, i));
+    sph_error err;
+    sph_error_clear(&err);
+    json_t *r = sphd_exec_particles(x, names, (int)n, max > 0 ? max : LONG_MAX, &err);
+    if (!r)
+        sphd_err_set(e, err.code == SPH_ERR_INVALID ? SPHD_E_BAD_REQUEST : SPHD_E_INTERNAL,
+                     "/args/fields", "%s", err.message);
+    return r;
 }
 
 static void answer_particles(run_ctx *r, sphd_exec *x, sphd_wcmd *cmd)
