@@ -34,6 +34,7 @@ static const char usage_text[] =
     "  --json          print exactly one JSON document on stdout (JSON Lines for watch)\n"
     "  --timeout S     seconds to wait for each reply (default 10)\n"
     "  -h, --help      this text; 'sphctl COMMAND --help' for one command\n"
+    "  (--endpoint, --json and --timeout may also follow the command)\n"
     "  --version       print the version\n"
     "\n"
     "Exit codes: 0 ok, 1 the job failed or sphd refused the request, 64 usage, 65 invalid\n"
@@ -560,6 +561,53 @@ int main(int argc, char **argv)
         return SPHCTL_EX_USAGE;
     }
     const char *name = argv[optind];
+    /* The global options may also follow the command (`sphctl status JOB --json`): take them
+     * out, leaving the command's own options (and their values) alone. */
+    int n = optind + 1;
+    for (int i = optind + 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "--") == 0) {
+            while (i < argc)
+                argv[n++] = argv[i++];
+            break;
+        }
+        if (strcmp(a, "--json") == 0) {
+            c.json = 1;
+            continue;
+        }
+        const char *val = NULL;
+        int is_ep = strncmp(a, "--endpoint", 10) == 0 && (a[10] == '\0' || a[10] == '=');
+        int is_to = strncmp(a, "--timeout", 9) == 0 && (a[9] == '\0' || a[9] == '=');
+        if (is_ep || is_to) {
+            const char *eq = strchr(a, '=');
+            if (eq)
+                val = eq + 1;
+            else if (i + 1 < argc)
+                val = argv[++i];
+            else
+                return usage_error(name, "%s needs a value", a);
+            if (is_ep) {
+                if (strlen(val) >= sizeof c.endpoint)
+                    return usage_error(name, "endpoint too long: %s", val);
+                snprintf(c.endpoint, sizeof c.endpoint, "%s", val);
+            } else {
+                char *end;
+                c.timeout = strtod(val, &end);
+                if (*end || end == val || !(c.timeout > 0) || c.timeout > 86400)
+                    return usage_error(name, "--timeout takes seconds (0 < S <= 86400), not '%s'",
+                                       val);
+            }
+            continue;
+        }
+        argv[n++] = argv[i];
+        /* the command's options that take a value: keep the value with them */
+        static const char *const with_value[] = {"--id",     "--set", "--until",
+                                                 "--fields", "--max", NULL};
+        for (const char *const *w = with_value; *w; w++)
+            if (strcmp(a, *w) == 0 && i + 1 < argc)
+                argv[n++] = argv[++i];
+    }
+    argc = n;
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
         if (strcmp(commands[i].name, name) == 0) {
             int rc = commands[i].run(&c, argc - optind, argv + optind);

@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
-# The README's main command: set up, build, start sphd in the background, submit the main case and
+# The README's main command: set up, build, start sphd in the background, submit the dam break and
 # watch it to the end (a progress line on a terminal, JSON Lines otherwise), print where the
 # results are, and stop the daemon. The daemon never outlives this script.
-# TODO(issue 3 merge): the main case becomes cases/dambreak.json once the WCSPH solver is merged.
+# MAIN_CASE=FILE runs another case the same way.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 scripts/build.sh
 
-case_file=${MAIN_CASE:-cases/kernel_study.json}
+case_file=${MAIN_CASE:-cases/dambreak.json}
 job=$(basename "$case_file" .json)
 state="$PWD/out/state"
 run=$(mktemp -d "${TMPDIR:-/tmp}/sphd-main.XXXXXX")
@@ -33,7 +33,7 @@ echo "sphd is running (pid $pid, $SPHD_ENDPOINT); submitting $case_file as job $
 rc=0
 build/bin/sphctl submit "$case_file" --id "$job" --watch || rc=$?
 build/bin/sphctl status "$job" >&2 || true
-echo "results: $state/jobs/$job/ (case.json, job.json, result.json)" >&2
+echo "results: $state/jobs/$job/ (case.json: the case as run, result.json: the summary, job.json: the job record)" >&2
 build/bin/sphctl shutdown >/dev/null
 wait "$pid" || rc=$?
 exit "$rc"

@@ -340,10 +340,12 @@ static int bind_or_explain(void *s, const char *ep, const char *what)
     if (zmq_bind(s, ep) == 0)
         return 0;
     int e = errno;
-    if (e == EADDRINUSE)
-        fprintf(stderr, "sphd: %s endpoint %s is in use (another sphd?)\n", what, ep);
-    else
-        fprintf(stderr, "sphd: cannot bind the %s endpoint %s: %s\n", what, ep, zmq_strerror(e));
+    if (e == EADDRINUSE) {
+        fprintf(stderr, "sphd: the %s endpoint %s is in use (another sphd is running there?)\n",
+                what, ep);
+        return -2;
+    }
+    fprintf(stderr, "sphd: cannot bind the %s endpoint %s: %s\n", what, ep, zmq_strerror(e));
     return -1;
 }
 
@@ -492,9 +494,11 @@ int sphd_daemon_main(const sphd_opts *opts)
         sphd_log("cannot create the sockets: %s", zmq_strerror(errno));
         goto out;
     }
-    if (bind_or_explain(d->router, d->opts.listen, "control") ||
-        bind_or_explain(d->pub, d->opts.publish, "stream")) {
-        rc = SPHD_EX_UNAVAILABLE;
+    int brc = bind_or_explain(d->router, d->opts.listen, "control");
+    if (brc == 0)
+        brc = bind_or_explain(d->pub, d->opts.publish, "stream");
+    if (brc != 0) {
+        rc = brc == -2 ? SPHD_EX_TEMPFAIL : SPHD_EX_UNAVAILABLE;
         goto out;
     }
     if (sphd_workers_start(d) != 0)

@@ -149,6 +149,18 @@ try:
     rc, out, err = ctl("stop", "db3")
     F.check(rc == 0 and "stopped" in out, "sphctl stop", (rc, out, err))
 
+    # -- a job that blows up: failed, with the reason; watch exits 1
+    d.ok("submit", {"case": case, "job": "boom", "set": ["dx=0.01", "time.dt=0.001"]})
+    rc, out, err = ctl("--json", "watch", "boom", timeout=120)
+    last = json.loads(out.splitlines()[-1]) if out else {}
+    final = last.get("state") or last.get("status", {}).get("state")  # event, or snapshot
+    F.check(rc == 1 and final == "failed", "sphctl watch of a failed job exits 1",
+            (rc, last))
+    st = d.ok("query", {"job": "boom"})
+    F.check(st["state"] == "failed" and st.get("reason", "").startswith("unstable"),
+            "query says why the job failed", st.get("reason"))
+    F.check(d.request("ping")["ok"], "the daemon is fine after a failed job")
+
     # -- shutdown with a running job: paused at a step boundary, recorded, exit 0
     d.ok("submit", {"case": case, "job": "db4", "set": ["dx=0.01"]})
     d.wait_state("db4", ("running",))

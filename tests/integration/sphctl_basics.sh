@@ -17,7 +17,7 @@ check "ping --json is one JSON document" jtrue "$tmp/out" 'd["pong"]'
 expect_rc "submit --watch a kernel study" 0 "$C" --json submit "$KS" --id ks1 --watch
 check "watch ends with the job done" jlast "$tmp/out" 'd.get("state")=="done" or d.get("status",{}).get("state")=="done"'
 
-expect_rc "status ks1 --json" 0 "$C" --json status ks1
+expect_rc "status ks1 --json" 0 "$C" status ks1 --json
 check "status: done, with its result" jtrue "$tmp/out" 'd["state"]=="done" and d["result"]["method"]=="kernel_study"'
 check "result.json and case.json in the job dir" test -s "$STATE/jobs/ks1/result.json" -a -s "$STATE/jobs/ks1/case.json"
 
