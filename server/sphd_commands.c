@@ -600,11 +600,11 @@ static int op_query(sphd_request *r, json_t **result, sphd_err *e)
         snprintf(p->job, sizeof p->job, "%s", j->id);
         sphd_wcmd cmd = {.kind = SPHD_W_PARTICLES,
                          .job = j,
-                         .fields = json_incref(fields),
+                         .fields = json_deep_copy(fields), /* the worker's own copy */
                          .max = max,
                          .token = p->token};
-        if (sphd_worker_send(&d->workers[j->worker], &cmd) != 0) {
-            json_decref(fields);
+        if (!cmd.fields || sphd_worker_send(&d->workers[j->worker], &cmd) != 0) {
+            json_decref(cmd.fields);
             sphd_pending_free(p);
             return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's worker");
         }
