@@ -1,12 +1,13 @@
 /*
  * bench_load: request latency of sphd under load, and what the load costs the running jobs.
  *
- *     bench_load --endpoint EP [--clients 32] [--seconds 10] [--quiet-seconds 5] JOB...
+ *     bench_load --endpoint EP [--clients 32] [--seconds 10] [--quiet-seconds 5] [--rate R] JOB...
  *
  * With the given jobs running in sphd, measures their progress (steps/s, and particle-steps/s
  * when the job has particles) for --quiet-seconds without load, then for --seconds while
  * --clients threads each send status queries (`query` of a job, and every 8th a `list`) in a
- * closed loop over their own DEALER socket, then quiet again. Prints requests/s, latency
+ * closed loop over their own DEALER socket (as fast as replies come, or paced at R requests per
+ * second per client with --rate), then quiet again. Prints requests/s, latency
  * percentiles (p50, p90, p99, max) and the jobs' slowdown. Figures, never pass/fail.
  */
 #include <errno.h>
@@ -30,6 +31,7 @@ typedef struct bench {
     int njobs;
     int clients;
     double seconds, quiet;
+    double rate; /* requests per second per client; 0: closed loop, no pause */
     void *ctx;
     atomic_int go, stop;
     atomic_long errors;
@@ -103,7 +105,15 @@ static void *client_main(void *arg)
     while (!atomic_load(&b->go))
         sleep_s(0.0001);
     long k = 0;
+    const double period = b->rate > 0 ? 1.0 / b->rate : 0;
+    double next = mono() + period * c->index / b->clients; /* staggered */
     while (!atomic_load(&b->stop)) {
+        if (period > 0) {
+            double now = mono();
+            if (next > now)
+                sleep_s(next - now);
+            next += period;
+        }
         const char *text = req[k % 8 == 7][k % b->njobs];
         k++;
         double t0 = mono();
@@ -191,10 +201,13 @@ static int cmp_double(const void *x, const void *y)
 int main(int argc, char **argv)
 {
     bench b = {.clients = 32, .seconds = 10, .quiet = 5};
-    static const struct option lo[] = {
-        {"endpoint", required_argument, NULL, 'e'}, {"clients", required_argument, NULL, 'c'},
-        {"seconds", required_argument, NULL, 's'},  {"quiet-seconds", required_argument, NULL, 'q'},
-        {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
+    static const struct option lo[] = {{"endpoint", required_argument, NULL, 'e'},
+                                       {"clients", required_argument, NULL, 'c'},
+                                       {"seconds", required_argument, NULL, 's'},
+                                       {"quiet-seconds", required_argument, NULL, 'q'},
+                                       {"rate", required_argument, NULL, 'r'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
     int o;
     b.endpoint = getenv("SPHD_ENDPOINT");
     while ((o = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
@@ -211,10 +224,13 @@ int main(int argc, char **argv)
         case 'q':
             b.quiet = atof(optarg);
             break;
+        case 'r':
+            b.rate = atof(optarg);
+            break;
         default:
             fprintf(o == 'h' ? stdout : stderr,
                     "Usage: bench_load --endpoint EP [--clients 32] [--seconds 10] "
-                    "[--quiet-seconds 5] JOB...\n");
+                    "[--quiet-seconds 5] [--rate R] JOB...\n");
             return o == 'h' ? 0 : 64;
         }
     }
@@ -268,8 +284,12 @@ int main(int argc, char **argv)
     }
     qsort(all, n, sizeof *all, cmp_double);
 #define PCT(p) (n ? 1e3 * all[(size_t)((p) / 100.0 * (double)(n - 1))] : NAN)
-    printf("sphd load test: %d clients, %.1f s, %d job(s) running\n", b.clients, load_wall,
+    printf("sphd load test: %d clients, %.1f s, %d job(s) running, ", b.clients, load_wall,
            b.njobs);
+    if (b.rate > 0)
+        printf("each client paced at %.0f requests/s\n", b.rate);
+    else
+        printf("closed loop (each client sends as soon as it has its reply)\n");
     printf("  requests      %zu ok, %ld failed\n", n, atomic_load(&b.errors));
     printf("  throughput    %.0f requests/s\n", (double)n / load_wall);
     printf("  latency (ms)  p50 %.3f  p90 %.3f  p99 %.3f  max %.3f\n", PCT(50), PCT(90), PCT(99),

@@ -19,3 +19,4 @@ done
 sleep 1
 "$build/bin/sphctl" list
 "$build/bin/bench_load" --endpoint "$SPHD_ENDPOINT" "$@" load1 load2
+# --rate R: each client paced at R requests/s (e.g. bench/load.sh build --rate 100)
