@@ -146,13 +146,9 @@ static const sphd_command commands[] = {
 
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 
-const char *const *sphd_op_names(void)
+const char *sphd_op_name(size_t i)
 {
-    static const char *names[NCOMMANDS + 1];
-    for (size_t i = 0; i < NCOMMANDS; i++)
-        names[i] = commands[i].name;
-    names[NCOMMANDS] = NULL;
-    return names;
+    return i < NCOMMANDS ? commands[i].name : NULL;
 }
 
 static const sphd_command *lookup(const char *op)

@@ -202,8 +202,8 @@ void sphd_pending_free(sphd_pending *p);
  * or NULL when the reply is deferred (the handler kept a copy of `req`). */
 json_t *sphd_dispatch(sphd_daemon *d, const sphd_pending *req, const char *body, size_t len);
 json_t *sphd_reply_new(json_t *id, json_t *result, const sphd_err *e);
-/* Names of the ops in table order, NULL-terminated (for hello and the tests). */
-const char *const *sphd_op_names(void);
+/* The name of the i-th op of the table, NULL past the end (for the tests). */
+const char *sphd_op_name(size_t i);
 
 /* sphd_jobs.c */
 sphd_job *sphd_job_find(sphd_daemon *d, const char *id);
@@ -216,7 +216,6 @@ void sphd_job_record(sphd_daemon *d, sphd_job *j, int interrupted);
 void sphd_jobs_schedule(sphd_daemon *d);
 void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev);
 void sphd_jobs_free(sphd_daemon *d);
-int sphd_job_id_ok(const char *id);
 
 /* sphd_worker.c */
 int sphd_workers_start(sphd_daemon *d);
