@@ -307,6 +307,10 @@ int main(int argc, char **argv)
                strcmp(q3.state[j], "running") ? " (NOT running all along: extend the job)" : "");
     }
     double quiet_total = 0.5 * (tq + tq2);
+    if (fabs(tq - tq2) > 0.1 * quiet_total)
+        printf("  note: the quiet phases before and after differ by %.0f%% (%.1f vs %.1f steps/s): "
+               "something else uses the CPUs, the slowdown is not reliable\n",
+               100.0 * fabs(tq - tq2) / quiet_total, tq, tq2);
     printf("  all jobs      quiet %.1f steps/s, loaded %.1f steps/s: slowed %.1f%%\n", quiet_total,
            tl, quiet_total > 0 ? 100.0 * (1 - tl / quiet_total) : NAN);
     free(all);
