@@ -510,9 +510,10 @@ static int op_pause(sphd_request *r, json_t **result, sphd_err *e)
     sphd_job *j = r->job;
     if (sphd_job_state_final(j->state))
         return final_state_error(j, "pause", e);
+    /* a pending `step` is cancelled too: paused means it does not run */
+    j->step_n = 0;
+    j->step_until = INFINITY;
     if (j->state == SPHD_JOB_QUEUED) {
-        j->step_n = 0;
-        j->step_until = INFINITY;
         sphd_job_set_state(r->d, j, SPHD_JOB_PAUSED, NULL);
     } else if (j->state == SPHD_JOB_RUNNING) {
         if (!j->pause_requested) {
