@@ -85,6 +85,7 @@ typedef struct sphd_request {
     const sphd_pending *from; /* envelope + id, for deferred replies */
     json_t *args;             /* borrowed */
     sphd_job *job;            /* CMD_JOB */
+    const char *raw;          /* a handler's result already encoded (borrowed), or NULL */
 } sphd_request;
 
 /* Returns 0 (result set), -1 (e set) or 1 (the reply is deferred). */
@@ -255,7 +256,29 @@ static int check_args(const sphd_command *c, json_t *args, sphd_err *e)
     return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args", "bad arguments: %s", jerr.text);
 }
 
-json_t *sphd_dispatch(sphd_daemon *d, const sphd_pending *req, const char *body, size_t len)
+static char *encode(json_t *reply)
+{
+    char *text = reply ? json_dumps(reply, JSON_COMPACT | JSON_REAL_PRECISION(12)) : NULL;
+    json_decref(reply);
+    return text;
+}
+
+/* {"v":1,"id":ID,"ok":true,"result":RAW} without decoding RAW again. */
+static char *encode_raw(json_t *id, const char *raw)
+{
+    char *idtext = json_dumps(id ? id : json_null(), JSON_COMPACT | JSON_ENCODE_ANY);
+    if (!idtext)
+        return NULL;
+    size_t n = strlen(idtext) + strlen(raw) + 64;
+    char *text = malloc(n);
+    if (text)
+        snprintf(text, n, "{\"v\":%d,\"id\":%s,\"ok\":true,\"result\":%s}", SPHD_PROTOCOL_VERSION,
+                 idtext, raw);
+    free(idtext);
+    return text;
+}
+
+char *sphd_dispatch(sphd_daemon *d, const sphd_pending *req, const char *body, size_t len)
 {
     sphd_err e;
     json_t *result = NULL, *id = NULL;
@@ -348,12 +371,14 @@ json_t *sphd_dispatch(sphd_daemon *d, const sphd_pending *req, const char *body,
     }
     if (rc < 0)
         goto fail;
-    json_t *reply = sphd_reply_new(id, result, NULL);
+    char *reply = r.raw ? encode_raw(id, r.raw) : encode(sphd_reply_new(id, result, NULL));
+    if (r.raw)
+        json_decref(result);
     json_decref(root);
     return reply;
 fail:
     d->errors++;
-    json_t *reply_e = sphd_reply_new(id, result, &e);
+    char *reply_e = encode(sphd_reply_new(id, result, &e));
     json_decref(root);
     return reply_e;
 }
@@ -502,6 +527,7 @@ static int op_step(sphd_request *r, json_t **result, sphd_err *e)
                             "job %s is running: pause it before stepping it", j->id);
     j->step_n = n ? (long)json_integer_value(n) : 0;
     j->step_until = until ? json_number_value(until) : INFINITY;
+    sphd_job_touch(j);
     return reply_status(r, result);
 }
 
@@ -513,6 +539,7 @@ static int op_pause(sphd_request *r, json_t **result, sphd_err *e)
     /* a pending `step` is cancelled too: paused means it does not run */
     j->step_n = 0;
     j->step_until = INFINITY;
+    sphd_job_touch(j);
     if (j->state == SPHD_JOB_QUEUED) {
         sphd_job_set_state(r->d, j, SPHD_JOB_PAUSED, NULL);
     } else if (j->state == SPHD_JOB_RUNNING) {
@@ -535,6 +562,7 @@ static int op_resume(sphd_request *r, json_t **result, sphd_err *e)
     if (j->state == SPHD_JOB_PAUSED) {
         j->step_n = 0;
         j->step_until = INFINITY;
+        sphd_job_touch(j);
         j->started = 1;
         sphd_job_set_state(r->d, j, SPHD_JOB_QUEUED, NULL);
     } else if (j->state == SPHD_JOB_RUNNING) {
@@ -609,12 +637,24 @@ static int op_query(sphd_request *r, json_t **result, sphd_err *e)
         d->particle_waits = p;
         return 1;
     }
+    if (!fields && j->query_text) {
+        r->raw = j->query_text; /* status queries come often: encoded once per change */
+        return 0;
+    }
     json_t *s = sphd_job_status(j);
     if (!s)
         return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
     json_object_set(s, "diag", j->diag ? j->diag : json_null());
     if (j->result)
         json_object_set(s, "result", j->result);
+    if (!fields) {
+        j->query_text = json_dumps(s, JSON_COMPACT | JSON_REAL_PRECISION(12));
+        if (j->query_text) {
+            json_decref(s);
+            r->raw = j->query_text;
+            return 0;
+        }
+    }
     if (fields) {
         json_t *parts = sphd_particles(j->exec, j->c, fields, max, e);
         if (!parts) {

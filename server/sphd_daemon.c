@@ -89,10 +89,9 @@ void sphd_pending_free(sphd_pending *p)
     free(p);
 }
 
-static void send_reply_json(sphd_daemon *d, const sphd_pending *to, json_t *reply)
+/* Sends an encoded reply (taken: freed here) with the request's envelope. */
+static void send_reply_text(sphd_daemon *d, const sphd_pending *to, char *text)
 {
-    char *text = reply ? json_dumps(reply, JSON_COMPACT | JSON_REAL_PRECISION(12)) : NULL;
-    json_decref(reply);
     if (!text) {
         sphd_log("cannot encode a reply (out of memory)");
         return;
@@ -112,6 +111,13 @@ static void send_reply_json(sphd_daemon *d, const sphd_pending *to, json_t *repl
     free(text);
 }
 
+static void send_reply_json(sphd_daemon *d, const sphd_pending *to, json_t *reply)
+{
+    char *text = reply ? json_dumps(reply, JSON_COMPACT | JSON_REAL_PRECISION(12)) : NULL;
+    json_decref(reply);
+    send_reply_text(d, to, text);
+}
+
 void sphd_reply(sphd_daemon *d, const sphd_pending *to, json_t *result, const sphd_err *e)
 {
     send_reply_json(d, to, sphd_reply_new(to->id, result, e));
@@ -119,6 +125,7 @@ void sphd_reply(sphd_daemon *d, const sphd_pending *to, json_t *result, const sp
 
 void sphd_publish(sphd_daemon *d, sphd_job *j, const char *type, json_t *body)
 {
+    sphd_job_touch(j); /* its seq changes */
     json_t *ev = sph_event_new(j->id, ++j->seq, type);
     if (ev && body)
         json_object_update(ev, body);
@@ -174,19 +181,21 @@ static void handle_request(sphd_daemon *d)
         from.frame[i] = zmq_msg_data(&parts[i]);
         from.len[i] = zmq_msg_size(&parts[i]);
     }
-    json_t *reply;
+    char *reply;
     if (n - env != 1 || dropped) {
         sphd_err e;
         sphd_err_set(&e, SPHD_E_BAD_REQUEST, NULL,
                      "a request is one frame holding one JSON object (got %d frames)", n - env);
         d->requests++;
         d->errors++;
-        reply = sphd_reply_new(NULL, NULL, &e);
+        json_t *r = sphd_reply_new(NULL, NULL, &e);
+        reply = r ? json_dumps(r, JSON_COMPACT) : NULL;
+        json_decref(r);
     } else {
         reply = sphd_dispatch(d, &from, zmq_msg_data(&parts[n - 1]), zmq_msg_size(&parts[n - 1]));
     }
     if (reply)
-        send_reply_json(d, &from, reply);
+        send_reply_text(d, &from, reply);
     for (int i = 0; i < n; i++)
         zmq_msg_close(&parts[i]);
 }

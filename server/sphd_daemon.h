@@ -111,6 +111,7 @@ typedef struct sphd_job {
     double run_wall;         /* seconds into the current run */
     double steps_per_s, eta; /* from the worker, while running */
     sphd_pending *waiters;   /* replies due when the current run ends */
+    char *query_text;        /* the encoded `query` result until the job changes (sphd_job_touch) */
     struct sphd_job *next;
 } sphd_job;
 
@@ -198,9 +199,9 @@ void sphd_log(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 sphd_pending *sphd_pending_copy(const sphd_pending *p);
 void sphd_pending_free(sphd_pending *p);
 
-/* sphd_commands.c: parses and dispatches one request; returns the reply to send now (new ref)
- * or NULL when the reply is deferred (the handler kept a copy of `req`). */
-json_t *sphd_dispatch(sphd_daemon *d, const sphd_pending *req, const char *body, size_t len);
+/* sphd_commands.c: parses and dispatches one request; returns the encoded reply to send now
+ * (malloc'ed) or NULL when the reply is deferred (the handler kept a copy of `req`). */
+char *sphd_dispatch(sphd_daemon *d, const sphd_pending *req, const char *body, size_t len);
 json_t *sphd_reply_new(json_t *id, json_t *result, const sphd_err *e);
 /* The name of the i-th op of the table, NULL past the end (for the tests). */
 const char *sphd_op_name(size_t i);
@@ -211,6 +212,8 @@ sphd_job *sphd_job_find(sphd_daemon *d, const char *id);
 sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int start,
                           sphd_err *e);
 json_t *sphd_job_status(const sphd_job *j);
+/* Forgets what was cached about j (call on every change to a job). */
+void sphd_job_touch(sphd_job *j);
 void sphd_job_set_state(sphd_daemon *d, sphd_job *j, sphd_job_state s, const char *reason);
 void sphd_job_record(sphd_daemon *d, sphd_job *j, int interrupted);
 void sphd_jobs_schedule(sphd_daemon *d);

@@ -140,10 +140,17 @@ void sphd_job_set_state(sphd_daemon *d, sphd_job *j, sphd_job_state s, const cha
     sphd_job_record(d, j, 0);
 }
 
+void sphd_job_touch(sphd_job *j)
+{
+    free(j->query_text);
+    j->query_text = NULL;
+}
+
 static void job_free(sphd_job *j)
 {
     if (!j)
         return;
+    sphd_job_touch(j);
     sphd_exec_free(j->exec);
     json_decref(j->case_json);
     json_decref(j->progress);
@@ -297,6 +304,7 @@ void sphd_jobs_schedule(sphd_daemon *d)
         }
         j->step_n = 0;
         j->step_until = INFINITY;
+        sphd_job_touch(j);
         j->worker = i;
         j->started = 1;
         j->run_wall = 0;
@@ -358,6 +366,7 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
         sphd_publish(d, j, ev->type, ev->body);
         return;
     case SPHD_WEV_PROGRESS:
+        sphd_job_touch(j);
         json_decref(j->progress);
         j->progress = ev->body;
         j->steps_per_s = ev->steps_per_s;
@@ -381,6 +390,7 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
         break;
     }
     /* The run ended: the worker gave the executor back. */
+    sphd_job_touch(j);
     w->job = NULL;
     j->worker = -1;
     atomic_fetch_sub(&d->busy, 1);

@@ -58,7 +58,10 @@ static int teardown(void **state)
 static json_t *call(fixture *f, const char *text)
 {
     sphd_pending from = {.nframes = 0, .op = "?"};
-    json_t *r = sphd_dispatch(&f->d, &from, text, strlen(text));
+    char *reply = sphd_dispatch(&f->d, &from, text, strlen(text));
+    assert_non_null(reply);
+    json_t *r = json_loads(reply, 0, NULL);
+    free(reply);
     assert_non_null(r);
     return r;
 }
@@ -135,14 +138,13 @@ static void test_envelope_errors(void **state)
 static void test_reply_echoes_id(void **state)
 {
     fixture *f = *state;
-    sphd_pending from = {.nframes = 0};
     const char *text = "{\"v\":1,\"id\":\"abc\",\"op\":\"ping\"}";
-    json_t *r = sphd_dispatch(&f->d, &from, text, strlen(text));
+    json_t *r = call(f, text);
     assert_string_equal(json_string_value(json_object_get(r, "id")), "abc");
     assert_true(json_is_true(json_object_get(json_object_get(r, "result"), "pong")));
     json_decref(r);
     text = "{\"id\":5,\"op\":\"nope\"}";
-    r = sphd_dispatch(&f->d, &from, text, strlen(text));
+    r = call(f, text);
     assert_int_equal(json_integer_value(json_object_get(r, "id")), 5);
     json_decref(r);
 }
