@@ -86,6 +86,7 @@ typedef struct sphd_request {
     json_t *args;             /* borrowed */
     sphd_job *job;            /* CMD_JOB */
     const char *raw;          /* a handler's result already encoded (borrowed), or NULL */
+    char *raw_owned;          /* the same, to be freed by the dispatcher */
 } sphd_request;
 
 /* Returns 0 (result set), -1 (e set) or 1 (the reply is deferred). */
@@ -371,9 +372,12 @@ char *sphd_dispatch(sphd_daemon *d, const sphd_pending *req, const char *body, s
     }
     if (rc < 0)
         goto fail;
+    if (r.raw_owned)
+        r.raw = r.raw_owned;
     char *reply = r.raw ? encode_raw(id, r.raw) : encode(sphd_reply_new(id, result, NULL));
     if (r.raw)
         json_decref(result);
+    free(r.raw_owned);
     json_decref(root);
     return reply;
 fail:
@@ -669,11 +673,28 @@ static int op_query(sphd_request *r, json_t **result, sphd_err *e)
 
 static int op_list(sphd_request *r, json_t **result, sphd_err *e)
 {
-    (void)e;
-    json_t *jobs = json_array();
+    (void)result;
+    /* {"jobs":[STATUS,...]} from each job's encoded status, kept until the job changes */
+    size_t n = 16;
+    for (sphd_job *j = r->d->jobs; j; j = j->next) {
+        if (!j->status_text) {
+            json_t *s = sphd_job_status(j);
+            j->status_text = s ? json_dumps(s, JSON_COMPACT | JSON_REAL_PRECISION(12)) : NULL;
+            json_decref(s);
+            if (!j->status_text)
+                return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+        }
+        n += strlen(j->status_text) + 1;
+    }
+    char *text = malloc(n);
+    if (!text)
+        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+    char *p = text;
+    p += sprintf(p, "{\"jobs\":[");
     for (sphd_job *j = r->d->jobs; j; j = j->next)
-        json_array_append_new(jobs, sphd_job_status(j));
-    *result = json_pack("{s:o}", "jobs", jobs);
+        p += sprintf(p, "%s%s", j == r->d->jobs ? "" : ",", j->status_text);
+    strcpy(p, "]}");
+    r->raw_owned = text;
     return 0;
 }
 

@@ -112,6 +112,7 @@ typedef struct sphd_job {
     double steps_per_s, eta; /* from the worker, while running */
     sphd_pending *waiters;   /* replies due when the current run ends */
     char *query_text;        /* the encoded `query` result until the job changes (sphd_job_touch) */
+    char *status_text;       /* the encoded job status, likewise (for `list`) */
     struct sphd_job *next;
 } sphd_job;
 

@@ -144,6 +144,8 @@ void sphd_job_touch(sphd_job *j)
 {
     free(j->query_text);
     j->query_text = NULL;
+    free(j->status_text);
+    j->status_text = NULL;
 }
 
 static void job_free(sphd_job *j)
