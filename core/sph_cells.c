@@ -47,7 +47,7 @@ long sph_cells_sort(sph_cells *g, sph_particles *P)
     const long n = P->n, ncells = g->ncells;
     const int nx = g->nx, ny = g->ny;
     int *restrict key = g->key;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++) {
         const double fx = (P->x[i] - g->x0) * g->inv_size, fy = (P->y[i] - g->y0) * g->inv_size;
         int k = (int)ncells;
@@ -65,14 +65,16 @@ long sph_cells_sort(sph_cells *g, sph_particles *P)
     for (long c = 0; c <= ncells; c++)
         start[c + 1] += start[c];
     /* stable scatter: start[c] walks through cell c, then is restored */
-    for (long i = 0; i < n; i++)
-        g->perm[start[key[i]]++] = i;
+    long moved = 0;
+    for (long i = 0; i < n; i++) {
+        const long to = start[key[i]]++;
+        g->perm[to] = i;
+        moved += to != i;
+    }
     for (long c = ncells; c > 0; c--)
         start[c] = start[c - 1];
     start[0] = 0;
-    int sorted = 1;
-    for (long i = 0; i < n && sorted; i++)
-        sorted = g->perm[i] == i;
+    const int sorted = moved == 0;
     if (!sorted)
         sph_particles_permute(P, g->perm);
     return start[ncells];

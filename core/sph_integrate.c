@@ -18,9 +18,10 @@
 #include <math.h>
 #include <omp.h>
 
-#define SPH_RHO_LOW     0.5   /* density collapse below rho0 times this */
-#define SPH_RHO_HIGH    2.0   /* and above rho0 times this */
-#define SPH_DT_COLLAPSE 1e-12 /* an adaptive dt below this (relative to h / c0) is a blow-up */
+#define SPH_RHO_LOW  0.5 /* density collapse below rho0 times this */
+#define SPH_RHO_HIGH 2.0 /* and above rho0 times this */
+/* An adaptive dt below this fraction of cfl h / c0 is a blow-up (it would take forever). */
+#define SPH_DT_COLLAPSE 1e-3
 
 double sph_integrate_dt(const sph_sim *s)
 {
@@ -64,7 +65,7 @@ int sph_integrate_step(sph_sim *s, double dt_cap, sph_error *err)
     const double t0 = omp_get_wtime();
     const double dt_free = sph_integrate_dt(s);
     const long step = s->step + 1;
-    if (!(dt_free >= SPH_DT_COLLAPSE * s->h / c->c0))
+    if (!(dt_free >= SPH_DT_COLLAPSE * c->cfl * s->h / c->c0))
         return sph_error_set(err, SPH_ERR_UNSTABLE, "",
                              "time step collapsed to %g s at step %ld (t = %g s, max acceleration "
                              "%g m/s^2)",
@@ -82,7 +83,7 @@ int sph_integrate_step(sph_sim *s, double dt_cap, sph_error *err)
     const double ylo = c->domain.min[1], yhi = c->domain.max[1];
     const long n0 = s->nactive;
     long bad = 0;
-#pragma omp parallel for schedule(static) reduction(+ : bad)
+#pragma omp parallel for schedule(static) reduction(+ : bad) if (n0 >= SPH_OMP_MIN)
     for (long i = 0; i < n0; i++) {
         if (P->type[i] == SPH_FLUID) {
             const double ax = P->ax0[i], ay = P->ay0[i];
@@ -116,7 +117,7 @@ int sph_integrate_step(sph_sim *s, double dt_cap, sph_error *err)
     const double rho0 = c->rho0;
     double vmax2 = 0.0, rlo = INFINITY, rhi = -INFINITY;
     bad = 0;
-#pragma omp parallel for schedule(static) reduction(+ : bad) reduction(max : vmax2, rhi)          \
+#pragma omp parallel for schedule(static) reduction(+ : bad) reduction(max : vmax2, rhi) if (n >= SPH_OMP_MIN)          \
     reduction(min : rlo)
     for (long i = 0; i < n; i++) {
         double rho = P->rho[i] + 0.5 * dt * (P->drho[i] - P->drho0[i]);
@@ -132,6 +133,7 @@ int sph_integrate_step(sph_sim *s, double dt_cap, sph_error *err)
             rho = rho0; /* walls do not pull fluid in (as DualSPHysics does) */
         }
         P->rho[i] = rho;
+        P->p[i] = sph_eos(c, rho); /* of the final density, for outputs */
         bad += !isfinite(rho);
         rlo = rho < rlo ? rho : rlo;
         rhi = rho > rhi ? rho : rhi;

@@ -51,32 +51,37 @@ void sph_particles_free(sph_particles *P)
     memset(P, 0, sizeof *P);
 }
 
-static void permute_doubles(double *a, double *tmp, const long *perm, long n)
+/* *a = old[perm]: gathered into the scratch array, which then takes the field's place. */
+static void permute_doubles(double **a, double **scratch, const long *perm, long n)
 {
-#pragma omp parallel for schedule(static)
+    const double *src = *a;
+    double *dst = *scratch;
+#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++)
-        tmp[i] = a[perm[i]];
-    memcpy(a, tmp, (size_t)n * sizeof *a);
+        dst[i] = src[perm[i]];
+    *scratch = *a;
+    *a = dst;
 }
 
 void sph_particles_permute(sph_particles *P, const long *perm)
 {
     const long n = P->n;
-    double *d[] = {P->x, P->y, P->vx, P->vy, P->rho, P->ax0, P->ay0, P->drho0};
+    double **d[] = {&P->x, &P->y, &P->vx, &P->vy, &P->rho, &P->ax0, &P->ay0, &P->drho0};
     for (int f = 0; f < SPH_NPERSIST; f++)
-        permute_doubles(d[f], P->scratch, perm, n);
+        permute_doubles(d[f], &P->scratch, perm, n);
     if (P->gxx) {
-        double *s[] = {P->gxx, P->gxy, P->gyy};
+        double **s[] = {&P->gxx, &P->gxy, &P->gyy};
         for (int f = 0; f < SPH_NSPS; f++)
-            permute_doubles(s[f], P->scratch, perm, n);
+            permute_doubles(s[f], &P->scratch, perm, n);
     }
     /* the 1- and 4-byte fields go through the scratch buffer too (it holds n doubles) */
     unsigned char *t = (unsigned char *)P->scratch;
-    for (long i = 0; i < n; i++)
+    int *id = (int *)(t + ((n + 7) / 8) * 8); /* n bytes, then n ints: fits in n doubles */
+#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++) {
         t[i] = P->type[perm[i]];
-    memcpy(P->type, t, (size_t)n);
-    int *id = (int *)P->scratch;
-    for (long i = 0; i < n; i++)
         id[i] = P->id[perm[i]];
+    }
+    memcpy(P->type, t, (size_t)n);
     memcpy(P->id, id, (size_t)n * sizeof(int));
 }

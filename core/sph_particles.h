@@ -15,6 +15,11 @@ enum {
     SPH_LOST = 2      /* fluid that left the domain: frozen, excluded from interactions */
 };
 
+/* Loops over fewer particles than this run on the calling thread alone: for small jobs the
+ * threads' fork and join costs more than it saves, and when the machine is oversubscribed
+ * (several jobs, each with its threads) waiting threads make it far worse. */
+#define SPH_OMP_MIN 4096
+
 typedef struct sph_particles {
     long n;                  /* particles stored (fluid + boundary, lost included) */
     double *x, *y;           /* position [m] */
@@ -40,7 +45,8 @@ size_t sph_particles_bytes_per_particle(int sps);
 int sph_particles_alloc(sph_particles *P, long n, int sps);
 void sph_particles_free(sph_particles *P);
 
-/* Reorders every persistent field by perm: new[i] = old[perm[i]]. */
+/* Reorders every persistent field by perm: new[i] = old[perm[i]]. The field arrays are swapped
+ * with the scratch array, so their addresses change. */
 void sph_particles_permute(sph_particles *P, const long *perm);
 
 #endif

@@ -194,20 +194,12 @@ static void prepare(sph_sim *s)
     const sph_config *cfg = &s->cfg;
     sph_particles *P = &s->P;
     const long n = s->nactive;
-    const double c2 = cfg->c0 * cfg->c0, rho0 = cfg->rho0, B = c2 * rho0 / 7.0;
-    const int tait = cfg->eos == SPH_EOS_TAIT;
     const double smag = (SPH_SPS_CS * cfg->dx) * (SPH_SPS_CS * cfg->dx);
     const double blin = 2.0 / 3.0 * SPH_SPS_CI * cfg->dx * cfg->dx;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++) {
         const double rho = P->rho[i];
-        double p;
-        if (tait) {
-            const double q = rho / rho0, q2 = q * q;
-            p = B * (q2 * q2 * q2 * q - 1.0); /* Tait, gamma = 7 */
-        } else {
-            p = c2 * (rho - rho0); /* Yang et al. 2014, eq. (16) */
-        }
+        const double p = sph_eos(cfg, rho);
         P->p[i] = p;
         P->pr[i] = p / (rho * rho);
         P->ax[i] = 0.0;
@@ -280,18 +272,18 @@ void sph_wcsph_forces(sph_sim *s)
     SPH_KERNEL_DISPATCH(s->kernel.type, SPH_PICK);
 #undef SPH_PICK
     const int nstrips = (s->cells.nx - 2 + 1) / 2;
+    const long n = s->nactive;
     long pairs = 0;
     for (int parity = 0; parity < 2; parity++) {
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : pairs)
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : pairs) if (n >= SPH_OMP_MIN)
         for (int st = parity; st < nstrips; st += 2)
             pairs += fn(&c, st);
     }
 
     /* gravity on the fluid; walls and lost particles do not move */
     const double gx = cfg->gravity[0], gy = cfg->gravity[1];
-    const long n = s->nactive;
     double amax2 = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : amax2)
+#pragma omp parallel for schedule(static) reduction(max : amax2) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++) {
         if (P->type[i] == SPH_FLUID) {
             P->ax[i] += gx;

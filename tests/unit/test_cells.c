@@ -247,11 +247,11 @@ static void test_sort(void **state)
 static sph_sim *small_dambreak(int threads)
 {
     sph_config c = sph_config_default();
-    c.dx = 0.01;
+    c.dx = 0.004; /* 3750 fluid, 843 wall particles: above SPH_OMP_MIN, so threads do run */
     c.h_over_dx = 1.414;
     c.domain = (sph_box){{0, 0, 0}, {0.5, 0.5, 0}};
     c.nfluid = 1;
-    c.fluid[0] = (sph_box){{0, 0, 0}, {0.1, 0.2, 0}};
+    c.fluid[0] = (sph_box){{0, 0, 0}, {0.3, 0.2, 0}};
     c.has_tank = 1;
     c.tank = (sph_box){{0, 0, 0}, {0.5, 0.3, 0}};
     c.c0 = 25.0;
@@ -263,7 +263,8 @@ static sph_sim *small_dambreak(int threads)
     sph_error err;
     sph_sim *s = sph_sim_create(&c, &err);
     assert_non_null(s);
-    assert_int_equal(sph_sim_step(s, 300, &err), 0);
+    assert_true(s->P.n >= SPH_OMP_MIN);
+    assert_int_equal(sph_sim_step(s, 150, &err), 0);
     return s;
 }
 
@@ -291,12 +292,54 @@ static void test_reproducible(void **state)
     sph_sim_destroy(c);
 }
 
+/* The front and height probes ignore a droplet far ahead of (or above) the connected fluid. */
+static void test_probes(void **state)
+{
+    (void)state;
+    sph_config c = sph_config_default();
+    c.dx = 0.01;
+    c.domain = (sph_box){{0, 0, 0}, {1.0, 1.0, 0}};
+    c.nfluid = 1;
+    c.fluid[0] = (sph_box){{0, 0, 0}, {0.2, 0.1, 0}}; /* 20 x 10 particles */
+    c.boundary = SPH_BOUNDARY_NONE;
+    c.t_end = 1.0;
+    sph_error err;
+    sph_sim *s = sph_sim_create(&c, &err);
+    assert_non_null(s);
+    assert_true(fabs(s->diag.front_x - 0.2) < 1e-12);
+    assert_true(fabs(s->diag.height_left - 0.1) < 1e-12);
+    /* two particles from inside the block become droplets: one far ahead, one high above the
+     * column at the wall (id = 10 ix + iy, at x = (ix + 0.5) dx, y = (iy + 0.5) dx) */
+    for (long i = 0; i < s->P.n; i++) {
+        if (s->P.id[i] == 195) {
+            s->P.x[i] = 0.7;
+            s->P.y[i] = 0.005;
+        }
+        if (s->P.id[i] == 105) {
+            s->P.x[i] = 0.005;
+            s->P.y[i] = 0.6;
+        }
+    }
+    sph_diag_compute(s);
+    assert_true(fabs(s->diag.front_x - 0.2) < 1e-12);
+    assert_true(fabs(s->diag.height_left - 0.1) < 1e-12);
+    /* a tongue of fluid along the bed, one particle thick, is connected: it counts */
+    for (long i = 0; i < s->P.n; i++)
+        if (s->P.id[i] == 195) {
+            s->P.x[i] = 0.215;
+            s->P.y[i] = 0.005;
+        }
+    sph_diag_compute(s);
+    assert_true(fabs(s->diag.front_x - 0.22) < 1e-12);
+    sph_sim_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sort),         cmocka_unit_test(test_artificial),
         cmocka_unit_test(test_laminar_sps),  cmocka_unit_test(test_delta),
-        cmocka_unit_test(test_reproducible),
+        cmocka_unit_test(test_reproducible), cmocka_unit_test(test_probes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
