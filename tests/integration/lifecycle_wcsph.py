@@ -89,20 +89,31 @@ try:
     F.check(rc == 0 and json.loads(out)["particles"]["count"] <= 5, "sphctl query --fields --max",
             err)
 
-    # -- resume, pause (the reply comes once it is paused), resume, watch to the end
-    st = d.ok("resume", {"job": "db"})
-    F.check(st["state"] in ("queued", "running"), "resume", st)
-    time.sleep(0.2)
-    q = d.request("query", {"job": "db", "fields": ["pos"], "max": 3})
-    F.check(q["ok"] and q["result"]["particles"]["count"] <= 3,
-            "particles of a running job (answered by its worker)", q)
-    p = d.ok("pause", {"job": "db"})
+    # -- a job long enough to catch running: particles from its worker, pause (the reply comes
+    # once it is paused), a paused job does not advance, resume, stop
+    d.ok("submit", {"case": case, "job": "long", "set": ["dx=0.01", "time.end=1000"]})
+    d.wait_state("long", ("running",))
+    time.sleep(0.1)
+    q = d.request("query", {"job": "long", "fields": ["pos"], "max": 3})
+    F.check(q["ok"] and q["result"]["particles"]["count"] <= 3 and
+            q["result"]["state"] == "running", "particles of a running job (from its worker)", q)
+    p = d.ok("pause", {"job": "long"})
     F.check(p["state"] == "paused", "pause replies when the job is paused", p)
     s1 = p["progress"]["steps"]
+    F.check(s1 > 0, "it had run", p["progress"])
     time.sleep(0.2)
-    F.check(progress("db")["steps"] == s1, "a paused job does not advance")
-    rc, out, err = ctl("resume", "db")
+    F.check(progress("long")["steps"] == s1, "a paused job does not advance")
+    rc, out, err = ctl("resume", "long")
     F.check(rc == 0, "sphctl resume", err)
+    d.wait_state("long", ("running",))
+    time.sleep(0.1)
+    F.check(progress("long")["steps"] > s1, "a resumed job advances")
+    s = d.ok("stop", {"job": "long"})
+    F.check(s["state"] == "stopped", "stop replies when the job is stopped", s)
+
+    # -- the stepped job: resume and watch it to the end
+    st = d.ok("resume", {"job": "db"})
+    F.check(st["state"] in ("queued", "running"), "resume", st)
     t0 = time.time()
     rc, out, err = ctl("--json", "watch", "db", timeout=600)
     wall = time.time() - t0
@@ -133,14 +144,14 @@ try:
     F.check(r["error"]["code"] == "bad_state", "step on a finished job: bad_state", r)
 
     # -- stop a running job; sphctl stop / pause on the second one
-    d.ok("submit", {"case": case, "job": "db2", "set": ["dx=0.01"]})
+    d.ok("submit", {"case": case, "job": "db2", "set": ["dx=0.01", "time.end=1000"]})
     d.wait_state("db2", ("running",))
     time.sleep(0.1)
     s = d.ok("stop", {"job": "db2"})
     F.check(s["state"] == "stopped", "stop replies when the job is stopped", s)
     rc, out, err = ctl("watch", "db2")
     F.check(rc == 1, "sphctl watch of a stopped job exits 1", rc)
-    d.ok("submit", {"case": case, "job": "db3", "set": ["dx=0.01"]})
+    d.ok("submit", {"case": case, "job": "db3", "set": ["dx=0.01", "time.end=1000"]})
     d.wait_state("db3", ("running",))
     rc, out, err = ctl("--json", "pause", "db3")
     F.check(rc == 0 and json.loads(out)["state"] == "paused", "sphctl pause", (rc, out, err))
@@ -162,7 +173,7 @@ try:
     F.check(d.request("ping")["ok"], "the daemon is fine after a failed job")
 
     # -- shutdown with a running job: paused at a step boundary, recorded, exit 0
-    d.ok("submit", {"case": case, "job": "db4", "set": ["dx=0.01"]})
+    d.ok("submit", {"case": case, "job": "db4", "set": ["dx=0.01", "time.end=1000"]})
     d.wait_state("db4", ("running",))
     time.sleep(0.1)
     F.check(d.shutdown() == 0, "shutdown with a running job: exit 0")
