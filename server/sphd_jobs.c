@@ -418,6 +418,11 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
         if (j->stop_requested) {
             sphd_job_set_state(d, j, SPHD_JOB_STOPPED, NULL);
         } else if (d->stopping || j->pause_requested || stepping) {
+            if (d->stopping)
+                sphd_publish(d, j, "log",
+                             json_pack("{s:s, s:s}", "level", "info", "message",
+                                       "paused: sphd is shutting down; the job is recorded for "
+                                       "a later resume"));
             sphd_job_set_state(d, j, SPHD_JOB_PAUSED, NULL);
             if (d->stopping)
                 sphd_job_record(d, j, 1);
