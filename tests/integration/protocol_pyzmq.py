@@ -44,6 +44,13 @@ try:
     bg = d.ok("submit", {"case": big_study(src, 2500000, "bg"), "job": "bg"})
     F.check(bg["state"] in ("queued", "running") and bg["created"], "background job accepted", bg)
 
+    # and a simulation that runs all along, when this sphd has the solver
+    sim = "wcsph" in h["methods"] and os.path.exists(os.path.join(src, "cases", "dambreak.json"))
+    if sim:
+        db = json.load(open(os.path.join(src, "cases", "dambreak.json")))
+        d.ok("submit", {"case": db, "job": "bgsim", "set": ["dx=0.01", "time.end=1000"]})
+        sim_steps0 = d.wait_state("bgsim", ("running",))["progress"]["steps"]
+
     # -- bad input: (what, raw bytes or request dict, code, path or None)
     def req_(op, args=None, **extra):
         m = {"v": 1, "id": "bad", "op": op}
@@ -169,6 +176,11 @@ try:
         s.send(b'{"v":1,', zmq.SNDMORE)  # half a multipart message, then gone
         s.close()
     F.check(d.request("ping")["ok"], "daemon answers after 40 vanished clients")
+    if sim:
+        st = d.ok("query", {"job": "bgsim"})
+        F.check(st["state"] == "running" and st["progress"]["steps"] > sim_steps0,
+                "the simulation kept running through the bad input", st["progress"])
+        F.check(d.ok("stop", {"job": "bgsim"})["state"] == "stopped", "and stops on request")
 
     # -- idempotent submit, conflict
     a = d.ok("submit", {"case": ks, "job": "idem"})
