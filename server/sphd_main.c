@@ -221,8 +221,8 @@ int main(int argc, char **argv)
         }
         case OPT_DIAGRATE: {
             long n;
-            if (parse_size(optarg, 1, 10000, &n)) {
-                fprintf(stderr, "sphd: --diag-rate takes a number from 1 to 10000, not '%s'\n",
+            if (parse_size(optarg, 1, 1000000, &n)) {
+                fprintf(stderr, "sphd: --diag-rate takes a number from 1 to 1000000, not '%s'\n",
                         optarg);
                 return SPHD_EX_USAGE;
             }
