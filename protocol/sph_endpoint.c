@@ -49,8 +49,15 @@ int sph_tcp_is_loopback(const char *ep)
     const char *semi = strchr(host, ';');
     if (semi)
         host = semi + 1;
-    if (strncmp(host, "127.", 4) == 0 || strncmp(host, "localhost:", 10) == 0 ||
-        strncmp(host, "[::1]:", 6) == 0 || strncmp(host, "lo:", 3) == 0)
+    if (strncmp(host, "127.", 4) == 0) {
+        /* 127.x.y.z, not a host name that happens to start with "127." */
+        const char *p = host + 4;
+        while ((*p >= '0' && *p <= '9') || *p == '.')
+            p++;
+        return *p == ':' ? 1 : 0;
+    }
+    if (strncmp(host, "localhost:", 10) == 0 || strncmp(host, "[::1]:", 6) == 0 ||
+        strncmp(host, "lo:", 3) == 0)
         return 1;
     return 0;
 }
