@@ -24,7 +24,8 @@ int sph_cells_alloc(sph_cells *g, const double lo[2], const double hi[2], double
     g->x0 = lo[0] - size;
     g->y0 = lo[1] - size;
     g->ncells = (long)g->nx * g->ny;
-    g->start = calloc((size_t)g->ncells + 2, sizeof *g->start);
+    g->counts = calloc((size_t)g->ncells + 4, sizeof *g->counts);
+    g->start = g->counts ? g->counts + 2 : NULL;
     g->key = calloc((size_t)(n > 0 ? n : 1), sizeof *g->key);
     g->perm = calloc((size_t)(n > 0 ? n : 1), sizeof *g->perm);
     if (!g->start || !g->key || !g->perm) {
@@ -36,7 +37,7 @@ int sph_cells_alloc(sph_cells *g, const double lo[2], const double hi[2], double
 
 void sph_cells_free(sph_cells *g)
 {
-    free(g->start);
+    free(g->counts);
     free(g->key);
     free(g->perm);
     memset(g, 0, sizeof *g);
@@ -58,24 +59,28 @@ long sph_cells_sort(sph_cells *g, sph_particles *P)
             P->type[i] = SPH_LOST;
         key[i] = k;
     }
-    long *restrict start = g->start;
-    memset(start, 0, (size_t)(ncells + 2) * sizeof *start);
+    /* counts[k + 2]: particles in cell k; the prefix sum makes it the end of cell k; the
+     * backward scatter moves it down to the beginning of cell k, so that start = counts + 2
+     * holds the beginnings, start[ncells] the active count and start[ncells + 1] = n. Stable:
+     * particles of one cell keep their order. */
+    int *restrict counts = g->counts;
+    const long nc = ncells + 4;
+#pragma omp parallel for schedule(static) if (nc >= 16 * SPH_OMP_MIN)
+    for (long c = 0; c < nc; c++)
+        counts[c] = 0;
     for (long i = 0; i < n; i++)
-        start[key[i] + 1]++;
-    for (long c = 0; c <= ncells; c++)
-        start[c + 1] += start[c];
-    /* stable scatter: start[c] walks through cell c, then is restored */
+        counts[key[i] + 2]++;
+    for (long c = 0; c + 1 < nc; c++)
+        counts[c + 1] += counts[c];
     long moved = 0;
-    for (long i = 0; i < n; i++) {
-        const long to = start[key[i]]++;
+    for (long i = n - 1; i >= 0; i--) {
+        const long to = --counts[key[i] + 2];
         g->perm[to] = i;
         moved += to != i;
     }
-    for (long c = ncells; c > 0; c--)
-        start[c] = start[c - 1];
-    start[0] = 0;
     const int sorted = moved == 0;
     if (!sorted)
         sph_particles_permute(P, g->perm);
+    const int *start = g->start;
     return start[ncells];
 }

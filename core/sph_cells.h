@@ -19,7 +19,8 @@ typedef struct sph_cells {
     double inv_size; /* 1 / size [1/m] */
     int nx, ny;      /* cells per axis, padding included [-] */
     long ncells;     /* nx * ny */
-    long *start;     /* ncells + 2 offsets: cell c holds [start[c], start[c + 1]) */
+    int *start;      /* ncells + 2 offsets: cell c holds [start[c], start[c + 1]) */
+    int *counts;     /* ncells + 4: the counting sort's array, start = counts + 2 */
     int *key;        /* n: cell of each particle (ncells for lost particles) */
     long *perm;      /* n: sorting permutation, new index -> old index */
 } sph_cells;

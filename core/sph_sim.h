@@ -9,9 +9,11 @@
  *     sph_sim_destroy(s);
  *
  * No global state: any number of sims may live in one process. The core parallelises inside a
- * step with OpenMP; with a fixed number of threads a run is bitwise reproducible (the pair loops
- * visit the cells in an order that does not depend on the number of threads, so the results do
- * not depend on it either). Not thread-safe: one thread drives a sim at a time.
+ * step with OpenMP, with the number of threads of the calling thread (omp_set_num_threads() in a
+ * worker thread sets it for that worker's jobs); jobs under 4096 particles run on the calling
+ * thread alone. Runs are bitwise reproducible, and the same with any number of threads (the pair
+ * loops visit pairs in an order fixed by the cell grid; reductions are max/min or serial).
+ * Not thread-safe: one thread drives a sim at a time.
  */
 #ifndef SPH_SIM_H
 #define SPH_SIM_H

@@ -32,7 +32,7 @@ typedef struct fctx {
     double *ax, *ay, *drho;
     double *gxx, *gxy, *gyy;
     const double *txx, *txy, *tyy;
-    const long *start;
+    const int *start;
     int nx, ny;
     const sph_kernel *k;
     double m;        /* particle mass [kg] */
@@ -130,7 +130,7 @@ static inline __attribute__((always_inline)) long strip_generic(sph_kernel_type 
                                                                 const fctx *c, int strip)
 {
     const int ny = c->ny;
-    const long *start = c->start;
+    const int *start = c->start;
     const int cx0 = 1 + 2 * strip, cx1 = cx0 + 2 < c->nx - 1 ? cx0 + 2 : c->nx - 1;
     long pairs = 0;
     for (int cx = cx0; cx < cx1; cx++)
