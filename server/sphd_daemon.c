@@ -128,7 +128,7 @@ void sphd_publish(sphd_daemon *d, sphd_job *j, const char *type, json_t *body)
     sphd_job_touch(j); /* its seq changes */
     json_t *ev = sph_event_new(j->id, ++j->seq, type);
     if (ev && body)
-        json_object_update(ev, body);
+        json_object_update_missing(ev, body); /* job, seq and type are ours */
     json_decref(body);
     char *text = ev ? json_dumps(ev, JSON_COMPACT | JSON_REAL_PRECISION(12)) : NULL;
     json_decref(ev);
