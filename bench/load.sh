@@ -18,5 +18,6 @@ for j in load1 load2; do
 done
 sleep 1
 "$build/bin/sphctl" list
+echo "machine: $(nproc) CPUs, load average $(cut -d" " -f1-3 /proc/loadavg) (the clients share the CPUs with sphd)"
 "$build/bin/bench_load" --endpoint "$SPHD_ENDPOINT" "$@" load1 load2
 # --rate R: each client paced at R requests/s (e.g. bench/load.sh build --rate 100)
