@@ -132,6 +132,11 @@ static void print_status_long(const json_t *s)
         printf(", ETA %s", buf);
     }
     printf("\ndir      %s\n", json_string_value(json_object_get(s, "dir")));
+    const json_t *ps = json_object_get(s, "pending_step");
+    if (json_object_get(ps, "n"))
+        printf("pending  step %lld\n", (long long)json_integer_value(json_object_get(ps, "n")));
+    else if (json_object_get(ps, "until"))
+        printf("pending  step until t = %g s\n", num(ps, "until"));
     const json_t *d = json_object_get(s, "diag");
     if (json_is_object(d)) {
         printf("diag    ");
