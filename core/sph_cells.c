@@ -48,7 +48,7 @@ long sph_cells_sort(sph_cells *g, sph_particles *P)
     const long n = P->n, ncells = g->ncells;
     const int nx = g->nx, ny = g->ny;
     int *restrict key = g->key;
-#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++) {
         const double fx = (P->x[i] - g->x0) * g->inv_size, fy = (P->y[i] - g->y0) * g->inv_size;
         int k = (int)ncells;
@@ -65,7 +65,7 @@ long sph_cells_sort(sph_cells *g, sph_particles *P)
      * particles of one cell keep their order. */
     int *restrict counts = g->counts;
     const long nc = ncells + 4;
-#pragma omp parallel for schedule(static) if (nc >= 16 * SPH_OMP_MIN)
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (nc >= 16 * SPH_OMP_MIN)
     for (long c = 0; c < nc; c++)
         counts[c] = 0;
     for (long i = 0; i < n; i++)

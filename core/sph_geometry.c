@@ -2,10 +2,16 @@
 
 #include <math.h>
 
+/* Particles along one axis, capped at SPH_AXIS_MAX so that counts never overflow (a case that
+ * large is refused as too large anyway). */
+#define SPH_AXIS_MAX 10000000L
+
 static long axis_count(double lo, double hi, double dx)
 {
     const double n = floor((hi - lo) / dx + 1e-6);
-    return n > 0 ? (long)n : 0;
+    if (!(n > 0))
+        return 0;
+    return n < (double)SPH_AXIS_MAX ? (long)n : SPH_AXIS_MAX;
 }
 
 long sph_geometry_box_count(const sph_box *b, int dim, double dx)

@@ -83,7 +83,7 @@ int sph_integrate_step(sph_sim *s, double dt_cap, sph_error *err)
     const double ylo = c->domain.min[1], yhi = c->domain.max[1];
     const long n0 = s->nactive;
     long bad = 0;
-#pragma omp parallel for schedule(static) reduction(+ : bad) if (n0 >= SPH_OMP_MIN)
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(+ : bad) if (n0 >= SPH_OMP_MIN)
     for (long i = 0; i < n0; i++) {
         if (P->type[i] == SPH_FLUID) {
             const double ax = P->ax0[i], ay = P->ay0[i];
@@ -117,7 +117,7 @@ int sph_integrate_step(sph_sim *s, double dt_cap, sph_error *err)
     const double rho0 = c->rho0;
     double vmax2 = 0.0, rlo = INFINITY, rhi = -INFINITY;
     bad = 0;
-#pragma omp parallel for schedule(static) reduction(+ : bad) reduction(max : vmax2, rhi) if (n >= SPH_OMP_MIN)          \
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(+ : bad) reduction(max : vmax2, rhi) if (n >= SPH_OMP_MIN)          \
     reduction(min : rlo)
     for (long i = 0; i < n; i++) {
         double rho = P->rho[i] + 0.5 * dt * (P->drho[i] - P->drho0[i]);

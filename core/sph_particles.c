@@ -56,7 +56,7 @@ static void permute_doubles(double **a, double **scratch, const long *perm, long
 {
     const double *src = *a;
     double *dst = *scratch;
-#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++)
         dst[i] = src[perm[i]];
     *scratch = *a;
@@ -77,7 +77,7 @@ void sph_particles_permute(sph_particles *P, const long *perm)
     /* the 1- and 4-byte fields go through the scratch buffer too (it holds n doubles) */
     unsigned char *t = (unsigned char *)P->scratch;
     int *id = (int *)(t + ((n + 7) / 8) * 8); /* n bytes, then n ints: fits in n doubles */
-#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++) {
         t[i] = P->type[perm[i]];
         id[i] = P->id[perm[i]];

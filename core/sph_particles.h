@@ -19,6 +19,9 @@ enum {
  * threads' fork and join costs more than it saves, and when the machine is oversubscribed
  * (several jobs, each with its threads) waiting threads make it far worse. */
 #define SPH_OMP_MIN 4096
+/* Particles per chunk of the parallel loops: handed out dynamically, so that a thread the
+ * operating system has put aside (other jobs, other programs) does not hold up its team. */
+#define SPH_OMP_CHUNK 2048
 
 typedef struct sph_particles {
     long n;                  /* particles stored (fluid + boundary, lost included) */

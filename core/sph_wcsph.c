@@ -196,7 +196,7 @@ static void prepare(sph_sim *s)
     const long n = s->nactive;
     const double smag = (SPH_SPS_CS * cfg->dx) * (SPH_SPS_CS * cfg->dx);
     const double blin = 2.0 / 3.0 * SPH_SPS_CI * cfg->dx * cfg->dx;
-#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++) {
         const double rho = P->rho[i];
         const double p = sph_eos(cfg, rho);
@@ -283,7 +283,8 @@ void sph_wcsph_forces(sph_sim *s)
     /* gravity on the fluid; walls and lost particles do not move */
     const double gx = cfg->gravity[0], gy = cfg->gravity[1];
     double amax2 = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : amax2) if (n >= SPH_OMP_MIN)
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(max                            \
+                                                                    : amax2) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++) {
         if (P->type[i] == SPH_FLUID) {
             P->ax[i] += gx;

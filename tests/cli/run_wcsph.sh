@@ -23,11 +23,13 @@ res = [e for e in ev if e["type"] == "result"]
 assert len(res) == 1 and res[0]["particles"]["fluid"] == 800, res
 print("dam break events OK:", len(ev), "events, front_x", diags[-1]["front_x"])
 PY
-"$sphd" --run "$src/cases/dambreak.json" --out "$tmp/o2" --set dx=1e-5 >"$tmp/ev2" 2>"$tmp/err2"
-rc=$?
-if [ $rc != 65 ] || ! grep -q too_large "$tmp/err2" || [ -s "$tmp/ev2" ]; then
-  echo "FAIL: too large case: exit $rc"; cat "$tmp/err2"; fail=1
-else
-  echo "too large OK: $(cat "$tmp/err2")"
-fi
+for dx in 1e-5 1e-300; do
+  "$sphd" --run "$src/cases/dambreak.json" --out "$tmp/o2" --set dx=$dx >"$tmp/ev2" 2>"$tmp/err2"
+  rc=$?
+  if [ $rc != 65 ] || ! grep -q too_large "$tmp/err2" || [ -s "$tmp/ev2" ]; then
+    echo "FAIL: too large case (dx = $dx): exit $rc"; cat "$tmp/err2"; fail=1
+  else
+    echo "too large OK: $(cat "$tmp/err2")"
+  fi
+done
 exit $fail
