@@ -60,6 +60,16 @@ for i in 1 2 3 4; do expect_rc "q$i finishes" 0 "$C" watch "q$i"; done
 expect_rc "list (table)" 0 "$C" list
 check "list shows the 4 jobs done" test "$(grep -c ' done ' "$tmp/out")" -ge 4
 
+# --max-jobs 8: the ninth unfinished job is refused as busy (75); stopping one makes room
+for i in 1 2 3 4 5 6 7 8; do "$C" submit "$KS" --id "held$i" --no-start >/dev/null; done
+expect_rc "beyond --max-jobs: busy" 75 "$C" submit "$KS" --id held9 --no-start
+check "busy says why" grep -q "max-jobs" "$tmp/err"
+expect_rc "stop one" 0 "$C" stop held1
+expect_rc "then there is room" 0 "$C" submit "$KS" --id held9 --no-start
+expect_rc "--json prints one document" 0 "$C" --json list
+check "one line of JSON" test "$(wc -l <"$tmp/out")" = 1
+for i in 2 3 4 5 6 7 8 9; do "$C" stop "held$i" >/dev/null; done
+
 # a second sphd on the same endpoint refuses
 expect_rc "second sphd refuses" 75 "$SPHD" --listen "$SPHD_ENDPOINT" --publish "ipc://$tmp/run/s2" --state-dir "$tmp/state2"
 check "with a clear message" grep -q "already serving" "$tmp/err"
