@@ -616,10 +616,15 @@ static int op_query(sphd_request *r, json_t **result, sphd_err *e)
                                 sph_json_type_name(f));
         }
     }
-    if (fields && !j->exec)
+    if (fields && sphd_job_state_final(j->state))
         return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/fields",
                             "job %s is %s: its particles are gone (outputs are in %s)", j->id,
                             sphd_job_state_name(j->state), j->dir);
+    if (fields && !j->exec && j->worker < 0)
+        return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/fields",
+                            "job %s has not run yet: its particles are made when it first runs "
+                            "(step it once)",
+                            j->id);
     if (fields && j->worker >= 0) {
         /* the worker owns the executor: it answers between two slices */
         sphd_pending *p = sphd_pending_copy(r->from);

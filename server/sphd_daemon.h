@@ -93,7 +93,7 @@ typedef struct sphd_job {
     char dir[SPHD_PATH_MAX];
     json_t *case_json; /* the case as run (after `set`), for idempotent submit */
     sph_case *c;
-    sphd_exec *exec; /* NULL once finished; owned by the worker while running */
+    sphd_exec *exec; /* NULL until the first run and once finished; the worker's while running */
     sphd_job_state state;
     char reason[SPHD_REASON_MAX];
     long seq;          /* last published event's seq */
@@ -150,6 +150,7 @@ typedef struct sphd_wev {
     char type[16];     /* EVENT: the event type */
     json_t *body;      /* EVENT body, PROGRESS progress, PARTICLES result (stolen) */
     sphd_end_kind end; /* END */
+    sphd_exec *exec;   /* END: the executor, handed back (NULL if it could not be created) */
     char reason[SPHD_REASON_MAX];
     double wall; /* END/PROGRESS: seconds run in this run */
     double steps_per_s, eta;

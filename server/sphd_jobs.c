@@ -7,6 +7,7 @@
 #include "sphd_daemon.h"
 
 #include "sph_events.h"
+#include "sph_sim.h"
 
 #include <errno.h>
 #include <math.h>
@@ -227,15 +228,19 @@ sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int
         job_free(j);
         return NULL;
     }
-    j->exec = sphd_exec_new(j->c, j->dir, &err);
-    if (!j->exec) {
-        sphd_err_set(e,
-                     err.code == SPH_ERR_INVALID ? SPHD_E_INVALID_CASE
-                     : err.code == SPH_ERR_NOMEM ? SPHD_E_TOO_LARGE
-                                                 : SPHD_E_INTERNAL,
-                     err.path, "%s", err.message);
-        job_free(j);
-        return NULL;
+    /* The executor (particle generation, allocation) is solver work: the worker creates it
+     * when the job first runs. Here only the cheap check of its size. */
+    if (j->c->method == SPH_METHOD_WCSPH) {
+        long nf = 0, nb = 0;
+        const double bytes = sph_sim_estimate_bytes(&j->c->sim, &nf, &nb);
+        if (bytes > j->c->sim.max_bytes) {
+            sphd_err_set(e, SPHD_E_TOO_LARGE, "/dx",
+                         "the case needs about %.0f MB (%ld fluid and %ld boundary particles), "
+                         "more than the %.0f MB allowed: use a larger dx",
+                         bytes / 1e6, nf, nb, j->c->sim.max_bytes / 1e6);
+            job_free(j);
+            return NULL;
+        }
     }
     if (sphd_mkdirs(j->dir) != 0) {
         sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot create %s: %s", j->dir, strerror(errno));
@@ -252,7 +257,10 @@ sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int
     j->step_until = INFINITY;
     j->eta = NAN;
     j->submitted = sphd_now();
-    j->progress = sphd_exec_progress(j->exec);
+    if (j->c->method == SPH_METHOD_WCSPH)
+        j->progress = json_pack("{s:f, s:f, s:i}", "t", 0.0, "t_end", j->c->sim.t_end, "step", 0);
+    else
+        j->progress = json_pack("{s:i}", "step", 0);
     j->state = start ? SPHD_JOB_QUEUED : SPHD_JOB_PAUSED;
     j->started = start;
     /* append: the scheduler runs jobs in submission order */
@@ -273,7 +281,7 @@ sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int
 
 static int runnable(const sphd_job *j)
 {
-    if (j->worker >= 0 || !j->exec)
+    if (j->worker >= 0 || sphd_job_state_final(j->state))
         return 0;
     return j->state == SPHD_JOB_QUEUED ||
            (j->state == SPHD_JOB_PAUSED && (j->step_n > 0 || isfinite(j->step_until)));
@@ -391,8 +399,10 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
     case SPHD_WEV_END:
         break;
     }
-    /* The run ended: the worker gave the executor back. */
+    /* The run ended: the worker gave the executor back (the one it created on a first run). */
     sphd_job_touch(j);
+    if (!j->exec)
+        j->exec = ev->exec;
     w->job = NULL;
     j->worker = -1;
     atomic_fetch_sub(&d->busy, 1);

@@ -148,6 +148,23 @@ static void run_job(sphd_worker *w, void *sock, sphd_wcmd *cmd)
     sphd_exec *x = cmd->exec;
     sphd_wev end = {.kind = SPHD_WEV_END, .job = cmd->job};
     const double t0 = sphd_mono();
+    if (!x) {
+        /* first run: prepare the job (generate and allocate the particles) */
+        sph_error err;
+        sph_error_clear(&err);
+        x = sphd_exec_new(cmd->job->c, cmd->job->dir, &err);
+        if (!x) {
+            end.end = SPHD_END_FAILED;
+            snprintf(end.reason, sizeof end.reason, "%s: %s%s%s", sph_error_code_name(err.code),
+                     err.message, err.path[0] ? " at " : "", err.path);
+            end.wall = sphd_mono() - t0;
+            if (send_wev(sock, &end) != 0)
+                sphd_log("worker %d: cannot report the end of a run: %s", w->index,
+                         zmq_strerror(errno));
+            return;
+        }
+    }
+    end.exec = x;
     double last_progress = t0;
     json_t *p = sphd_exec_progress(x);
     const long step0 = progress_step(p);
