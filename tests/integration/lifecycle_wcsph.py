@@ -47,6 +47,11 @@ try:
     # -- step a job that was never started: N steps, then paused
     r = d.ok("submit", {"case": case, "job": "db", "set": coarse, "start": False})
     F.check(r["state"] == "paused" and r["progress"]["steps"] == 0, "submitted paused", r)
+    r = d.request("query", {"job": "db", "fields": ["pos"]})
+    F.check(r["error"]["code"] == "bad_state", "no particles before the first run", r)
+    r = d.request("submit", {"case": case, "set": ["dx=1e-7"]})
+    F.check(r["error"]["code"] == "too_large" and r["error"]["path"] == "/dx",
+            "a case too large for memory: too_large at /dx", r)
     sub = d.subscribe(b"db")
     time.sleep(0.1)
     d.ok("step", {"job": "db", "n": 5})
