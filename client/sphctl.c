@@ -1,30 +1,625 @@
-/* sphctl: the client of sphd. */
-#include <stdio.h>
-#include <string.h>
+/* sphctl: the client of sphd. This file parses the command line and runs one command. */
+#include "sphctl.h"
 
-#define SPHCTL_EX_USAGE       64
-#define SPHCTL_EX_UNAVAILABLE 69
+#include "sph_case.h"
+
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
 
 static const char usage_text[] =
-    "Usage: sphctl [--endpoint ENDPOINT] [--json] COMMAND ...\n"
+    "Usage: sphctl [--endpoint EP] [--json] [--timeout S] COMMAND [ARGS]\n"
     "\n"
-    "Commands: ping, submit FILE [--id ID] [--watch], status [JOB], list, watch JOB,\n"
-    "          step JOB N, pause JOB, resume JOB, stop JOB, query JOB, shutdown\n"
+    "Commands:\n"
+    "  ping                          is sphd there? (round-trip time)\n"
+    "  submit FILE [--id ID] [--set PATH=VALUE]... [--no-start] [--watch]\n"
+    "                                send a case file; prints the job id\n"
+    "  status [JOB]                  one job's state and progress, or all jobs\n"
+    "  list                          all jobs\n"
+    "  watch JOB                     follow a job to its end (progress line on a TTY, JSON\n"
+    "                                Lines otherwise); exit 0 done, 1 failed or stopped\n"
+    "  start JOB                     start a job submitted with --no-start\n"
+    "  step JOB N | step JOB --until T   advance a paused job by N steps or to time T, then\n"
+    "                                pause it\n"
+    "  pause JOB | resume JOB | stop JOB\n"
+    "  query JOB [--fields pos,vel,...] [--max N]   state, diagnostics, particle fields\n"
+    "  shutdown                      pause every job and stop sphd\n"
     "\n"
-    "This build has no daemon yet: run cases with 'sphd --run CASE.json'.\n";
+    "Options:\n"
+    "  --endpoint EP   sphd's control endpoint (default: $SPHD_ENDPOINT, else\n"
+    "                  ipc://$XDG_RUNTIME_DIR/sphd/control)\n"
+    "  --json          print exactly one JSON document on stdout (JSON Lines for watch)\n"
+    "  --timeout S     seconds to wait for each reply (default 10)\n"
+    "  -h, --help      this text; 'sphctl COMMAND --help' for one command\n"
+    "  (--endpoint, --json and --timeout may also follow the command)\n"
+    "  --version       print the version\n"
+    "\n"
+    "Exit codes: 0 ok, 1 the job failed or sphd refused the request, 64 usage, 65 invalid\n"
+    "case file, 66 file not found, 69 sphd unreachable or timed out, 75 busy (retry later),\n"
+    "77 not authorised.\n";
+
+typedef struct command {
+    const char *name;
+    int (*run)(sphctl *c, int argc, char **argv);
+    const char *help;
+} command;
+
+/* ---- helpers ---- */
+
+static int usage_error(const char *cmd, const char *fmt, const char *arg)
+{
+    fputs("sphctl: ", stderr);
+    fprintf(stderr, fmt, arg);
+    fprintf(stderr, "\nTry 'sphctl %s --help'.\n", cmd ? cmd : "");
+    return SPHCTL_EX_USAGE;
+}
+
+/* Parses the options of a command that takes none but --help, and exactly nargs positionals. */
+static int simple_args(int argc, char **argv, int nargs, const char *help)
+{
+    static const struct option lo[] = {{"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
+    int o;
+    optind = 0;
+    while ((o = getopt_long(argc, argv, "+h", lo, NULL)) != -1) {
+        if (o == 'h') {
+            fputs(help, stdout);
+            return -1;
+        }
+        return usage_error(argv[0], "bad option for %s", argv[0]);
+    }
+    if (argc - optind != nargs) {
+        fprintf(stderr, "sphctl: %s takes %d argument%s\n%s", argv[0], nargs, nargs == 1 ? "" : "s",
+                help);
+        return SPHCTL_EX_USAGE;
+    }
+    return 0;
+}
+
+static double num(const json_t *o, const char *k)
+{
+    json_t *v = json_object_get(o, k);
+    return json_is_number(v) ? json_number_value(v) : NAN;
+}
+
+static void print_status_line(const json_t *s)
+{
+    const json_t *p = json_object_get(s, "progress");
+    char prog[64] = "-", eta[32] = "-", wall[32];
+    double t = num(p, "t"), te = num(p, "t_end");
+    if (isfinite(t) && isfinite(te) && te > 0)
+        snprintf(prog, sizeof prog, "%.4g/%.4g s", t, te);
+    sphctl_fmt_duration(num(p, "eta"), eta, sizeof eta);
+    sphctl_fmt_duration(num(p, "wall"), wall, sizeof wall);
+    printf("%-24s %-8s %-13s %-18s %10lld %9s %8s\n", json_string_value(json_object_get(s, "job")),
+           json_string_value(json_object_get(s, "state")),
+           json_string_value(json_object_get(s, "method")), prog,
+           (long long)json_integer_value(json_object_get(p, "steps")), wall, eta);
+}
+
+static void print_status_table(const json_t *jobs)
+{
+    printf("%-24s %-8s %-13s %-18s %10s %9s %8s\n", "JOB", "STATE", "METHOD", "TIME", "STEPS",
+           "WALL", "ETA");
+    size_t i;
+    json_t *s;
+    json_array_foreach(jobs, i, s) print_status_line(s);
+}
+
+static void print_status_long(const json_t *s)
+{
+    const json_t *p = json_object_get(s, "progress");
+    printf("job      %s\n", json_string_value(json_object_get(s, "job")));
+    printf("state    %s", json_string_value(json_object_get(s, "state")));
+    const char *reason = json_string_value(json_object_get(s, "reason"));
+    if (reason && *reason)
+        printf(" (%s)", reason);
+    printf("\nmethod   %s (case '%s')\n", json_string_value(json_object_get(s, "method")),
+           json_string_value(json_object_get(s, "name")));
+    double t = num(p, "t"), te = num(p, "t_end"), rate = num(p, "steps_per_s");
+    if (isfinite(t))
+        printf("time     %.6g s of %.6g s\n", t, te);
+    printf("steps    %lld", (long long)json_integer_value(json_object_get(p, "steps")));
+    if (isfinite(rate) && rate > 0)
+        printf(" (%.0f steps/s)", rate);
+    char buf[32];
+    sphctl_fmt_duration(num(p, "wall"), buf, sizeof buf);
+    printf("\nwall     %s", buf);
+    if (isfinite(num(p, "eta"))) {
+        sphctl_fmt_duration(num(p, "eta"), buf, sizeof buf);
+        printf(", ETA %s", buf);
+    }
+    printf("\ndir      %s\n", json_string_value(json_object_get(s, "dir")));
+    const json_t *ps = json_object_get(s, "pending_step");
+    if (json_object_get(ps, "n"))
+        printf("pending  step %lld\n", (long long)json_integer_value(json_object_get(ps, "n")));
+    else if (json_object_get(ps, "until"))
+        printf("pending  step until t = %g s\n", num(ps, "until"));
+    const json_t *d = json_object_get(s, "diag");
+    if (json_is_object(d)) {
+        printf("diag    ");
+        const char *k;
+        json_t *v;
+        json_object_foreach((json_t *)d, k, v)
+        {
+            if (json_is_number(v) && strcmp(k, "seq") != 0)
+                printf(" %s=%.6g", k, json_number_value(v));
+        }
+        printf("\n");
+    }
+    if (json_object_get(s, "result"))
+        printf("result   in %s/result.json\n", json_string_value(json_object_get(s, "dir")));
+}
+
+/* Prints a one-job result (for pause, resume, stop, start, step). */
+static int print_job_result(sphctl *c, json_t *r, const char *verb)
+{
+    if (c->json)
+        sphctl_print_json(r, 1);
+    else
+        printf("%s: %s%s\n", json_string_value(json_object_get(r, "job")),
+               json_string_value(json_object_get(r, "state")), verb);
+    json_decref(r);
+    return 0;
+}
+
+/* ---- commands ---- */
+
+static int cmd_ping(sphctl *c, int argc, char **argv)
+{
+    static const char help[] = "Usage: sphctl ping\nAsks sphd for a pong; prints the round trip.\n";
+    int rc = simple_args(argc, argv, 0, help);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    struct timespec a, b;
+    clock_gettime(CLOCK_MONOTONIC, &a);
+    json_t *r;
+    if ((rc = sphctl_request(c, "ping", NULL, &r, NULL, 0)))
+        return rc;
+    clock_gettime(CLOCK_MONOTONIC, &b);
+    double ms = 1e3 * (double)(b.tv_sec - a.tv_sec) + 1e-6 * (double)(b.tv_nsec - a.tv_nsec);
+    if (c->json) {
+        json_object_set_new(r, "rtt_ms", json_real(ms));
+        sphctl_print_json(r, 1);
+    } else {
+        printf("pong from %s in %.2f ms\n", c->endpoint, ms);
+    }
+    json_decref(r);
+    return 0;
+}
+
+static int cmd_submit(sphctl *c, int argc, char **argv)
+{
+    static const char help[] =
+        "Usage: sphctl submit FILE [--id ID] [--set PATH=VALUE]... [--no-start] [--watch]\n"
+        "Sends the case in FILE to sphd and prints the job id.\n"
+        "  --id ID           choose the job id (letters, digits, '.', '_', '-'): submitting\n"
+        "                    the same case with the same id again returns the same job; a\n"
+        "                    different case with that id is refused (conflict)\n"
+        "  --set PATH=VALUE  override one field of the case by its dotted path (repeatable)\n"
+        "  --no-start        create the job paused; 'sphctl start JOB' or 'step' runs it\n"
+        "  --watch           then follow it to its end like 'sphctl watch'\n"
+        "Exit codes: 0 submitted (with --watch: the job is done), 1 refused or the job failed,\n"
+        "65 invalid case, 66 no such file, 69 sphd unreachable, 75 busy.\n";
+    static const struct option lo[] = {
+        {"id", required_argument, NULL, 'i'}, {"set", required_argument, NULL, 's'},
+        {"no-start", no_argument, NULL, 'n'}, {"watch", no_argument, NULL, 'w'},
+        {"help", no_argument, NULL, 'h'},     {NULL, 0, NULL, 0}};
+    const char *id = NULL;
+    int watch = 0, nostart = 0, o;
+    json_t *sets = json_array();
+    optind = 0;
+    while ((o = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
+        switch (o) {
+        case 'i':
+            id = optarg;
+            break;
+        case 's':
+            if (!strchr(optarg, '=')) {
+                json_decref(sets);
+                return usage_error("submit", "--set takes PATH=VALUE, not '%s'", optarg);
+            }
+            json_array_append_new(sets, json_string(optarg));
+            break;
+        case 'n':
+            nostart = 1;
+            break;
+        case 'w':
+            watch = 1;
+            break;
+        case 'h':
+            fputs(help, stdout);
+            json_decref(sets);
+            return 0;
+        default:
+            json_decref(sets);
+            return usage_error("submit", "%s", "bad option");
+        }
+    }
+    if (argc - optind != 1) {
+        json_decref(sets);
+        return usage_error("submit", "%s", "submit takes one case FILE");
+    }
+    c->file = argv[optind];
+    json_t *root;
+    sph_error err;
+    if (sph_case_load(c->file, &root, &err)) {
+        json_decref(sets);
+        fprintf(stderr, "sphctl: %s\n", err.message);
+        return err.code == SPH_ERR_IO ? SPHCTL_EX_NOINPUT : SPHCTL_EX_DATAERR;
+    }
+    json_t *args = json_pack("{s:o}", "case", root);
+    if (id)
+        json_object_set_new(args, "job", json_string(id));
+    if (nostart)
+        json_object_set_new(args, "start", json_false());
+    if (json_array_size(sets))
+        json_object_set(args, "set", sets);
+    json_decref(sets);
+    json_t *r;
+    int rc = sphctl_request(c, "submit", args, &r, NULL, 0);
+    if (rc)
+        return rc;
+    char job[128];
+    snprintf(job, sizeof job, "%s", json_string_value(json_object_get(r, "job")));
+    if (c->json && !watch)
+        sphctl_print_json(r, 1);
+    else if (!c->json)
+        fprintf(watch ? stderr : stdout, "%s%s\n", job,
+                json_is_false(json_object_get(r, "created")) ? " (already submitted)" : "");
+    json_decref(r);
+    if (!watch)
+        return 0;
+    rc = sphctl_watch(c, job);
+    return rc;
+}
+
+static int cmd_status(sphctl *c, int argc, char **argv)
+{
+    static const char help[] =
+        "Usage: sphctl status [JOB]\n"
+        "One job's state, progress (t / t_end, steps, wall time, steps/s, ETA) and latest\n"
+        "diagnostics; without JOB, a table of all jobs (like 'list').\n";
+    static const struct option lo[] = {{"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
+    int o;
+    optind = 0;
+    while ((o = getopt_long(argc, argv, "+h", lo, NULL)) != -1) {
+        if (o == 'h') {
+            fputs(help, stdout);
+            return 0;
+        }
+        return usage_error("status", "%s", "bad option");
+    }
+    if (argc - optind > 1)
+        return usage_error("status", "%s", "status takes at most one JOB");
+    json_t *r;
+    int rc;
+    if (argc - optind == 0) {
+        if ((rc = sphctl_request(c, "list", NULL, &r, NULL, 0)))
+            return rc;
+        if (c->json)
+            sphctl_print_json(r, 1);
+        else
+            print_status_table(json_object_get(r, "jobs"));
+    } else {
+        if ((rc = sphctl_request(c, "query", json_pack("{s:s}", "job", argv[optind]), &r, NULL, 0)))
+            return rc;
+        if (c->json)
+            sphctl_print_json(r, 1);
+        else
+            print_status_long(r);
+    }
+    json_decref(r);
+    return 0;
+}
+
+static int cmd_list(sphctl *c, int argc, char **argv)
+{
+    static const char help[] = "Usage: sphctl list\nAll jobs sphd holds, oldest first.\n";
+    int rc = simple_args(argc, argv, 0, help);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    json_t *r;
+    if ((rc = sphctl_request(c, "list", NULL, &r, NULL, 0)))
+        return rc;
+    if (c->json)
+        sphctl_print_json(r, 1);
+    else
+        print_status_table(json_object_get(r, "jobs"));
+    json_decref(r);
+    return 0;
+}
+
+static int cmd_watch(sphctl *c, int argc, char **argv)
+{
+    static const char help[] =
+        "Usage: sphctl watch JOB\n"
+        "Follows JOB until it is done, failed or stopped: a live progress line on a TTY\n"
+        "(t / t_end, steps/s, ETA, key diagnostics), JSON Lines otherwise (a snapshot line,\n"
+        "then the job's events). Missed events are reported as gaps.\n"
+        "Exit codes: 0 done, 1 failed or stopped, 69 sphd unreachable.\n";
+    int rc = simple_args(argc, argv, 1, help);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    return sphctl_watch(c, argv[optind]);
+}
+
+/* pause, resume, stop, start: one job, one op. */
+static int job_op(sphctl *c, int argc, char **argv, const char *help, const char *verb)
+{
+    int rc = simple_args(argc, argv, 1, help);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    json_t *r;
+    if ((rc = sphctl_request(c, argv[0], json_pack("{s:s}", "job", argv[optind]), &r, NULL, 0)))
+        return rc;
+    return print_job_result(c, r, verb);
+}
+
+static int cmd_pause(sphctl *c, int argc, char **argv)
+{
+    return job_op(c, argc, argv,
+                  "Usage: sphctl pause JOB\nPauses JOB at the next step boundary (replies once "
+                  "it is paused).\n",
+                  "");
+}
+
+static int cmd_resume(sphctl *c, int argc, char **argv)
+{
+    return job_op(c, argc, argv, "Usage: sphctl resume JOB\nRuns a paused JOB again.\n", "");
+}
+
+static int cmd_stop(sphctl *c, int argc, char **argv)
+{
+    return job_op(c, argc, argv,
+                  "Usage: sphctl stop JOB\nStops JOB for good at the next step boundary.\n", "");
+}
+
+static int cmd_start(sphctl *c, int argc, char **argv)
+{
+    return job_op(c, argc, argv,
+                  "Usage: sphctl start JOB\nStarts a job submitted with --no-start.\n", "");
+}
+
+static int cmd_step(sphctl *c, int argc, char **argv)
+{
+    static const char help[] =
+        "Usage: sphctl step JOB N\n"
+        "       sphctl step JOB --until T\n"
+        "Advances a paused (or queued) JOB by N solver steps, or to simulated time T in\n"
+        "seconds, then leaves it paused.\n";
+    static const struct option lo[] = {{"until", required_argument, NULL, 'u'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
+    const char *until = NULL;
+    int o;
+    optind = 0;
+    while ((o = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
+        if (o == 'h') {
+            fputs(help, stdout);
+            return 0;
+        }
+        if (o == 'u')
+            until = optarg;
+        else
+            return usage_error("step", "%s", "bad option");
+    }
+    int npos = argc - optind;
+    if (!(npos == 2 && !until) && !(npos == 1 && until))
+        return usage_error("step", "%s", "step takes JOB and N, or JOB and --until T");
+    json_t *args = json_pack("{s:s}", "job", argv[optind]);
+    char *end;
+    if (until) {
+        double t = strtod(until, &end);
+        if (*end || end == until || !isfinite(t)) {
+            json_decref(args);
+            return usage_error("step", "--until takes a time in seconds, not '%s'", until);
+        }
+        json_object_set_new(args, "until", json_real(t));
+    } else {
+        long n = strtol(argv[optind + 1], &end, 10);
+        if (*end || n < 1) {
+            json_decref(args);
+            return usage_error("step", "N must be a positive integer, not '%s'", argv[optind + 1]);
+        }
+        json_object_set_new(args, "n", json_integer(n));
+    }
+    json_t *r;
+    int rc = sphctl_request(c, "step", args, &r, NULL, 0);
+    if (rc)
+        return rc;
+    return print_job_result(c, r, " (stepping; it pauses when done)");
+}
+
+static int cmd_query(sphctl *c, int argc, char **argv)
+{
+    static const char help[] =
+        "Usage: sphctl query JOB [--fields pos,vel,rho,p] [--max N]\n"
+        "Prints the job's state, progress and latest diagnostics as JSON; with --fields also\n"
+        "the particle fields, downsampled to at most N particles with --max.\n";
+    static const struct option lo[] = {{"fields", required_argument, NULL, 'f'},
+                                       {"max", required_argument, NULL, 'm'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
+    const char *fields = NULL, *max = NULL;
+    int o;
+    optind = 0;
+    while ((o = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
+        if (o == 'h') {
+            fputs(help, stdout);
+            return 0;
+        }
+        if (o == 'f')
+            fields = optarg;
+        else if (o == 'm')
+            max = optarg;
+        else
+            return usage_error("query", "%s", "bad option");
+    }
+    if (argc - optind != 1)
+        return usage_error("query", "%s", "query takes one JOB");
+    json_t *args = json_pack("{s:s}", "job", argv[optind]);
+    if (fields) {
+        json_t *arr = json_array();
+        char buf[512];
+        snprintf(buf, sizeof buf, "%s", fields);
+        char *save = NULL;
+        for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save))
+            json_array_append_new(arr, json_string(t));
+        json_object_set_new(args, "fields", arr);
+    }
+    if (max) {
+        char *end;
+        long n = strtol(max, &end, 10);
+        if (*end || n < 1) {
+            json_decref(args);
+            return usage_error("query", "--max takes a positive integer, not '%s'", max);
+        }
+        json_object_set_new(args, "max", json_integer(n));
+    }
+    json_t *r;
+    int rc = sphctl_request(c, "query", args, &r, NULL, 0);
+    if (rc)
+        return rc;
+    sphctl_print_json(r, c->json);
+    json_decref(r);
+    return 0;
+}
+
+static int cmd_shutdown(sphctl *c, int argc, char **argv)
+{
+    static const char help[] =
+        "Usage: sphctl shutdown\n"
+        "Pauses every running job at a step boundary, records the jobs for a later resume,\n"
+        "and stops sphd.\n";
+    int rc = simple_args(argc, argv, 0, help);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    json_t *r;
+    if ((rc = sphctl_request(c, "shutdown", NULL, &r, NULL, 0)))
+        return rc;
+    if (c->json)
+        sphctl_print_json(r, 1);
+    else
+        printf("sphd is stopping; %zu unfinished job(s) kept\n",
+               json_array_size(json_object_get(r, "kept")));
+    json_decref(r);
+    return 0;
+}
+
+static const command commands[] = {
+    {"ping", cmd_ping, ""}, {"submit", cmd_submit, ""}, {"status", cmd_status, ""},
+    {"list", cmd_list, ""}, {"watch", cmd_watch, ""},   {"start", cmd_start, ""},
+    {"step", cmd_step, ""}, {"pause", cmd_pause, ""},   {"resume", cmd_resume, ""},
+    {"stop", cmd_stop, ""}, {"query", cmd_query, ""},   {"shutdown", cmd_shutdown, ""},
+};
 
 int main(int argc, char **argv)
 {
-    if (argc > 1 && (strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0)) {
-        fputs(usage_text, stdout);
-        return 0;
+    sphctl c = {.timeout = 10.0};
+    const char *env = getenv("SPHD_ENDPOINT");
+    if (env && *env)
+        snprintf(c.endpoint, sizeof c.endpoint, "%s", env);
+    else if (sph_default_control_endpoint(c.endpoint, sizeof c.endpoint)) {
+        fputs("sphctl: cannot work out the default endpoint; use --endpoint\n", stderr);
+        return SPHCTL_EX_USAGE;
     }
-    if (argc > 1 && strcmp(argv[1], "--version") == 0) {
-        printf("sphctl %s\n", SPH_VERSION);
-        return 0;
+    enum { OPT_ENDPOINT = 256, OPT_JSON, OPT_TIMEOUT, OPT_VERSION };
+    static const struct option lo[] = {
+        {"endpoint", required_argument, NULL, OPT_ENDPOINT}, {"json", no_argument, NULL, OPT_JSON},
+        {"timeout", required_argument, NULL, OPT_TIMEOUT},   {"help", no_argument, NULL, 'h'},
+        {"version", no_argument, NULL, OPT_VERSION},         {NULL, 0, NULL, 0}};
+    int o;
+    while ((o = getopt_long(argc, argv, "+h", lo, NULL)) != -1) {
+        switch (o) {
+        case OPT_ENDPOINT:
+            if (strlen(optarg) >= sizeof c.endpoint)
+                return usage_error(NULL, "endpoint too long: %s", optarg);
+            snprintf(c.endpoint, sizeof c.endpoint, "%s", optarg);
+            break;
+        case OPT_JSON:
+            c.json = 1;
+            break;
+        case OPT_TIMEOUT: {
+            char *end;
+            c.timeout = strtod(optarg, &end);
+            if (*end || end == optarg || !(c.timeout > 0) || c.timeout > 86400)
+                return usage_error(NULL, "--timeout takes seconds (0 < S <= 86400), not '%s'",
+                                   optarg);
+            break;
+        }
+        case 'h':
+            fputs(usage_text, stdout);
+            return 0;
+        case OPT_VERSION:
+            printf("sphctl %s\n", SPH_VERSION);
+            return 0;
+        default:
+            fputs("Try 'sphctl --help'.\n", stderr);
+            return SPHCTL_EX_USAGE;
+        }
     }
-    /* TODO(issue 4): the client commands. */
-    fputs("sphctl: the daemon protocol is not in this build yet; use 'sphd --run CASE.json'\n",
-          stderr);
-    return argc > 1 ? SPHCTL_EX_UNAVAILABLE : SPHCTL_EX_USAGE;
+    if (optind >= argc) {
+        fputs(usage_text, stderr);
+        return SPHCTL_EX_USAGE;
+    }
+    const char *name = argv[optind];
+    /* The global options may also follow the command (`sphctl status JOB --json`): take them
+     * out, leaving the command's own options (and their values) alone. */
+    int n = optind + 1;
+    for (int i = optind + 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "--") == 0) {
+            while (i < argc)
+                argv[n++] = argv[i++];
+            break;
+        }
+        if (strcmp(a, "--json") == 0) {
+            c.json = 1;
+            continue;
+        }
+        const char *val = NULL;
+        int is_ep = strncmp(a, "--endpoint", 10) == 0 && (a[10] == '\0' || a[10] == '=');
+        int is_to = strncmp(a, "--timeout", 9) == 0 && (a[9] == '\0' || a[9] == '=');
+        if (is_ep || is_to) {
+            const char *eq = strchr(a, '=');
+            if (eq)
+                val = eq + 1;
+            else if (i + 1 < argc)
+                val = argv[++i];
+            else
+                return usage_error(name, "%s needs a value", a);
+            if (is_ep) {
+                if (strlen(val) >= sizeof c.endpoint)
+                    return usage_error(name, "endpoint too long: %s", val);
+                snprintf(c.endpoint, sizeof c.endpoint, "%s", val);
+            } else {
+                char *end;
+                c.timeout = strtod(val, &end);
+                if (*end || end == val || !(c.timeout > 0) || c.timeout > 86400)
+                    return usage_error(name, "--timeout takes seconds (0 < S <= 86400), not '%s'",
+                                       val);
+            }
+            continue;
+        }
+        argv[n++] = argv[i];
+        /* the command's options that take a value: keep the value with them */
+        static const char *const with_value[] = {"--id",     "--set", "--until",
+                                                 "--fields", "--max", NULL};
+        for (const char *const *w = with_value; *w; w++)
+            if (strcmp(a, *w) == 0 && i + 1 < argc)
+                argv[n++] = argv[++i];
+    }
+    argc = n;
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
+        if (strcmp(commands[i].name, name) == 0) {
+            int rc = commands[i].run(&c, argc - optind, argv + optind);
+            sphctl_close(&c);
+            return rc;
+        }
+    }
+    fprintf(stderr, "sphctl: unknown command '%s'\nTry 'sphctl --help'.\n", name);
+    return SPHCTL_EX_USAGE;
 }

@@ -1,10 +1,39 @@
 #!/usr/bin/env bash
-# The README's main command: set up, build, and run the main job.
-# For now the main job is the kernel study of Yang et al. (2014) run in batch mode; it becomes the
-# daemon + dam break once sphd's daemon mode lands (issue 4).
+# The README's main command: set up, build, start sphd in the background, submit the dam break and
+# watch it to the end (a progress line on a terminal, JSON Lines otherwise), print where the
+# results are, and stop the daemon. The daemon never outlives this script.
+# MAIN_CASE=FILE runs another case the same way.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 scripts/build.sh
-build/bin/sphd --run cases/kernel_study.json --out out/kernel_study
-echo "results: out/kernel_study/result.json" >&2
+
+case_file=${MAIN_CASE:-cases/dambreak.json}
+job=$(basename "$case_file" .json)
+state="$PWD/out/state"
+run=$(mktemp -d "${TMPDIR:-/tmp}/sphd-main.XXXXXX")
+export SPHD_ENDPOINT="ipc://$run/control"
+build/bin/sphd --listen "$SPHD_ENDPOINT" --publish "ipc://$run/stream" --state-dir "$state" \
+  2>"$run/sphd.log" &
+pid=$!
+cleanup() {
+  if kill -0 "$pid" 2>/dev/null; then
+    kill -TERM "$pid" 2>/dev/null || true
+    wait "$pid" 2>/dev/null || true
+  fi
+  rm -rf "$run"
+}
+trap cleanup EXIT
+for _ in $(seq 1 100); do
+  build/bin/sphctl --timeout 1 ping >/dev/null 2>&1 && break
+  kill -0 "$pid" 2>/dev/null || { cat "$run/sphd.log" >&2; exit 69; }
+  sleep 0.05
+done
+echo "sphd is running (pid $pid, $SPHD_ENDPOINT); submitting $case_file as job $job" >&2
+rc=0
+build/bin/sphctl submit "$case_file" --id "$job" --watch || rc=$?
+build/bin/sphctl status "$job" >&2 || true
+echo "results: $state/jobs/$job/ (case.json: the case as run, result.json: the summary, job.json: the job record)" >&2
+build/bin/sphctl shutdown >/dev/null
+wait "$pid" || rc=$?
+exit "$rc"

@@ -34,6 +34,10 @@ int sphd_run(const sphd_run_opts *opts);
 /* Writes len bytes to path atomically (temporary name, fsync, rename). Returns 0 or -1 (errno). */
 int sphd_write_atomic(const char *path, const char *data, size_t len);
 
+/* 1 when id is usable as a job id and file name: 1 to 63 letters, digits, '.', '_' or '-', not
+ * starting with '.'. */
+int sphd_job_id_ok(const char *id);
+
 /* mkdir -p with mode 0700 for created directories. Returns 0 or -1 (errno). */
 int sphd_mkdirs(const char *path);
 

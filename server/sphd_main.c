@@ -1,10 +1,14 @@
 /* sphd: the simulation daemon. This file parses the command line and picks the mode. */
 #include "sphd.h"
+#include "sphd_daemon.h"
+
+#include "sph_endpoint.h"
 
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static const char usage_text[] =
     "Usage: sphd [OPTIONS]                 run the daemon (foreground, logs to stderr)\n"
@@ -25,14 +29,88 @@ static const char usage_text[] =
     "  --listen ENDPOINT  control socket (default ipc://$XDG_RUNTIME_DIR/sphd/control)\n"
     "  --publish ENDPOINT event stream (default ipc://$XDG_RUNTIME_DIR/sphd/stream)\n"
     "  --state-dir DIR    jobs and outputs (default $XDG_STATE_HOME/sphd)\n"
-    "  --threads N        threads for all jobs together\n"
-    "  --max-jobs N       jobs held at once\n"
+    "  --threads N        threads for all jobs together: at most N jobs run at once, the\n"
+    "                     others wait in the queue (default: the number of CPUs)\n"
+    "  --max-jobs N       jobs held at once (queued, running, paused; default 64); a submit\n"
+    "                     beyond is refused as busy\n"
+    "  --max-msg-size B   largest request in bytes (default 16777216 = 16 MiB; K, M, G\n"
+    "                     suffixes); a larger one is dropped by the transport, unanswered\n"
+    "  --diag-rate N      at most N diag events per second per job on the stream (default 50)\n"
+    "  --insecure         allow a non-loopback tcp:// endpoint without CURVE keys\n"
     "\n"
     "  -h, --help         this text\n"
     "  --version          print the version\n"
     "\n"
     "Exit codes (--run): 0 the job is done, 1 it failed, 64 usage, 65 invalid case,\n"
-    "66 case file not found, 73 cannot create the output directory.\n";
+    "66 case file not found, 73 cannot create the output directory.\n"
+    "Exit codes (daemon): 0 stopped cleanly (SIGINT, SIGTERM or 'sphctl shutdown'), 64 usage,\n"
+    "69 cannot bind an endpoint, 73 cannot create a directory, 75 another sphd already serves\n"
+    "the endpoints or the state directory.\n";
+
+/* Parses a positive count with an optional K, M or G suffix (powers of 1024). */
+static int parse_size(const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    long v = strtol(s, &end, 10);
+    long mul = 1;
+    if (*end == 'K' || *end == 'k')
+        mul = 1L << 10, end++;
+    else if (*end == 'M' || *end == 'm')
+        mul = 1L << 20, end++;
+    else if (*end == 'G' || *end == 'g')
+        mul = 1L << 30, end++;
+    if (*end || end == s || v < 0 || v > hi / mul || v * mul < lo)
+        return -1;
+    *out = v * mul;
+    return 0;
+}
+
+static int daemon_defaults(sphd_opts *o)
+{
+    if (!o->listen[0] && sph_default_control_endpoint(o->listen, sizeof o->listen))
+        return -1;
+    if (!o->publish[0] && sph_default_stream_endpoint(o->publish, sizeof o->publish))
+        return -1;
+    if (!o->state_dir[0]) {
+        const char *xdg = getenv("XDG_STATE_HOME"), *home = getenv("HOME");
+        int n;
+        if (xdg && *xdg)
+            n = snprintf(o->state_dir, sizeof o->state_dir, "%s/sphd", xdg);
+        else if (home && *home)
+            n = snprintf(o->state_dir, sizeof o->state_dir, "%s/.local/state/sphd", home);
+        else
+            return -1;
+        if (n < 0 || (size_t)n >= sizeof o->state_dir)
+            return -1;
+    }
+    if (o->threads <= 0) {
+        long n = sysconf(_SC_NPROCESSORS_ONLN);
+        o->threads = n > 0 ? (int)(n > 1024 ? 1024 : n) : 1;
+    }
+    return 0;
+}
+
+static int check_endpoint(const char *ep, const char *opt, int insecure)
+{
+    if (strncmp(ep, "ipc://", 6) != 0 && strncmp(ep, "tcp://", 6) != 0) {
+        fprintf(stderr, "sphd: %s takes an ipc:// or tcp:// endpoint, not '%s'\n", opt, ep);
+        return -1;
+    }
+    if (sph_tcp_is_loopback(ep) == 0) {
+        if (!insecure) {
+            fprintf(stderr,
+                    "sphd: %s %s is reachable from other machines: that needs CURVE keys, which "
+                    "this version does not support yet; use a loopback address "
+                    "(tcp://127.0.0.1:PORT), an ipc:// endpoint, or --insecure on a trusted "
+                    "network\n",
+                    opt, ep);
+            return -1;
+        }
+        fprintf(stderr, "sphd: warning: %s %s accepts unauthenticated clients (--insecure)\n", opt,
+                ep);
+    }
+    return 0;
+}
 
 int main(int argc, char **argv)
 {
@@ -47,7 +125,10 @@ int main(int argc, char **argv)
         OPT_PUBLISH,
         OPT_STATE,
         OPT_MAXJOBS,
-        OPT_RESUME
+        OPT_RESUME,
+        OPT_MAXMSG,
+        OPT_DIAGRATE,
+        OPT_INSECURE
     };
     static const struct option longopts[] = {
         {"run", required_argument, NULL, OPT_RUN},
@@ -60,11 +141,16 @@ int main(int argc, char **argv)
         {"publish", required_argument, NULL, OPT_PUBLISH},
         {"state-dir", required_argument, NULL, OPT_STATE},
         {"max-jobs", required_argument, NULL, OPT_MAXJOBS},
+        {"max-msg-size", required_argument, NULL, OPT_MAXMSG},
+        {"diag-rate", required_argument, NULL, OPT_DIAGRATE},
+        {"insecure", no_argument, NULL, OPT_INSECURE},
         {"help", no_argument, NULL, 'h'},
         {"version", no_argument, NULL, OPT_VERSION},
         {NULL, 0, NULL, 0},
     };
     sphd_run_opts run = {0};
+    sphd_opts dopts = {.max_jobs = 64, .max_msg_size = 16L << 20, .diag_rate = 50};
+    int daemon_only = 0;
     int opt;
     while ((opt = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
         switch (opt) {
@@ -96,12 +182,64 @@ int main(int argc, char **argv)
                 return SPHD_EX_USAGE;
             }
             run.threads = (int)n;
+            dopts.threads = (int)n;
             break;
         }
         case OPT_LISTEN:
         case OPT_PUBLISH:
-        case OPT_STATE:
-        case OPT_MAXJOBS:
+        case OPT_STATE: {
+            char *dst = opt == OPT_LISTEN    ? dopts.listen
+                        : opt == OPT_PUBLISH ? dopts.publish
+                                             : dopts.state_dir;
+            size_t cap = opt == OPT_STATE ? sizeof dopts.state_dir : sizeof dopts.listen;
+            if (!*optarg || strlen(optarg) >= cap) {
+                fprintf(stderr, "sphd: the value of --%s is empty or too long\n",
+                        opt == OPT_LISTEN    ? "listen"
+                        : opt == OPT_PUBLISH ? "publish"
+                                             : "state-dir");
+                return SPHD_EX_USAGE;
+            }
+            snprintf(dst, cap, "%s", optarg);
+            daemon_only = 1;
+            break;
+        }
+        case OPT_MAXJOBS: {
+            long n;
+            if (parse_size(optarg, 1, 100000, &n)) {
+                fprintf(stderr, "sphd: --max-jobs takes a number from 1 to 100000, not '%s'\n",
+                        optarg);
+                return SPHD_EX_USAGE;
+            }
+            dopts.max_jobs = (int)n;
+            daemon_only = 1;
+            break;
+        }
+        case OPT_MAXMSG: {
+            long n;
+            if (parse_size(optarg, 1024, 1L << 32, &n)) {
+                fprintf(stderr,
+                        "sphd: --max-msg-size takes a size from 1K to 4G (e.g. 16M), not '%s'\n",
+                        optarg);
+                return SPHD_EX_USAGE;
+            }
+            dopts.max_msg_size = n;
+            daemon_only = 1;
+            break;
+        }
+        case OPT_DIAGRATE: {
+            long n;
+            if (parse_size(optarg, 1, 1000000, &n)) {
+                fprintf(stderr, "sphd: --diag-rate takes a number from 1 to 1000000, not '%s'\n",
+                        optarg);
+                return SPHD_EX_USAGE;
+            }
+            dopts.diag_rate = (int)n;
+            daemon_only = 1;
+            break;
+        }
+        case OPT_INSECURE:
+            dopts.insecure = 1;
+            daemon_only = 1;
             break;
         case 'h':
             fputs(usage_text, stdout);
@@ -118,10 +256,31 @@ int main(int argc, char **argv)
         fprintf(stderr, "sphd: unexpected argument '%s'\nTry 'sphd --help'.\n", argv[optind]);
         return SPHD_EX_USAGE;
     }
-    if (run.case_file)
+    if (run.case_file) {
+        if (daemon_only) {
+            fputs("sphd: --listen, --publish, --state-dir, --max-jobs, --max-msg-size, "
+                  "--diag-rate and --insecure are for the daemon, not --run\n",
+                  stderr);
+            return SPHD_EX_USAGE;
+        }
         return sphd_run(&run);
-    /* TODO(issue 4): the daemon (control ROUTER, stream PUB, job manager). */
-    fprintf(stderr, "sphd: daemon mode is not in this build yet; run a case with "
-                    "'sphd --run CASE.json'\n");
-    return SPHD_EX_UNAVAILABLE;
+    }
+    if (run.out_dir || run.nsets || run.job) {
+        fputs("sphd: --out, --set and --id go with --run\nTry 'sphd --help'.\n", stderr);
+        return SPHD_EX_USAGE;
+    }
+    if (daemon_defaults(&dopts) != 0) {
+        fputs("sphd: cannot work out the default endpoints or state directory (is HOME set?); "
+              "give --listen, --publish and --state-dir\n",
+              stderr);
+        return SPHD_EX_USAGE;
+    }
+    if (check_endpoint(dopts.listen, "--listen", dopts.insecure) ||
+        check_endpoint(dopts.publish, "--publish", dopts.insecure))
+        return SPHD_EX_USAGE;
+    if (strcmp(dopts.listen, dopts.publish) == 0) {
+        fputs("sphd: --listen and --publish must differ\n", stderr);
+        return SPHD_EX_USAGE;
+    }
+    return sphd_daemon_main(&dopts);
 }

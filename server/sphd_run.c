@@ -73,22 +73,6 @@ static int write_json(const char *dir, const char *name, const json_t *j)
     return rc;
 }
 
-/* A job id is used as a file name: letters, digits, '.', '_', '-', 1 to 63 characters, not
- * starting with '.'. */
-static int job_id_ok(const char *id)
-{
-    size_t n = strlen(id);
-    if (n == 0 || n > 63 || id[0] == '.')
-        return 0;
-    for (size_t i = 0; i < n; i++) {
-        char c = id[i];
-        if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-              c == '.' || c == '_' || c == '-'))
-            return 0;
-    }
-    return 1;
-}
-
 int sphd_run(const sphd_run_opts *o)
 {
     sph_error err;
@@ -121,7 +105,7 @@ int sphd_run(const sphd_run_opts *o)
         return SPHD_EX_DATAERR;
     }
     const char *job = o->job ? o->job : c->name;
-    if (!job_id_ok(job)) {
+    if (!sphd_job_id_ok(job)) {
         fprintf(stderr,
                 "sphd: job id '%s' is not usable as a file name: use 1-63 letters, digits, '.', "
                 "'_' or '-' (set one with --id)\n",

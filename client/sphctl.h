@@ -1,0 +1,51 @@
+/* sphctl: the client of sphd. Internal interfaces of its files. */
+#ifndef SPHCTL_H
+#define SPHCTL_H
+
+#include "sph_endpoint.h"
+
+#include <jansson.h>
+
+/* sysexits.h codes (DESIGN.md section 3). */
+#define SPHCTL_EX_OK          0
+#define SPHCTL_EX_FAILED      1
+#define SPHCTL_EX_USAGE       64
+#define SPHCTL_EX_DATAERR     65
+#define SPHCTL_EX_NOINPUT     66
+#define SPHCTL_EX_UNAVAILABLE 69
+#define SPHCTL_EX_SOFTWARE    70
+#define SPHCTL_EX_TEMPFAIL    75
+#define SPHCTL_EX_NOPERM      77
+
+#define SPHCTL_MAX_REQUEST (16L << 20) /* sphd's default --max-msg-size */
+
+typedef struct sphctl {
+    char endpoint[SPH_ENDPOINT_MAX];
+    int json;       /* --json */
+    double timeout; /* seconds per request */
+    void *ctx;
+    void *sock; /* DEALER to the control endpoint, NULL until the first request */
+    long next_id;
+    const char *file; /* for messages about a case file */
+} sphctl;
+
+/* Sends {"v":1,"id":..,"op":op,"args":args} (args stolen, may be NULL) and waits for the reply,
+ * at most c->timeout seconds. On success returns 0 and *result (new ref). On a refusal prints the
+ * error to stderr and returns its exit code (65 invalid_case, 75 busy, 1 otherwise); 69 when the
+ * server does not answer. *errcode gets the error code name when not NULL (static storage). */
+int sphctl_request(sphctl *c, const char *op, json_t *args, json_t **result, char *errcode,
+                   size_t errcode_len);
+
+void sphctl_close(sphctl *c);
+
+/* Prints a JSON value as one line (compact) or indented, to stdout. */
+void sphctl_print_json(const json_t *v, int compact);
+
+/* sphctl_watch.c: follows a job to its end (subscribe, then snapshot). Returns the exit code:
+ * 0 done, 1 failed or stopped, 69 server gone. */
+int sphctl_watch(sphctl *c, const char *job);
+
+/* Human formatting helpers. */
+void sphctl_fmt_duration(double s, char *buf, size_t n);
+
+#endif

@@ -1,0 +1,718 @@
+/*
+ * The command table and the dispatcher. Each op is one row: name, handler, argument spec, flags.
+ * The dispatcher alone parses the request, checks the envelope and the arguments (with jansson's
+ * strict unpacking), finds the job, refuses mutations during shutdown, calls the handler and turns
+ * errors into replies: every error code of the protocol is produced here.
+ */
+#include "sphd.h"
+#include "sphd_daemon.h"
+
+#include "sph_json.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+/* ---- errors ---- */
+
+static const char *const errcode_names[SPHD_E_COUNT] = {
+    [SPHD_E_BAD_REQUEST] = "bad_request",   [SPHD_E_UNKNOWN_OP] = "unknown_op",
+    [SPHD_E_INVALID_CASE] = "invalid_case", [SPHD_E_NOT_FOUND] = "not_found",
+    [SPHD_E_CONFLICT] = "conflict",         [SPHD_E_BAD_STATE] = "bad_state",
+    [SPHD_E_TOO_LARGE] = "too_large",       [SPHD_E_BUSY] = "busy",
+    [SPHD_E_INTERNAL] = "internal",
+};
+
+const char *sphd_errcode_name(sphd_errcode c)
+{
+    return (unsigned)c < SPHD_E_COUNT ? errcode_names[c] : "internal";
+}
+
+int sphd_err_set(sphd_err *e, sphd_errcode code, const char *path, const char *fmt, ...)
+{
+    e->code = code;
+    snprintf(e->path, sizeof e->path, "%s", path ? path : "");
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(e->message, sizeof e->message, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+json_t *sphd_reply_new(json_t *id, json_t *result, const sphd_err *e)
+{
+    json_t *r = json_pack("{s:i, s:O}", "v", SPHD_PROTOCOL_VERSION, "id", id ? id : json_null());
+    if (!r) {
+        json_decref(result);
+        return NULL;
+    }
+    if (!e) {
+        json_object_set_new(r, "ok", json_true());
+        json_object_set_new(r, "result", result ? result : json_object());
+        return r;
+    }
+    json_decref(result);
+    json_t *err =
+        json_pack("{s:s, s:s}", "code", sphd_errcode_name(e->code), "message", e->message);
+    if (err && e->path[0])
+        json_object_set_new(err, "path", json_string(e->path));
+    json_object_set_new(r, "ok", json_false());
+    json_object_set_new(r, "error", err);
+    return r;
+}
+
+/* ---- the table ---- */
+
+/* Argument types: 's' string, 'I' integer, 'F' number, 'b' boolean, 'O' object, 'A' array. */
+typedef struct sphd_arg {
+    const char *name;
+    char type;
+    int required;
+} sphd_arg;
+
+#define SPHD_MAX_ARGS 6
+
+enum {
+    CMD_JOB = 1,     /* args.job names an existing job (else not_found) */
+    CMD_MUTATES = 2, /* refused while sphd shuts down */
+};
+
+typedef struct sphd_request {
+    sphd_daemon *d;
+    const sphd_pending *from; /* envelope + id, for deferred replies */
+    json_t *args;             /* borrowed */
+    sphd_job *job;            /* CMD_JOB */
+    const char *raw;          /* a handler's result already encoded (borrowed), or NULL */
+    char *raw_owned;          /* the same, to be freed by the dispatcher */
+} sphd_request;
+
+/* Returns 0 (result set), -1 (e set) or 1 (the reply is deferred). */
+typedef int (*sphd_handler)(sphd_request *r, json_t **result, sphd_err *e);
+
+typedef struct sphd_command {
+    const char *name;
+    sphd_handler handler;
+    sphd_arg args[SPHD_MAX_ARGS + 1];
+    unsigned flags;
+    const char *help;
+} sphd_command;
+
+static int op_hello(sphd_request *r, json_t **result, sphd_err *e);
+static int op_ping(sphd_request *r, json_t **result, sphd_err *e);
+static int op_submit(sphd_request *r, json_t **result, sphd_err *e);
+static int op_start(sphd_request *r, json_t **result, sphd_err *e);
+static int op_step(sphd_request *r, json_t **result, sphd_err *e);
+static int op_pause(sphd_request *r, json_t **result, sphd_err *e);
+static int op_resume(sphd_request *r, json_t **result, sphd_err *e);
+static int op_query(sphd_request *r, json_t **result, sphd_err *e);
+static int op_stop(sphd_request *r, json_t **result, sphd_err *e);
+static int op_list(sphd_request *r, json_t **result, sphd_err *e);
+static int op_shutdown(sphd_request *r, json_t **result, sphd_err *e);
+
+static const sphd_command commands[] = {
+    {"hello", op_hello, {{0}}, 0, "version, capabilities and the stream endpoint"},
+    {"ping", op_ping, {{0}}, 0, "liveness"},
+    {"submit",
+     op_submit,
+     {{"case", 'O', 1}, {"job", 's', 0}, {"start", 'b', 0}, {"set", 'A', 0}, {0}},
+     CMD_MUTATES,
+     "create a job from a case"},
+    {"start",
+     op_start,
+     {{"job", 's', 1}, {0}},
+     CMD_JOB | CMD_MUTATES,
+     "start a job submitted with start: false"},
+    {"step",
+     op_step,
+     {{"job", 's', 1}, {"n", 'I', 0}, {"until", 'F', 0}, {0}},
+     CMD_JOB | CMD_MUTATES,
+     "advance a paused or queued job by n steps or to a time, then pause"},
+    {"pause",
+     op_pause,
+     {{"job", 's', 1}, {0}},
+     CMD_JOB | CMD_MUTATES,
+     "pause at the next step boundary"},
+    {"resume", op_resume, {{"job", 's', 1}, {0}}, CMD_JOB | CMD_MUTATES, "run a paused job again"},
+    {"query",
+     op_query,
+     {{"job", 's', 1}, {"fields", 'A', 0}, {"max", 'I', 0}, {0}},
+     CMD_JOB,
+     "state, progress, latest diagnostics, optionally particle fields"},
+    {"stop", op_stop, {{"job", 's', 1}, {0}}, CMD_JOB, "stop a job for good"},
+    {"list", op_list, {{0}}, 0, "all jobs"},
+    {"shutdown", op_shutdown, {{0}}, 0, "pause every job at a step boundary and exit"},
+};
+
+#define NCOMMANDS (sizeof commands / sizeof commands[0])
+
+const char *sphd_op_name(size_t i)
+{
+    return i < NCOMMANDS ? commands[i].name : NULL;
+}
+
+static const sphd_command *lookup(const char *op)
+{
+    for (size_t i = 0; i < NCOMMANDS; i++)
+        if (strcmp(commands[i].name, op) == 0)
+            return &commands[i];
+    return NULL;
+}
+
+static const char *type_word(char t)
+{
+    switch (t) {
+    case 's':
+        return "a string";
+    case 'I':
+        return "an integer";
+    case 'F':
+        return "a number";
+    case 'b':
+        return "a boolean";
+    case 'O':
+        return "an object";
+    case 'A':
+        return "an array";
+    }
+    return "a value";
+}
+
+static int type_ok(char t, const json_t *v)
+{
+    switch (t) {
+    case 's':
+        return json_is_string(v);
+    case 'I':
+        return json_is_integer(v);
+    case 'F':
+        return json_is_number(v);
+    case 'b':
+        return json_is_boolean(v);
+    case 'O':
+        return json_is_object(v);
+    case 'A':
+        return json_is_array(v);
+    }
+    return 1;
+}
+
+/* Checks args against the command's spec: jansson's strict unpacking decides; the table then
+ * names the field at fault. */
+static int check_args(const sphd_command *c, json_t *args, sphd_err *e)
+{
+    char fmt[8 * SPHD_MAX_ARGS + 8] = "{";
+    const char *keys[SPHD_MAX_ARGS] = {0};
+    int n = 0;
+    for (const sphd_arg *a = c->args; a->name; a++, n++) {
+        const char *conv = a->type == 'O' || a->type == 'A' ? "o" : (char[]){a->type, 0};
+        size_t used = strlen(fmt);
+        snprintf(fmt + used, sizeof fmt - used, "%ss%s%s", n ? ", " : "", a->required ? ":" : "?",
+                 conv);
+        keys[n] = a->name;
+    }
+    strcat(fmt, "}");
+    json_error_t jerr;
+    int bad = json_unpack_ex(args, &jerr, JSON_STRICT | JSON_VALIDATE_ONLY, fmt, keys[0], keys[1],
+                             keys[2], keys[3], keys[4], keys[5]);
+    /* objects and arrays are 'o' for jansson: check their type here */
+    for (const sphd_arg *a = c->args; !bad && a->name; a++) {
+        json_t *v = json_object_get(args, a->name);
+        if (v && !type_ok(a->type, v))
+            bad = 1;
+    }
+    if (!bad)
+        return 0;
+    char path[SPH_ERROR_PATH_MAX];
+    const char *key;
+    json_t *v;
+    json_object_foreach(args, key, v)
+    {
+        const sphd_arg *a = c->args;
+        while (a->name && strcmp(a->name, key) != 0)
+            a++;
+        snprintf(path, sizeof path, "/args/%s", key);
+        if (!a->name) {
+            char list[160] = "";
+            for (const sphd_arg *b = c->args; b->name; b++)
+                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
+                         b == c->args ? "" : ", ", b->name);
+            return sphd_err_set(e, SPHD_E_BAD_REQUEST, path,
+                                "unknown argument '%s' for '%s' (allowed: %s)", key, c->name,
+                                list[0] ? list : "none");
+        }
+        if (!type_ok(a->type, v))
+            return sphd_err_set(e, SPHD_E_BAD_REQUEST, path, "'%s' must be %s, not %s", key,
+                                type_word(a->type), sph_json_type_name(v));
+    }
+    for (const sphd_arg *a = c->args; a->name; a++) {
+        if (a->required && !json_object_get(args, a->name)) {
+            snprintf(path, sizeof path, "/args/%s", a->name);
+            return sphd_err_set(e, SPHD_E_BAD_REQUEST, path, "'%s' needs the argument '%s'",
+                                c->name, a->name);
+        }
+    }
+    return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args", "bad arguments: %s", jerr.text);
+}
+
+static char *encode(json_t *reply)
+{
+    char *text = reply ? json_dumps(reply, JSON_COMPACT | JSON_REAL_PRECISION(12)) : NULL;
+    json_decref(reply);
+    return text;
+}
+
+/* {"v":1,"id":ID,"ok":true,"result":RAW} without decoding RAW again. */
+static char *encode_raw(json_t *id, const char *raw)
+{
+    char *idtext = json_dumps(id ? id : json_null(), JSON_COMPACT | JSON_ENCODE_ANY);
+    if (!idtext)
+        return NULL;
+    size_t n = strlen(idtext) + strlen(raw) + 64;
+    char *text = malloc(n);
+    if (text)
+        snprintf(text, n, "{\"v\":%d,\"id\":%s,\"ok\":true,\"result\":%s}", SPHD_PROTOCOL_VERSION,
+                 idtext, raw);
+    free(idtext);
+    return text;
+}
+
+char *sphd_dispatch(sphd_daemon *d, const sphd_pending *req, const char *body, size_t len)
+{
+    sphd_err e;
+    json_t *result = NULL, *id = NULL;
+    json_error_t jerr;
+    d->requests++;
+    json_t *root = json_loadb(body, len, JSON_REJECT_DUPLICATES, &jerr);
+    if (!root) {
+        sphd_err_set(&e, SPHD_E_BAD_REQUEST, NULL,
+                     "a request must be one JSON object (UTF-8): %s at byte %d", jerr.text,
+                     jerr.position);
+        goto fail;
+    }
+    if (!json_is_object(root)) {
+        sphd_err_set(&e, SPHD_E_BAD_REQUEST, "", "a request must be a JSON object, not %s",
+                     sph_json_type_name(root));
+        goto fail;
+    }
+    id = json_object_get(root, "id");
+    if (id && !json_is_string(id) && !json_is_integer(id)) {
+        id = NULL;
+        sphd_err_set(&e, SPHD_E_BAD_REQUEST, "/id", "'id' must be a string or an integer");
+        goto fail;
+    }
+    json_int_t v = SPHD_PROTOCOL_VERSION;
+    json_t *op_j = NULL, *args = NULL, *ignored = NULL;
+    if (json_unpack_ex(root, &jerr, JSON_STRICT, "{s?I, s?o, s?o, s?o}", "v", &v, "id", &ignored,
+                       "op", &op_j, "args", &args)) {
+        static const char *const keys[] = {"v", "id", "op", "args", NULL};
+        sph_error se;
+        if (sph_json_check_keys(root, "", keys, &se))
+            sphd_err_set(&e, SPHD_E_BAD_REQUEST, se.path, "%s", se.message);
+        else
+            sphd_err_set(&e, SPHD_E_BAD_REQUEST, "/v", "'v' must be the integer %d",
+                         SPHD_PROTOCOL_VERSION);
+        goto fail;
+    }
+    if (v != SPHD_PROTOCOL_VERSION) {
+        sphd_err_set(&e, SPHD_E_BAD_REQUEST, "/v",
+                     "protocol version %lld is not supported (this sphd speaks %d)", (long long)v,
+                     SPHD_PROTOCOL_VERSION);
+        goto fail;
+    }
+    if (!op_j) {
+        sphd_err_set(&e, SPHD_E_BAD_REQUEST, "/op", "missing 'op' (e.g. \"op\": \"ping\")");
+        goto fail;
+    }
+    if (!json_is_string(op_j)) {
+        sphd_err_set(&e, SPHD_E_BAD_REQUEST, "/op", "'op' must be a string, not %s",
+                     sph_json_type_name(op_j));
+        goto fail;
+    }
+    const char *op = json_string_value(op_j);
+    const sphd_command *c = lookup(op);
+    if (!c) {
+        char list[200] = "";
+        for (size_t i = 0; i < NCOMMANDS; i++)
+            snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "",
+                     commands[i].name);
+        sphd_err_set(&e, SPHD_E_UNKNOWN_OP, "/op", "unknown op '%.40s' (known: %s)", op, list);
+        goto fail;
+    }
+    if (args && !json_is_object(args)) {
+        sphd_err_set(&e, SPHD_E_BAD_REQUEST, "/args", "'args' must be an object, not %s",
+                     sph_json_type_name(args));
+        goto fail;
+    }
+    json_t *empty = NULL;
+    if (!args)
+        args = empty = json_object();
+    int rc = check_args(c, args, &e);
+    sphd_request r = {.d = d, .from = req, .args = args};
+    if (rc == 0 && (c->flags & CMD_MUTATES) && d->stopping)
+        rc = sphd_err_set(&e, SPHD_E_BUSY, NULL, "sphd is shutting down");
+    if (rc == 0 && (c->flags & CMD_JOB)) {
+        const char *job = json_string_value(json_object_get(args, "job"));
+        if (!(r.job = sphd_job_find(d, job)))
+            rc = sphd_err_set(&e, SPHD_E_NOT_FOUND, "/args/job", "no job '%.64s'", job);
+    }
+    if (rc == 0) {
+        sphd_pending from = *req;
+        from.id = id ? id : json_null();
+        from.op = c->name;
+        r.from = &from;
+        rc = c->handler(&r, &result, &e);
+    }
+    json_decref(empty);
+    if (rc > 0) {
+        json_decref(root);
+        return NULL; /* deferred */
+    }
+    if (rc < 0)
+        goto fail;
+    if (r.raw_owned)
+        r.raw = r.raw_owned;
+    char *reply = r.raw ? encode_raw(id, r.raw) : encode(sphd_reply_new(id, result, NULL));
+    if (r.raw)
+        json_decref(result);
+    free(r.raw_owned);
+    json_decref(root);
+    return reply;
+fail:
+    d->errors++;
+    char *reply_e = encode(sphd_reply_new(id, result, &e));
+    json_decref(root);
+    return reply_e;
+}
+
+/* ---- handlers ---- */
+
+static int op_hello(sphd_request *r, json_t **result, sphd_err *e)
+{
+    (void)e;
+    sphd_daemon *d = r->d;
+    json_t *ops = json_array();
+    for (size_t i = 0; i < NCOMMANDS; i++)
+        json_array_append_new(ops, json_string(commands[i].name));
+    json_t *methods = json_array();
+    for (int m = SPH_METHOD_KERNEL_STUDY; m <= SPH_METHOD_MPS; m++)
+        if (sphd_method_available((sph_method)m))
+            json_array_append_new(methods, json_string(sph_method_name((sph_method)m)));
+    *result = json_pack(
+        "{s:s, s:s, s:i, s:s, s:o, s:o, s:{s:I, s:i, s:i, s:i}, s:I, s:f}", "server", "sphd",
+        "version", SPH_VERSION, "protocol", SPHD_PROTOCOL_VERSION, "stream", d->opts.publish, "ops",
+        ops, "methods", methods, "limits", "max_msg_size", (json_int_t)d->opts.max_msg_size,
+        "threads", d->opts.threads, "max_jobs", d->opts.max_jobs, "diag_rate", d->opts.diag_rate,
+        "pid", (json_int_t)getpid(), "uptime", sphd_now() - d->started_at);
+    return 0;
+}
+
+static int op_ping(sphd_request *r, json_t **result, sphd_err *e)
+{
+    (void)r;
+    (void)e;
+    *result = json_pack("{s:b, s:f}", "pong", 1, "time", sphd_now());
+    return 0;
+}
+
+static int op_submit(sphd_request *r, json_t **result, sphd_err *e)
+{
+    sphd_daemon *d = r->d;
+    json_t *case_in = json_object_get(r->args, "case");
+    json_t *jid = json_object_get(r->args, "job");
+    json_t *sets = json_object_get(r->args, "set");
+    json_t *start_j = json_object_get(r->args, "start");
+    const int start = start_j ? json_is_true(start_j) : 1;
+    const char *id = jid ? json_string_value(jid) : NULL;
+    if (id && !sphd_job_id_ok(id))
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/job",
+                            "job id '%.64s' is not usable as a file name: use 1-%d letters, "
+                            "digits, '.', '_' or '-', not starting with '.'",
+                            id, SPHD_JOB_ID_MAX - 1);
+    json_t *c = json_deep_copy(case_in);
+    if (!c)
+        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+    size_t i;
+    json_t *s;
+    json_array_foreach(sets, i, s)
+    {
+        char path[48];
+        snprintf(path, sizeof path, "/args/set/%zu", i);
+        if (!json_is_string(s)) {
+            json_decref(c);
+            return sphd_err_set(e, SPHD_E_BAD_REQUEST, path,
+                                "each 'set' item is a string PATH=VALUE, not %s",
+                                sph_json_type_name(s));
+        }
+        sph_error se;
+        sph_error_clear(&se);
+        if (sph_json_apply_set(c, json_string_value(s), &se)) {
+            json_decref(c);
+            return sphd_err_set(e, SPHD_E_INVALID_CASE, se.path[0] ? se.path : path, "set: %s",
+                                se.message);
+        }
+    }
+    sphd_job *j = id ? sphd_job_find(d, id) : NULL;
+    if (j) {
+        const int same = json_equal(j->case_json, c);
+        json_decref(c);
+        if (!same)
+            return sphd_err_set(e, SPHD_E_CONFLICT, "/args/case",
+                                "job '%s' exists with a different case; choose another id", id);
+        *result = sphd_job_status(j);
+        json_object_set_new(*result, "created", json_false());
+        return 0;
+    }
+    j = sphd_job_submit(d, id, c, start, e);
+    json_decref(c);
+    if (!j)
+        return -1;
+    *result = sphd_job_status(j);
+    json_object_set_new(*result, "created", json_true());
+    sphd_jobs_schedule(d);
+    return 0;
+}
+
+static int final_state_error(const sphd_job *j, const char *op, sphd_err *e)
+{
+    return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/job", "cannot %s job %s: it is %s", op, j->id,
+                        sphd_job_state_name(j->state));
+}
+
+static int reply_status(sphd_request *r, json_t **result)
+{
+    sphd_jobs_schedule(r->d);
+    *result = sphd_job_status(r->job);
+    return 0;
+}
+
+static int defer_until_run_ends(sphd_request *r, sphd_err *e)
+{
+    sphd_pending *p = sphd_pending_copy(r->from);
+    if (!p)
+        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+    p->next = r->job->waiters;
+    r->job->waiters = p;
+    return 1;
+}
+
+static int op_start(sphd_request *r, json_t **result, sphd_err *e)
+{
+    sphd_job *j = r->job;
+    if (sphd_job_state_final(j->state))
+        return final_state_error(j, "start", e);
+    if (j->state == SPHD_JOB_PAUSED) {
+        if (j->started)
+            return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/job",
+                                "job %s was started and is paused: use resume", j->id);
+        j->started = 1;
+        sphd_job_set_state(r->d, j, SPHD_JOB_QUEUED, NULL);
+    }
+    return reply_status(r, result);
+}
+
+static int op_step(sphd_request *r, json_t **result, sphd_err *e)
+{
+    sphd_job *j = r->job;
+    json_t *n = json_object_get(r->args, "n"), *until = json_object_get(r->args, "until");
+    if (!n == !until)
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args",
+                            "step takes either 'n' (steps) or 'until' (a time in s)");
+    if (n && json_integer_value(n) < 1)
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/n", "'n' must be at least 1");
+    if (until && !isfinite(json_number_value(until)))
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/until", "'until' must be finite");
+    if (sphd_job_state_final(j->state))
+        return final_state_error(j, "step", e);
+    if (j->state == SPHD_JOB_RUNNING)
+        return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/job",
+                            "job %s is running: pause it before stepping it", j->id);
+    j->step_n = n ? (long)json_integer_value(n) : 0;
+    j->step_until = until ? json_number_value(until) : INFINITY;
+    sphd_job_touch(j);
+    return reply_status(r, result);
+}
+
+static int op_pause(sphd_request *r, json_t **result, sphd_err *e)
+{
+    sphd_job *j = r->job;
+    if (sphd_job_state_final(j->state))
+        return final_state_error(j, "pause", e);
+    /* a pending `step` is cancelled too: paused means it does not run */
+    j->step_n = 0;
+    j->step_until = INFINITY;
+    sphd_job_touch(j);
+    if (j->state == SPHD_JOB_QUEUED) {
+        sphd_job_set_state(r->d, j, SPHD_JOB_PAUSED, NULL);
+    } else if (j->state == SPHD_JOB_RUNNING) {
+        if (!j->pause_requested) {
+            sphd_wcmd cmd = {.kind = SPHD_W_PAUSE, .job = j};
+            if (sphd_worker_send(&r->d->workers[j->worker], &cmd) != 0)
+                return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's worker");
+            j->pause_requested = 1;
+        }
+        return defer_until_run_ends(r, e);
+    }
+    return reply_status(r, result);
+}
+
+static int op_resume(sphd_request *r, json_t **result, sphd_err *e)
+{
+    sphd_job *j = r->job;
+    if (sphd_job_state_final(j->state))
+        return final_state_error(j, "resume", e);
+    if (j->state == SPHD_JOB_PAUSED) {
+        j->step_n = 0;
+        j->step_until = INFINITY;
+        sphd_job_touch(j);
+        j->started = 1;
+        sphd_job_set_state(r->d, j, SPHD_JOB_QUEUED, NULL);
+    } else if (j->state == SPHD_JOB_RUNNING) {
+        j->pause_requested = 0; /* the run's end will queue it again */
+        j->stepping = 0;
+    }
+    return reply_status(r, result);
+}
+
+static int op_stop(sphd_request *r, json_t **result, sphd_err *e)
+{
+    sphd_job *j = r->job;
+    if (j->state == SPHD_JOB_DONE || j->state == SPHD_JOB_FAILED)
+        return final_state_error(j, "stop", e);
+    if (j->state == SPHD_JOB_QUEUED || j->state == SPHD_JOB_PAUSED) {
+        sphd_job_set_state(r->d, j, SPHD_JOB_STOPPED, NULL);
+    } else if (j->state == SPHD_JOB_RUNNING) {
+        if (!j->stop_requested) {
+            sphd_wcmd cmd = {.kind = SPHD_W_STOP, .job = j};
+            if (sphd_worker_send(&r->d->workers[j->worker], &cmd) != 0)
+                return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's worker");
+            j->stop_requested = 1;
+        }
+        return defer_until_run_ends(r, e);
+    }
+    return reply_status(r, result);
+}
+
+static int op_query(sphd_request *r, json_t **result, sphd_err *e)
+{
+    sphd_daemon *d = r->d;
+    sphd_job *j = r->job;
+    json_t *fields = json_object_get(r->args, "fields"), *max_j = json_object_get(r->args, "max");
+    long max = max_j ? (long)json_integer_value(max_j) : 0;
+    if (max_j && max < 1)
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/max", "'max' must be at least 1");
+    if (max_j && !fields)
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/max", "'max' goes with 'fields'");
+    size_t i;
+    json_t *f;
+    json_array_foreach(fields, i, f)
+    {
+        if (!json_is_string(f)) {
+            char path[48];
+            snprintf(path, sizeof path, "/args/fields/%zu", i);
+            return sphd_err_set(e, SPHD_E_BAD_REQUEST, path, "field names are strings, not %s",
+                                sph_json_type_name(f));
+        }
+    }
+    if (fields && sphd_job_state_final(j->state))
+        return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/fields",
+                            "job %s is %s: its particles are gone (outputs are in %s)", j->id,
+                            sphd_job_state_name(j->state), j->dir);
+    if (fields && !j->exec && j->worker < 0)
+        return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/fields",
+                            "job %s has not run yet: its particles are made when it first runs "
+                            "(step it once)",
+                            j->id);
+    if (fields && j->worker >= 0) {
+        /* the worker owns the executor: it answers between two slices */
+        sphd_pending *p = sphd_pending_copy(r->from);
+        if (!p)
+            return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+        p->token = ++d->next_token;
+        snprintf(p->job, sizeof p->job, "%s", j->id);
+        sphd_wcmd cmd = {.kind = SPHD_W_PARTICLES,
+                         .job = j,
+                         .fields = json_deep_copy(fields), /* the worker's own copy */
+                         .max = max,
+                         .token = p->token};
+        if (!cmd.fields || sphd_worker_send(&d->workers[j->worker], &cmd) != 0) {
+            json_decref(cmd.fields);
+            sphd_pending_free(p);
+            return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's worker");
+        }
+        p->next = d->particle_waits;
+        d->particle_waits = p;
+        return 1;
+    }
+    if (!fields && j->query_text) {
+        r->raw = j->query_text; /* status queries come often: encoded once per change */
+        return 0;
+    }
+    json_t *s = sphd_job_status(j);
+    if (!s)
+        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+    json_object_set(s, "diag", j->diag ? j->diag : json_null());
+    if (j->result)
+        json_object_set(s, "result", j->result);
+    if (!fields) {
+        j->query_text = json_dumps(s, JSON_COMPACT | JSON_REAL_PRECISION(12));
+        if (j->query_text) {
+            json_decref(s);
+            r->raw = j->query_text;
+            return 0;
+        }
+    }
+    if (fields) {
+        json_t *parts = sphd_particles(j->exec, j->c, fields, max, e);
+        if (!parts) {
+            json_decref(s);
+            return -1;
+        }
+        json_object_set_new(s, "particles", parts);
+    }
+    *result = s;
+    return 0;
+}
+
+static int op_list(sphd_request *r, json_t **result, sphd_err *e)
+{
+    (void)result;
+    /* {"jobs":[STATUS,...]} from each job's encoded status, kept until the job changes */
+    size_t n = 16;
+    for (sphd_job *j = r->d->jobs; j; j = j->next) {
+        if (!j->status_text) {
+            json_t *s = sphd_job_status(j);
+            j->status_text = s ? json_dumps(s, JSON_COMPACT | JSON_REAL_PRECISION(12)) : NULL;
+            json_decref(s);
+            if (!j->status_text)
+                return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+        }
+        n += strlen(j->status_text) + 1;
+    }
+    char *text = malloc(n);
+    if (!text)
+        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+    char *p = text;
+    p += sprintf(p, "{\"jobs\":[");
+    for (sphd_job *j = r->d->jobs; j; j = j->next)
+        p += sprintf(p, "%s%s", j == r->d->jobs ? "" : ",", j->status_text);
+    strcpy(p, "]}");
+    r->raw_owned = text;
+    return 0;
+}
+
+static int op_shutdown(sphd_request *r, json_t **result, sphd_err *e)
+{
+    (void)result;
+    sphd_daemon *d = r->d;
+    sphd_pending *p = sphd_pending_copy(r->from);
+    if (!p)
+        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+    p->next = d->shutdown_waits;
+    d->shutdown_waits = p;
+    sphd_log("shutdown requested");
+    d->stopping = 1;
+    return 1; /* answered by the loop once every job is paused */
+}

@@ -1,0 +1,566 @@
+/*
+ * The socket loop: one thread owns the control ROUTER, the stream PUB, the inproc PAIRs to the
+ * workers and the read end of the signal self-pipe. It never runs solver work: it parses requests,
+ * hands jobs to workers and publishes their events.
+ */
+#include "sphd.h"
+#include "sphd_daemon.h"
+
+#include "sph_events.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+#include <zmq.h>
+
+#define PUB_HWM         10000 /* events queued per subscriber before the PUB drops */
+#define ROUTER_HWM      10000
+#define FINAL_LINGER_MS 200 /* last replies (shutdown) get this long to leave */
+
+/* The write end of the signal self-pipe: the only global mutable state. */
+static volatile sig_atomic_t sig_pipe_w = -1;
+
+double sphd_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+double sphd_mono(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void sphd_log(const char *fmt, ...)
+{
+    char buf[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    time_t t = time(NULL);
+    struct tm tm;
+    char stamp[32];
+    strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%SZ", gmtime_r(&t, &tm));
+    fprintf(stderr, "%s sphd: %s\n", stamp, buf);
+}
+
+sphd_pending *sphd_pending_copy(const sphd_pending *p)
+{
+    sphd_pending *c = calloc(1, sizeof *c);
+    if (!c)
+        return NULL;
+    c->nframes = p->nframes;
+    c->op = p->op;
+    c->token = p->token;
+    snprintf(c->job, sizeof c->job, "%s", p->job);
+    c->id = json_incref(p->id ? p->id : json_null());
+    for (int i = 0; i < p->nframes; i++) {
+        c->len[i] = p->len[i];
+        c->frame[i] = malloc(p->len[i] ? p->len[i] : 1);
+        if (!c->frame[i]) {
+            sphd_pending_free(c);
+            return NULL;
+        }
+        memcpy(c->frame[i], p->frame[i], p->len[i]);
+    }
+    return c;
+}
+
+void sphd_pending_free(sphd_pending *p)
+{
+    if (!p)
+        return;
+    for (int i = 0; i < p->nframes; i++)
+        free(p->frame[i]);
+    json_decref(p->id);
+    free(p);
+}
+
+/* Sends an encoded reply (taken: freed here) with the request's envelope. */
+static void send_reply_text(sphd_daemon *d, const sphd_pending *to, char *text)
+{
+    if (!text) {
+        sphd_log("cannot encode a reply (out of memory)");
+        return;
+    }
+    for (int i = 0; i < to->nframes; i++) {
+        if (zmq_send(d->router, to->frame[i], to->len[i], ZMQ_SNDMORE | ZMQ_DONTWAIT) < 0) {
+            /* EHOSTUNREACH: the client went away (ROUTER_MANDATORY); EAGAIN: it does not read */
+            if (i == 0) {
+                sphd_log("reply dropped: %s", zmq_strerror(errno));
+                free(text);
+                return;
+            }
+        }
+    }
+    if (zmq_send(d->router, text, strlen(text), ZMQ_DONTWAIT) < 0)
+        sphd_log("reply dropped: %s", zmq_strerror(errno));
+    free(text);
+}
+
+static void send_reply_json(sphd_daemon *d, const sphd_pending *to, json_t *reply)
+{
+    char *text = reply ? json_dumps(reply, JSON_COMPACT | JSON_REAL_PRECISION(12)) : NULL;
+    json_decref(reply);
+    send_reply_text(d, to, text);
+}
+
+void sphd_reply(sphd_daemon *d, const sphd_pending *to, json_t *result, const sphd_err *e)
+{
+    send_reply_json(d, to, sphd_reply_new(to->id, result, e));
+}
+
+void sphd_publish(sphd_daemon *d, sphd_job *j, const char *type, json_t *body)
+{
+    sphd_job_touch(j); /* its seq changes */
+    json_t *ev = sph_event_new(j->id, ++j->seq, type);
+    if (ev && body)
+        json_object_update_missing(ev, body); /* job, seq and type are ours */
+    json_decref(body);
+    char *text = ev ? json_dumps(ev, JSON_COMPACT | JSON_REAL_PRECISION(12)) : NULL;
+    json_decref(ev);
+    if (!text) {
+        sphd_log("job %s: event %ld lost (out of memory)", j->id, j->seq);
+        return;
+    }
+    /* PUB never blocks: past the HWM a slow subscriber loses events (and sees the gap in seq). */
+    if (zmq_send(d->pub, j->id, strlen(j->id), ZMQ_SNDMORE | ZMQ_DONTWAIT) < 0 ||
+        zmq_send(d->pub, text, strlen(text), ZMQ_DONTWAIT) < 0)
+        sphd_log("job %s: event %ld not published: %s", j->id, j->seq, zmq_strerror(errno));
+    free(text);
+}
+
+/* ---- one request ---- */
+
+static void handle_request(sphd_daemon *d)
+{
+    zmq_msg_t parts[2 * SPHD_MAX_ENVELOPE];
+    int n = 0, more = 1, dropped = 0;
+    while (more) {
+        zmq_msg_t m;
+        zmq_msg_init(&m);
+        if (zmq_msg_recv(&m, d->router, ZMQ_DONTWAIT) < 0) {
+            zmq_msg_close(&m);
+            if (errno == EINTR)
+                continue;
+            break; /* EAGAIN: nothing (more) to read */
+        }
+        more = zmq_msg_more(&m);
+        if (n < 2 * SPHD_MAX_ENVELOPE)
+            parts[n++] = m;
+        else {
+            zmq_msg_close(&m);
+            dropped = 1;
+        }
+    }
+    if (n == 0)
+        return;
+    /* Envelope: the identity, and up to an empty delimiter (REQ) when there is one. */
+    int env = 1;
+    for (int i = 1; i < n - 1 && i < SPHD_MAX_ENVELOPE; i++) {
+        if (zmq_msg_size(&parts[i]) == 0) {
+            env = i + 1;
+            break;
+        }
+    }
+    sphd_pending from = {.nframes = env, .id = NULL, .op = "?"};
+    for (int i = 0; i < env; i++) {
+        from.frame[i] = zmq_msg_data(&parts[i]);
+        from.len[i] = zmq_msg_size(&parts[i]);
+    }
+    char *reply;
+    if (n - env != 1 || dropped) {
+        sphd_err e;
+        sphd_err_set(&e, SPHD_E_BAD_REQUEST, NULL,
+                     "a request is one frame holding one JSON object (got %d frames)", n - env);
+        d->requests++;
+        d->errors++;
+        json_t *r = sphd_reply_new(NULL, NULL, &e);
+        reply = r ? json_dumps(r, JSON_COMPACT) : NULL;
+        json_decref(r);
+    } else {
+        reply = sphd_dispatch(d, &from, zmq_msg_data(&parts[n - 1]), zmq_msg_size(&parts[n - 1]));
+    }
+    if (reply)
+        send_reply_text(d, &from, reply);
+    for (int i = 0; i < n; i++)
+        zmq_msg_close(&parts[i]);
+}
+
+static void handle_worker(sphd_daemon *d, sphd_worker *w)
+{
+    for (;;) {
+        sphd_wev ev;
+        int n = zmq_recv(w->pair, &ev, sizeof ev, ZMQ_DONTWAIT);
+        if (n < 0) {
+            if (errno == EINTR)
+                continue;
+            return;
+        }
+        if (n == (int)sizeof ev)
+            sphd_jobs_on_worker(d, w, &ev);
+    }
+}
+
+/* ---- signals ---- */
+
+static void on_signal(int sig)
+{
+    int saved = errno;
+    unsigned char c = (unsigned char)sig;
+    if (sig_pipe_w >= 0 && write(sig_pipe_w, &c, 1) < 0) {
+        /* the pipe is full: a signal is already pending */
+    }
+    errno = saved;
+}
+
+static int install_signals(int *rfd)
+{
+    int fds[2];
+    if (pipe(fds) != 0)
+        return -1;
+    for (int i = 0; i < 2; i++) {
+        fcntl(fds[i], F_SETFL, fcntl(fds[i], F_GETFL) | O_NONBLOCK);
+        fcntl(fds[i], F_SETFD, FD_CLOEXEC);
+    }
+    sig_pipe_w = fds[1];
+    *rfd = fds[0];
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART;
+    if (sigaction(SIGINT, &sa, NULL) != 0 || sigaction(SIGTERM, &sa, NULL) != 0)
+        return -1;
+    signal(SIGPIPE, SIG_IGN);
+    return 0;
+}
+
+/* ---- paths, locks ---- */
+
+/* Creates dir 0700 if missing; refuses a directory that others can open or that is not ours. */
+static int private_dir(const char *dir)
+{
+    if (sphd_mkdirs(dir) != 0) {
+        sphd_log("cannot create %s: %s", dir, strerror(errno));
+        return -1;
+    }
+    struct stat st;
+    if (lstat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        sphd_log("%s is not a directory", dir);
+        return -1;
+    }
+    if (st.st_uid != getuid()) {
+        sphd_log("%s belongs to another user: refusing to put sockets there", dir);
+        return -1;
+    }
+    if ((st.st_mode & 077) != 0 && chmod(dir, 0700) != 0) {
+        sphd_log("cannot make %s private: %s", dir, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+static int endpoint_dir(const char *ep)
+{
+    const char *path = sph_ipc_path(ep);
+    if (!path)
+        return 0;
+    char dir[SPHD_PATH_MAX];
+    snprintf(dir, sizeof dir, "%s", path);
+    char *slash = strrchr(dir, '/');
+    if (!slash || slash == dir)
+        return 0;
+    *slash = '\0';
+    char rt[SPHD_PATH_MAX];
+    if (sph_runtime_dir(rt, sizeof rt) == 0 && strcmp(rt, dir) == 0)
+        return private_dir(dir);
+    if (sphd_mkdirs(dir) != 0) {
+        sphd_log("cannot create %s: %s", dir, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+/* An ipc bind silently takes the socket over from a live server: take a lock next to the socket
+ * (flock, released by the kernel when the holder dies) and refuse when another sphd holds it. */
+static int take_lock(sphd_daemon *d, const char *lockpath, const char *what)
+{
+    int fd = open(lockpath, O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+    if (fd < 0) {
+        sphd_log("cannot open lock file %s: %s", lockpath, strerror(errno));
+        return -1;
+    }
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        char pid[32] = "";
+        ssize_t n = pread(fd, pid, sizeof pid - 1, 0);
+        pid[n > 0 ? n : 0] = '\0';
+        pid[strcspn(pid, "\n")] = '\0';
+        if (pid[0])
+            fprintf(stderr,
+                    "sphd: another sphd (pid %s) is already serving %s (lock %s is held); stop "
+                    "it first ('sphctl shutdown') or choose another --listen, --publish or "
+                    "--state-dir\n",
+                    pid, what, lockpath);
+        else
+            fprintf(stderr,
+                    "sphd: another sphd is already serving %s (lock %s is held); stop it first "
+                    "('sphctl shutdown') or choose another --listen, --publish or --state-dir\n",
+                    what, lockpath);
+        close(fd);
+        return 1;
+    }
+    char pid[32];
+    int len = snprintf(pid, sizeof pid, "%ld\n", (long)getpid());
+    if (ftruncate(fd, 0) != 0 || pwrite(fd, pid, (size_t)len, 0) != len)
+        sphd_log("cannot write %s: %s", lockpath, strerror(errno));
+    (void)d;
+    return fd;
+}
+
+/* ---- the daemon ---- */
+
+static int setup_socket_opts(void *s, const char *name, int hwm_opt, int hwm)
+{
+    int zero = 0;
+    if (zmq_setsockopt(s, ZMQ_LINGER, &zero, sizeof zero) != 0 ||
+        zmq_setsockopt(s, hwm_opt, &hwm, sizeof hwm) != 0) {
+        sphd_log("cannot set options of the %s socket: %s", name, zmq_strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+static int bind_or_explain(void *s, const char *ep, const char *what)
+{
+    if (zmq_bind(s, ep) == 0)
+        return 0;
+    int e = errno;
+    if (e == EADDRINUSE) {
+        fprintf(stderr, "sphd: the %s endpoint %s is in use (another sphd is running there?)\n",
+                what, ep);
+        return -2;
+    }
+    fprintf(stderr, "sphd: cannot bind the %s endpoint %s: %s\n", what, ep, zmq_strerror(e));
+    return -1;
+}
+
+static void finish_shutdown_replies(sphd_daemon *d)
+{
+    json_t *paused = json_array();
+    for (sphd_job *j = d->jobs; j; j = j->next)
+        if (!sphd_job_state_final(j->state))
+            json_array_append_new(paused, json_string(j->id));
+    while (d->shutdown_waits) {
+        sphd_pending *p = d->shutdown_waits;
+        d->shutdown_waits = p->next;
+        sphd_reply(d, p, json_pack("{s:b, s:O}", "stopping", 1, "kept", paused), NULL);
+        sphd_pending_free(p);
+    }
+    json_decref(paused);
+}
+
+/* Pauses every running job (once), records the others. */
+static void begin_stopping(sphd_daemon *d)
+{
+    for (sphd_job *j = d->jobs; j; j = j->next) {
+        if (j->state == SPHD_JOB_RUNNING && !j->pause_requested && !j->stop_requested) {
+            sphd_wcmd cmd = {.kind = SPHD_W_PAUSE, .job = j};
+            if (sphd_worker_send(&d->workers[j->worker], &cmd) == 0)
+                j->pause_requested = 1;
+        } else if (!sphd_job_state_final(j->state) && j->state != SPHD_JOB_RUNNING) {
+            sphd_job_record(d, j, 1);
+        }
+    }
+}
+
+static int loop(sphd_daemon *d)
+{
+    const int n = 3 + d->nworkers;
+    zmq_pollitem_t *items = calloc((size_t)n, sizeof *items);
+    if (!items)
+        return -1;
+    items[0] = (zmq_pollitem_t){.socket = d->router, .events = ZMQ_POLLIN};
+    items[1] = (zmq_pollitem_t){.fd = d->sigfd, .events = ZMQ_POLLIN};
+    for (int i = 0; i < d->nworkers; i++)
+        items[2 + i] = (zmq_pollitem_t){.socket = d->workers[i].pair, .events = ZMQ_POLLIN};
+    int stop_begun = 0;
+    for (;;) {
+        if (d->stopping && !stop_begun) {
+            begin_stopping(d);
+            stop_begun = 1;
+        }
+        if (d->stopping && atomic_load(&d->busy) == 0)
+            break;
+        int rc = zmq_poll(items, 2 + d->nworkers, -1);
+        if (rc < 0) {
+            if (errno == EINTR)
+                continue;
+            sphd_log("poll: %s", zmq_strerror(errno));
+            free(items);
+            return -1;
+        }
+        if (items[1].revents & ZMQ_POLLIN) {
+            unsigned char sig;
+            while (read(d->sigfd, &sig, 1) == 1) {
+                if (!d->stopping)
+                    sphd_log("%s: pausing the jobs and exiting",
+                             sig == SIGINT ? "SIGINT" : "SIGTERM");
+                d->stopping = 1;
+            }
+        }
+        for (int i = 0; i < d->nworkers; i++)
+            if (items[2 + i].revents & ZMQ_POLLIN)
+                handle_worker(d, &d->workers[i]);
+        if (items[0].revents & ZMQ_POLLIN) {
+            /* a bounded batch, so the workers' events are never starved */
+            for (int k = 0; k < 256; k++) {
+                int ev = 0;
+                size_t len = sizeof ev;
+                if (zmq_getsockopt(d->router, ZMQ_EVENTS, &ev, &len) != 0 || !(ev & ZMQ_POLLIN))
+                    break;
+                handle_request(d);
+            }
+        }
+        sphd_jobs_schedule(d);
+    }
+    free(items);
+    return 0;
+}
+
+int sphd_daemon_main(const sphd_opts *opts)
+{
+    sphd_daemon *d = calloc(1, sizeof *d);
+    if (!d)
+        return SPHD_EX_SOFTWARE;
+    d->opts = *opts;
+    d->sigfd = -1;
+    d->lockfd = -1;
+    d->started_at = sphd_now();
+    atomic_init(&d->busy, 0);
+    int rc = SPHD_EX_SOFTWARE, locks[3] = {-1, -1, -1};
+
+    /* Directories and locks before any bind: a second sphd must not steal the sockets. */
+    char jobs_dir[SPHD_PATH_MAX + 8];
+    snprintf(jobs_dir, sizeof jobs_dir, "%s/jobs", d->opts.state_dir);
+    if (endpoint_dir(d->opts.listen) || endpoint_dir(d->opts.publish) ||
+        sphd_mkdirs(jobs_dir) != 0) {
+        if (errno)
+            sphd_log("cannot prepare %s: %s", jobs_dir, strerror(errno));
+        rc = SPHD_EX_CANTCREAT;
+        goto out;
+    }
+    const char *eps[3] = {d->opts.listen, d->opts.publish, NULL};
+    char lockpaths[3][SPHD_PATH_MAX + 16];
+    snprintf(lockpaths[2], sizeof lockpaths[2], "%s/sphd.lock", d->opts.state_dir);
+    for (int i = 0; i < 3; i++) {
+        const char *path = i < 2 ? sph_ipc_path(eps[i]) : lockpaths[2];
+        if (!path)
+            continue;
+        if (i < 2 && snprintf(lockpaths[i], sizeof lockpaths[i], "%s.lock", path) >=
+                         (int)sizeof lockpaths[i]) {
+            sphd_log("endpoint path too long: %s", path);
+            rc = SPHD_EX_USAGE;
+            goto out;
+        }
+        locks[i] = take_lock(d, lockpaths[i], i < 2 ? eps[i] : d->opts.state_dir);
+        if (locks[i] < 0 || locks[i] == 1) {
+            rc = locks[i] == 1 ? SPHD_EX_TEMPFAIL : SPHD_EX_CANTCREAT;
+            locks[i] = -1;
+            goto out;
+        }
+    }
+    if (install_signals(&d->sigfd) != 0) {
+        sphd_log("cannot install signal handlers: %s", strerror(errno));
+        goto out;
+    }
+    d->ctx = zmq_ctx_new();
+    if (!d->ctx) {
+        sphd_log("cannot create the ZeroMQ context: %s", zmq_strerror(errno));
+        goto out;
+    }
+    d->router = zmq_socket(d->ctx, ZMQ_ROUTER);
+    d->pub = zmq_socket(d->ctx, ZMQ_PUB);
+    int one = 1;
+    int64_t maxmsg = d->opts.max_msg_size;
+    if (!d->router || !d->pub || setup_socket_opts(d->router, "control", ZMQ_SNDHWM, ROUTER_HWM) ||
+        setup_socket_opts(d->pub, "stream", ZMQ_SNDHWM, PUB_HWM) ||
+        zmq_setsockopt(d->router, ZMQ_ROUTER_MANDATORY, &one, sizeof one) != 0 ||
+        zmq_setsockopt(d->router, ZMQ_MAXMSGSIZE, &maxmsg, sizeof maxmsg) != 0) {
+        sphd_log("cannot create the sockets: %s", zmq_strerror(errno));
+        goto out;
+    }
+    int brc = bind_or_explain(d->router, d->opts.listen, "control");
+    if (brc == 0)
+        brc = bind_or_explain(d->pub, d->opts.publish, "stream");
+    if (brc != 0) {
+        rc = brc == -2 ? SPHD_EX_TEMPFAIL : SPHD_EX_UNAVAILABLE;
+        goto out;
+    }
+    if (sphd_workers_start(d) != 0)
+        goto out;
+    sphd_log("listening on %s, publishing on %s, state in %s, %d threads, at most %d jobs",
+             d->opts.listen, d->opts.publish, d->opts.state_dir, d->opts.threads, d->opts.max_jobs);
+    if (loop(d) == 0)
+        rc = SPHD_EX_OK;
+    finish_shutdown_replies(d);
+    for (sphd_job *j = d->jobs; j; j = j->next)
+        if (!sphd_job_state_final(j->state))
+            sphd_job_record(d, j, 1);
+    sphd_log("stopped");
+out:
+    if (d->workers)
+        sphd_workers_stop(d);
+    if (d->router) {
+        /* the last replies (to `shutdown`) get a short, bounded time to leave */
+        int linger = FINAL_LINGER_MS;
+        zmq_setsockopt(d->router, ZMQ_LINGER, &linger, sizeof linger);
+        zmq_close(d->router);
+    }
+    if (d->pub)
+        zmq_close(d->pub);
+    /* our sockets' files go with us (we hold their locks, so they are ours) */
+    for (int i = 0; i < 2; i++) {
+        const char *path = sph_ipc_path(i ? d->opts.publish : d->opts.listen);
+        if (path && locks[i] >= 0)
+            unlink(path);
+    }
+    if (d->ctx) {
+        while (zmq_ctx_term(d->ctx) != 0 && errno == EINTR)
+            ;
+    }
+    sphd_jobs_free(d);
+    for (int i = 0; i < 3; i++)
+        if (locks[i] >= 0)
+            close(locks[i]);
+    if (d->sigfd >= 0) {
+        close(d->sigfd);
+        close(sig_pipe_w);
+        sig_pipe_w = -1;
+    }
+    while (d->shutdown_waits) {
+        sphd_pending *p = d->shutdown_waits;
+        d->shutdown_waits = p->next;
+        sphd_pending_free(p);
+    }
+    while (d->particle_waits) {
+        sphd_pending *p = d->particle_waits;
+        d->particle_waits = p->next;
+        sphd_pending_free(p);
+    }
+    free(d);
+    return rc;
+}

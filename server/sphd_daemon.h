@@ -1,0 +1,234 @@
+/*
+ * sphd daemon mode: the types shared by the socket loop (sphd_daemon.c), the command table
+ * (sphd_commands.c), the job manager (sphd_jobs.c) and the worker threads (sphd_worker.c).
+ *
+ * Threads: the loop thread owns every ZeroMQ socket and all of sphd_daemon and sphd_job except
+ * where a field says otherwise; worker threads own the executor of the job they run and talk to
+ * the loop over one inproc PAIR each (messages are the structs below, passed by value).
+ */
+#ifndef SPHD_DAEMON_H
+#define SPHD_DAEMON_H
+
+#include "sph_case.h"
+#include "sph_endpoint.h"
+#include "sphd_exec.h"
+
+#include <jansson.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stddef.h>
+
+#define SPHD_PROTOCOL_VERSION 1
+#define SPHD_JOB_ID_MAX       64
+#define SPHD_PATH_MAX         4096
+#define SPHD_REASON_MAX       512
+#define SPHD_MAX_ENVELOPE     8
+#define SPHD_KEEP_FINISHED    1000 /* finished jobs remembered for list/query */
+
+/* Daemon options (`sphd --listen ... --publish ...`). */
+typedef struct sphd_opts {
+    char listen[SPH_ENDPOINT_MAX];
+    char publish[SPH_ENDPOINT_MAX];
+    char state_dir[SPHD_PATH_MAX];
+    int threads;       /* worker threads = jobs running at once */
+    int max_jobs;      /* queued + running + paused jobs held at once */
+    long max_msg_size; /* bytes; larger requests are dropped by the transport */
+    int insecure;      /* allow non-loopback tcp without CURVE */
+    int diag_rate;     /* max diag events per second per job */
+} sphd_opts;
+
+typedef enum {
+    SPHD_JOB_QUEUED = 0,
+    SPHD_JOB_RUNNING,
+    SPHD_JOB_PAUSED,
+    SPHD_JOB_DONE,
+    SPHD_JOB_FAILED,
+    SPHD_JOB_STOPPED
+} sphd_job_state;
+
+const char *sphd_job_state_name(sphd_job_state s);
+int sphd_job_state_final(sphd_job_state s);
+
+/* Stable error codes of the wire protocol; their names come from sphd_errcode_name only. */
+typedef enum {
+    SPHD_E_BAD_REQUEST = 0,
+    SPHD_E_UNKNOWN_OP,
+    SPHD_E_INVALID_CASE,
+    SPHD_E_NOT_FOUND,
+    SPHD_E_CONFLICT,
+    SPHD_E_BAD_STATE,
+    SPHD_E_TOO_LARGE,
+    SPHD_E_BUSY,
+    SPHD_E_INTERNAL,
+    SPHD_E_COUNT
+} sphd_errcode;
+
+const char *sphd_errcode_name(sphd_errcode c);
+
+/* An error reply in the making (caller-owned, never allocates). */
+typedef struct sphd_err {
+    sphd_errcode code;
+    char path[SPH_ERROR_PATH_MAX + 16];
+    char message[SPH_ERROR_TEXT_MAX + 64];
+} sphd_err;
+
+int sphd_err_set(sphd_err *e, sphd_errcode code, const char *path, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+
+/* A request kept for a later reply (pause/stop of a running job, shutdown, particle queries):
+ * the routing envelope and the request id. */
+typedef struct sphd_pending {
+    int nframes;
+    size_t len[SPHD_MAX_ENVELOPE];
+    unsigned char *frame[SPHD_MAX_ENVELOPE];
+    json_t *id; /* the request's "id" (new ref; json null when absent) */
+    const char *op;
+    long token;                /* for particle queries answered by a worker */
+    char job[SPHD_JOB_ID_MAX]; /* the job a particle query is about */
+    struct sphd_pending *next;
+} sphd_pending;
+
+typedef struct sphd_job {
+    char id[SPHD_JOB_ID_MAX];
+    char dir[SPHD_PATH_MAX];
+    json_t *case_json; /* the case as run (after `set`), for idempotent submit */
+    sph_case *c;
+    sphd_exec *exec; /* NULL until the first run and once finished; the worker's while running */
+    sphd_job_state state;
+    char reason[SPHD_REASON_MAX];
+    long seq;          /* last published event's seq */
+    int started;       /* has ever been queued to run */
+    int worker;        /* worker index while running, else -1 */
+    long step_n;       /* pending `step`: steps to do (0: none) */
+    double step_until; /* pending `step`: time to reach (INFINITY: none) */
+    int stepping;      /* the current run ends paused (a `step`) */
+    int pause_requested, stop_requested;
+    json_t *progress;        /* latest executor progress (new ref) */
+    json_t *diag;            /* latest diag event body (new ref) */
+    json_t *result;          /* result event body, when done (new ref) */
+    double submitted;        /* unix time */
+    double wall;             /* seconds spent running, finished runs */
+    double run_wall;         /* seconds into the current run */
+    double steps_per_s, eta; /* from the worker, while running */
+    sphd_pending *waiters;   /* replies due when the current run ends */
+    char *query_text;        /* the encoded `query` result until the job changes (sphd_job_touch) */
+    char *status_text;       /* the encoded job status, likewise (for `list`) */
+    struct sphd_job *next;
+} sphd_job;
+
+/* Loop -> worker. */
+typedef enum {
+    SPHD_W_RUN,
+    SPHD_W_PAUSE,
+    SPHD_W_STOP,
+    SPHD_W_PARTICLES,
+    SPHD_W_QUIT
+} sphd_wcmd_kind;
+typedef struct sphd_wcmd {
+    sphd_wcmd_kind kind;
+    sphd_job *job;
+    sphd_exec *exec; /* RUN: the executor, owned by the worker until END */
+    long max_steps;  /* RUN: 0 no bound */
+    double until;    /* RUN: INFINITY no bound */
+    json_t *fields;  /* PARTICLES: array of names (stolen) */
+    long max;        /* PARTICLES: at most this many particles */
+    long token;      /* PARTICLES */
+} sphd_wcmd;
+
+/* Worker -> loop. */
+typedef enum { SPHD_WEV_EVENT, SPHD_WEV_PROGRESS, SPHD_WEV_END, SPHD_WEV_PARTICLES } sphd_wev_kind;
+typedef enum {
+    SPHD_END_DONE,
+    SPHD_END_FAILED,
+    SPHD_END_PAUSED,  /* paused on request */
+    SPHD_END_STOPPED, /* stopped on request */
+    SPHD_END_TARGET   /* a `step` reached its target */
+} sphd_end_kind;
+typedef struct sphd_wev {
+    sphd_wev_kind kind;
+    sphd_job *job;
+    char type[16];     /* EVENT: the event type */
+    json_t *body;      /* EVENT body, PROGRESS progress, PARTICLES result (stolen) */
+    sphd_end_kind end; /* END */
+    sphd_exec *exec;   /* END: the executor, handed back (NULL if it could not be created) */
+    char reason[SPHD_REASON_MAX];
+    double wall; /* END/PROGRESS: seconds run in this run */
+    double steps_per_s, eta;
+    long token;   /* PARTICLES */
+    sphd_err err; /* PARTICLES failed when body is NULL */
+} sphd_wev;
+
+typedef struct sphd_worker {
+    struct sphd_daemon *d;
+    int index;
+    void *pair; /* loop side: owned by the loop thread */
+    pthread_t thread;
+    int started;
+    sphd_job *job; /* the job it runs, or NULL */
+} sphd_worker;
+
+typedef struct sphd_daemon {
+    sphd_opts opts;
+    void *ctx;
+    void *router; /* control */
+    void *pub;    /* stream */
+    int sigfd;    /* read end of the signal self-pipe */
+    int lockfd;
+    char lockpath[SPHD_PATH_MAX];
+    sphd_worker *workers;
+    int nworkers;
+    atomic_int busy; /* workers running a job (read by workers for OpenMP threads) */
+    sphd_job *jobs;  /* oldest first */
+    int njobs_active, njobs_final;
+    long next_job_number;
+    long next_token;
+    sphd_pending *particle_waits;
+    sphd_pending *shutdown_waits;
+    int stopping; /* shutting down: pause everything, then exit */
+    double started_at;
+    /* counters */
+    long requests, errors;
+} sphd_daemon;
+
+/* sphd_daemon.c */
+int sphd_daemon_main(const sphd_opts *opts);
+double sphd_now(void);  /* unix time, seconds */
+double sphd_mono(void); /* monotonic seconds */
+/* Replies to a request (the result or the error; result stolen). */
+void sphd_reply(sphd_daemon *d, const sphd_pending *to, json_t *result, const sphd_err *e);
+void sphd_publish(sphd_daemon *d, sphd_job *j, const char *type, json_t *body);
+void sphd_log(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+sphd_pending *sphd_pending_copy(const sphd_pending *p);
+void sphd_pending_free(sphd_pending *p);
+
+/* sphd_commands.c: parses and dispatches one request; returns the encoded reply to send now
+ * (malloc'ed) or NULL when the reply is deferred (the handler kept a copy of `req`). */
+char *sphd_dispatch(sphd_daemon *d, const sphd_pending *req, const char *body, size_t len);
+json_t *sphd_reply_new(json_t *id, json_t *result, const sphd_err *e);
+/* The name of the i-th op of the table, NULL past the end (for the tests). */
+const char *sphd_op_name(size_t i);
+
+/* sphd_jobs.c */
+sphd_job *sphd_job_find(sphd_daemon *d, const char *id);
+/* Creates a job from a validated submit; NULL with e filled in. */
+sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int start,
+                          sphd_err *e);
+json_t *sphd_job_status(const sphd_job *j);
+/* Forgets what was cached about j (call on every change to a job). */
+void sphd_job_touch(sphd_job *j);
+void sphd_job_set_state(sphd_daemon *d, sphd_job *j, sphd_job_state s, const char *reason);
+void sphd_job_record(sphd_daemon *d, sphd_job *j, int interrupted);
+void sphd_jobs_schedule(sphd_daemon *d);
+void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev);
+void sphd_jobs_free(sphd_daemon *d);
+
+/* sphd_worker.c */
+int sphd_workers_start(sphd_daemon *d);
+void sphd_workers_stop(sphd_daemon *d);
+int sphd_worker_send(sphd_worker *w, const sphd_wcmd *cmd);
+/* 1 when this build's executor runs jobs of method m (hello's "methods"). */
+int sphd_method_available(sph_method m);
+/* Particle fields of an idle executor (paused job): new ref or NULL with e set. */
+json_t *sphd_particles(sphd_exec *x, const sph_case *c, json_t *fields, long max, sphd_err *e);
+
+#endif

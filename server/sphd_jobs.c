@@ -1,0 +1,457 @@
+/*
+ * The job manager: the job table, the state machine (queued, running, paused, done, failed,
+ * stopped), the scheduler that hands runnable jobs to idle workers, and the job records in
+ * STATE_DIR/jobs/JOB/. Runs on the loop thread only.
+ */
+#include "sphd.h"
+#include "sphd_daemon.h"
+
+#include "sph_events.h"
+#include "sph_sim.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static const char *const state_names[] = {
+    [SPHD_JOB_QUEUED] = "queued", [SPHD_JOB_RUNNING] = "running", [SPHD_JOB_PAUSED] = "paused",
+    [SPHD_JOB_DONE] = "done",     [SPHD_JOB_FAILED] = "failed",   [SPHD_JOB_STOPPED] = "stopped",
+};
+
+const char *sphd_job_state_name(sphd_job_state s)
+{
+    return (unsigned)s < sizeof state_names / sizeof state_names[0] ? state_names[s] : "unknown";
+}
+
+int sphd_job_state_final(sphd_job_state s)
+{
+    return s == SPHD_JOB_DONE || s == SPHD_JOB_FAILED || s == SPHD_JOB_STOPPED;
+}
+
+int sphd_job_id_ok(const char *id)
+{
+    size_t n = strlen(id);
+    if (n == 0 || n >= SPHD_JOB_ID_MAX || id[0] == '.')
+        return 0;
+    for (size_t i = 0; i < n; i++) {
+        char c = id[i];
+        if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+              c == '.' || c == '_' || c == '-'))
+            return 0;
+    }
+    return 1;
+}
+
+sphd_job *sphd_job_find(sphd_daemon *d, const char *id)
+{
+    for (sphd_job *j = d->jobs; j; j = j->next)
+        if (strcmp(j->id, id) == 0)
+            return j;
+    return NULL;
+}
+
+static int write_json(const char *dir, const char *name, const json_t *j)
+{
+    char path[SPHD_PATH_MAX + 64];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    char *text = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(17));
+    if (!text)
+        return -1;
+    int rc = sphd_write_atomic(path, text, strlen(text));
+    int saved = errno;
+    free(text);
+    if (rc != 0)
+        sphd_log("cannot write %s: %s", path, strerror(saved));
+    return rc;
+}
+
+static json_t *num_or_null(double x)
+{
+    return sph_json_real_or_null(x);
+}
+
+json_t *sphd_job_status(const sphd_job *j)
+{
+    json_t *s =
+        json_pack("{s:s, s:s, s:s, s:s, s:I, s:f, s:s}", "job", j->id, "name", j->c->name, "method",
+                  sph_method_name(j->c->method), "state", sphd_job_state_name(j->state), "seq",
+                  (json_int_t)j->seq, "submitted", j->submitted, "dir", j->dir);
+    if (!s)
+        return NULL;
+    if (j->state == SPHD_JOB_FAILED || j->reason[0])
+        json_object_set_new(s, "reason", json_string(j->reason));
+    const json_t *p = j->progress;
+    json_t *t = json_object_get(p, "t"), *t_end = json_object_get(p, "t_end");
+    json_t *prog =
+        json_pack("{s:O?, s:O?, s:I, s:f, s:o, s:o}", "t", t, "t_end", t_end, "steps",
+                  (json_int_t)json_integer_value(json_object_get(p, "step")), "wall",
+                  j->wall + (j->state == SPHD_JOB_RUNNING ? j->run_wall : 0.0), "steps_per_s",
+                  num_or_null(j->state == SPHD_JOB_RUNNING ? j->steps_per_s : 0.0), "eta",
+                  num_or_null(j->state == SPHD_JOB_RUNNING ? j->eta : NAN));
+    if (prog) {
+        json_t *np = json_object_get(p, "particles");
+        if (np)
+            json_object_set(prog, "particles", np);
+        json_object_set_new(s, "progress", prog);
+    }
+    if (j->step_n > 0 || isfinite(j->step_until)) {
+        json_t *st = json_object();
+        if (j->step_n > 0)
+            json_object_set_new(st, "n", json_integer(j->step_n));
+        if (isfinite(j->step_until))
+            json_object_set_new(st, "until", json_real(j->step_until));
+        json_object_set_new(s, "pending_step", st);
+    }
+    return s;
+}
+
+/* job.json: what a later sphd needs to resume or report the job (issue 5 reads it). */
+void sphd_job_record(sphd_daemon *d, sphd_job *j, int interrupted)
+{
+    (void)d;
+    json_t *rec = sphd_job_status(j);
+    if (!rec)
+        return;
+    json_object_set_new(rec, "resumable", json_boolean(!sphd_job_state_final(j->state)));
+    json_object_set_new(rec, "interrupted_by_shutdown", json_boolean(interrupted));
+    write_json(j->dir, "job.json", rec);
+    json_decref(rec);
+}
+
+void sphd_job_set_state(sphd_daemon *d, sphd_job *j, sphd_job_state s, const char *reason)
+{
+    const int was_final = sphd_job_state_final(j->state);
+    j->state = s;
+    snprintf(j->reason, sizeof j->reason, "%s", reason ? reason : "");
+    if (sphd_job_state_final(s) && !was_final) {
+        d->njobs_active--;
+        d->njobs_final++;
+        sphd_exec_free(j->exec);
+        j->exec = NULL;
+        j->step_n = 0;
+        j->step_until = INFINITY;
+    }
+    json_t *b = json_pack("{s:s}", "state", sphd_job_state_name(s));
+    if (b && s == SPHD_JOB_FAILED)
+        json_object_set_new(b, "reason", json_string(j->reason));
+    sphd_publish(d, j, "state", b);
+    sphd_job_record(d, j, 0);
+}
+
+void sphd_job_touch(sphd_job *j)
+{
+    free(j->query_text);
+    j->query_text = NULL;
+    free(j->status_text);
+    j->status_text = NULL;
+}
+
+static void job_free(sphd_job *j)
+{
+    if (!j)
+        return;
+    sphd_job_touch(j);
+    sphd_exec_free(j->exec);
+    json_decref(j->case_json);
+    json_decref(j->progress);
+    json_decref(j->diag);
+    json_decref(j->result);
+    while (j->waiters) {
+        sphd_pending *n = j->waiters->next;
+        sphd_pending_free(j->waiters);
+        j->waiters = n;
+    }
+    free(j->c);
+    free(j);
+}
+
+/* Forgets the oldest finished jobs beyond SPHD_KEEP_FINISHED (their files stay). */
+static void prune(sphd_daemon *d)
+{
+    sphd_job **pp = &d->jobs;
+    while (*pp && d->njobs_final > SPHD_KEEP_FINISHED) {
+        sphd_job *j = *pp;
+        if (sphd_job_state_final(j->state)) {
+            *pp = j->next;
+            d->njobs_final--;
+            job_free(j);
+        } else {
+            pp = &j->next;
+        }
+    }
+}
+
+sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int start, sphd_err *e)
+{
+    if (d->njobs_active >= d->opts.max_jobs) {
+        sphd_err_set(e, SPHD_E_BUSY, NULL,
+                     "sphd holds %d jobs (--max-jobs); retry when one has finished",
+                     d->njobs_active);
+        return NULL;
+    }
+    sphd_job *j = calloc(1, sizeof *j);
+    if (!j || !(j->c = calloc(1, sizeof *j->c))) {
+        free(j);
+        sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+        return NULL;
+    }
+    sph_error err;
+    sph_error_clear(&err);
+    if (sph_case_from_json(case_json, j->c, &err)) {
+        sphd_err_set(e, SPHD_E_INVALID_CASE, err.path, "%s", err.message);
+        job_free(j);
+        return NULL;
+    }
+    if (id) {
+        snprintf(j->id, sizeof j->id, "%s", id);
+    } else {
+        /* NAME-N, unique in memory and on disk. */
+        for (;;) {
+            snprintf(j->id, sizeof j->id, "%.40s-%ld", j->c->name, ++d->next_job_number);
+            char dir[SPHD_PATH_MAX + 128];
+            snprintf(dir, sizeof dir, "%s/jobs/%s", d->opts.state_dir, j->id);
+            if (sphd_job_id_ok(j->id) && !sphd_job_find(d, j->id) && access(dir, F_OK) != 0)
+                break;
+            if (!sphd_job_id_ok(j->id)) {
+                snprintf(j->id, sizeof j->id, "job-%ld", d->next_job_number);
+                if (!sphd_job_find(d, j->id))
+                    break;
+            }
+        }
+    }
+    if ((size_t)snprintf(j->dir, sizeof j->dir, "%s/jobs/%s", d->opts.state_dir, j->id) >=
+        sizeof j->dir) {
+        sphd_err_set(e, SPHD_E_BAD_REQUEST, NULL, "the state directory path is too long");
+        job_free(j);
+        return NULL;
+    }
+    /* The executor (particle generation, allocation) is solver work: the worker creates it
+     * when the job first runs. Here only the cheap check of its size. */
+    if (j->c->method == SPH_METHOD_WCSPH) {
+        long nf = 0, nb = 0;
+        const double bytes = sph_sim_estimate_bytes(&j->c->sim, &nf, &nb);
+        if (bytes > j->c->sim.max_bytes) {
+            sphd_err_set(e, SPHD_E_TOO_LARGE, "/dx",
+                         "the case needs about %.0f MB (%ld fluid and %ld boundary particles), "
+                         "more than the %.0f MB allowed: use a larger dx",
+                         bytes / 1e6, nf, nb, j->c->sim.max_bytes / 1e6);
+            job_free(j);
+            return NULL;
+        }
+    }
+    if (sphd_mkdirs(j->dir) != 0) {
+        sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot create %s: %s", j->dir, strerror(errno));
+        job_free(j);
+        return NULL;
+    }
+    if (write_json(j->dir, "case.json", case_json) != 0) {
+        sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot write %s/case.json", j->dir);
+        job_free(j);
+        return NULL;
+    }
+    j->case_json = json_incref(case_json);
+    j->worker = -1;
+    j->step_until = INFINITY;
+    j->eta = NAN;
+    j->submitted = sphd_now();
+    if (j->c->method == SPH_METHOD_WCSPH)
+        j->progress = json_pack("{s:f, s:f, s:i}", "t", 0.0, "t_end", j->c->sim.t_end, "step", 0);
+    else
+        j->progress = json_pack("{s:i}", "step", 0);
+    j->state = start ? SPHD_JOB_QUEUED : SPHD_JOB_PAUSED;
+    j->started = start;
+    /* append: the scheduler runs jobs in submission order */
+    sphd_job **pp = &d->jobs;
+    while (*pp)
+        pp = &(*pp)->next;
+    *pp = j;
+    d->njobs_active++;
+    sphd_publish(d, j, "log",
+                 json_pack("{s:s, s:s}", "level", "info", "message",
+                           start ? "submitted" : "submitted, not started"));
+    sphd_job_set_state(d, j, j->state, NULL);
+    sphd_log("job %s submitted (%s, %s)", j->id, sph_method_name(j->c->method),
+             sphd_job_state_name(j->state));
+    prune(d);
+    return j;
+}
+
+static int runnable(const sphd_job *j)
+{
+    if (j->worker >= 0 || sphd_job_state_final(j->state))
+        return 0;
+    return j->state == SPHD_JOB_QUEUED ||
+           (j->state == SPHD_JOB_PAUSED && (j->step_n > 0 || isfinite(j->step_until)));
+}
+
+void sphd_jobs_schedule(sphd_daemon *d)
+{
+    if (d->stopping)
+        return;
+    for (int i = 0; i < d->nworkers; i++) {
+        sphd_worker *w = &d->workers[i];
+        if (w->job)
+            continue;
+        sphd_job *j = d->jobs;
+        while (j && !runnable(j))
+            j = j->next;
+        if (!j)
+            return;
+        sphd_wcmd cmd = {.kind = SPHD_W_RUN, .job = j, .exec = j->exec, .until = INFINITY};
+        if (j->step_n > 0 || isfinite(j->step_until)) {
+            cmd.max_steps = j->step_n;
+            cmd.until = j->step_until;
+            j->stepping = 1;
+        } else {
+            j->stepping = 0;
+        }
+        if (sphd_worker_send(w, &cmd) != 0) {
+            sphd_log("cannot hand job %s to worker %d: %s", j->id, i, strerror(errno));
+            return;
+        }
+        j->step_n = 0;
+        j->step_until = INFINITY;
+        sphd_job_touch(j);
+        j->worker = i;
+        j->started = 1;
+        j->run_wall = 0;
+        w->job = j;
+        atomic_fetch_add(&d->busy, 1);
+        sphd_job_set_state(d, j, SPHD_JOB_RUNNING, NULL);
+    }
+}
+
+static void answer_waiters(sphd_daemon *d, sphd_job *j)
+{
+    while (j->waiters) {
+        sphd_pending *p = j->waiters;
+        j->waiters = p->next;
+        sphd_reply(d, p, sphd_job_status(j), NULL);
+        sphd_pending_free(p);
+    }
+    /* particle queries that the worker will not answer any more */
+    sphd_pending **pp = &d->particle_waits;
+    while (*pp) {
+        sphd_pending *p = *pp;
+        if (strcmp(p->job, j->id) != 0) {
+            pp = &p->next;
+            continue;
+        }
+        *pp = p->next;
+        sphd_err e;
+        sphd_err_set(&e, SPHD_E_BUSY, NULL, "job %s stopped running meanwhile; ask again", j->id);
+        sphd_reply(d, p, NULL, &e);
+        sphd_pending_free(p);
+    }
+}
+
+static sphd_pending *take_particle_wait(sphd_daemon *d, long token)
+{
+    for (sphd_pending **pp = &d->particle_waits; *pp; pp = &(*pp)->next) {
+        if ((*pp)->token == token) {
+            sphd_pending *p = *pp;
+            *pp = p->next;
+            return p;
+        }
+    }
+    return NULL;
+}
+
+void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
+{
+    sphd_job *j = ev->job;
+    switch (ev->kind) {
+    case SPHD_WEV_EVENT:
+        if (strcmp(ev->type, "diag") == 0) {
+            json_decref(j->diag);
+            j->diag = json_incref(ev->body);
+        } else if (strcmp(ev->type, "result") == 0) {
+            json_decref(j->result);
+            j->result = json_incref(ev->body);
+            write_json(j->dir, "result.json", ev->body);
+        }
+        sphd_publish(d, j, ev->type, ev->body);
+        return;
+    case SPHD_WEV_PROGRESS:
+        sphd_job_touch(j);
+        json_decref(j->progress);
+        j->progress = ev->body;
+        j->steps_per_s = ev->steps_per_s;
+        j->eta = ev->eta;
+        j->run_wall = ev->wall;
+        return;
+    case SPHD_WEV_PARTICLES: {
+        sphd_pending *p = take_particle_wait(d, ev->token);
+        json_t *s = NULL;
+        if (p && ev->body && (s = sphd_job_status(j))) {
+            json_object_set(s, "diag", j->diag ? j->diag : json_null());
+            json_object_set(s, "particles", ev->body);
+        }
+        json_decref(ev->body);
+        if (p)
+            sphd_reply(d, p, s, s ? NULL : &ev->err);
+        sphd_pending_free(p);
+        return;
+    }
+    case SPHD_WEV_END:
+        break;
+    }
+    /* The run ended: the worker gave the executor back (the one it created on a first run). */
+    sphd_job_touch(j);
+    if (!j->exec)
+        j->exec = ev->exec;
+    w->job = NULL;
+    j->worker = -1;
+    atomic_fetch_sub(&d->busy, 1);
+    j->wall += ev->wall;
+    j->run_wall = 0;
+    j->steps_per_s = 0;
+    j->eta = NAN;
+    const int stepping = j->stepping;
+    j->stepping = 0;
+    switch (ev->end) {
+    case SPHD_END_DONE:
+        sphd_job_set_state(d, j, SPHD_JOB_DONE, NULL);
+        break;
+    case SPHD_END_FAILED:
+        sphd_log("job %s failed: %s", j->id, ev->reason);
+        sphd_job_set_state(d, j, SPHD_JOB_FAILED, ev->reason);
+        break;
+    case SPHD_END_STOPPED:
+        sphd_job_set_state(d, j, SPHD_JOB_STOPPED, NULL);
+        break;
+    case SPHD_END_PAUSED:
+    case SPHD_END_TARGET:
+        if (j->stop_requested) {
+            sphd_job_set_state(d, j, SPHD_JOB_STOPPED, NULL);
+        } else if (d->stopping || j->pause_requested || stepping) {
+            if (d->stopping)
+                sphd_publish(d, j, "log",
+                             json_pack("{s:s, s:s}", "level", "info", "message",
+                                       "paused: sphd is shutting down; the job is recorded for "
+                                       "a later resume"));
+            sphd_job_set_state(d, j, SPHD_JOB_PAUSED, NULL);
+            if (d->stopping)
+                sphd_job_record(d, j, 1);
+        } else {
+            /* a stale pause (resumed meanwhile): back in the queue */
+            sphd_job_set_state(d, j, SPHD_JOB_QUEUED, NULL);
+        }
+        break;
+    }
+    j->pause_requested = j->stop_requested = 0;
+    answer_waiters(d, j);
+    sphd_log("job %s %s after %.3f s", j->id, sphd_job_state_name(j->state), ev->wall);
+}
+
+void sphd_jobs_free(sphd_daemon *d)
+{
+    while (d->jobs) {
+        sphd_job *n = d->jobs->next;
+        job_free(d->jobs);
+        d->jobs = n;
+    }
+}

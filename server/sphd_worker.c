@@ -1,0 +1,356 @@
+/*
+ * Worker threads: each one runs one job at a time through its executor, in bounded slices, and
+ * between slices reads the loop's requests (pause, stop, particle snapshots). Events go to the
+ * loop thread over the worker's inproc PAIR; only the loop thread publishes them. Diagnostics are
+ * thinned to at most opts.diag_rate per second so that a fast job never floods the stream.
+ */
+#include "sphd_daemon.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <zmq.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#define SLICE_MIN_S      0.004 /* a slice shorter than this doubles the next one */
+#define SLICE_MAX_S      0.016 /* a slice longer than this halves the next one */
+#define PROGRESS_EVERY_S 0.05
+
+typedef struct run_ctx {
+    sphd_worker *w;
+    void *sock; /* worker side of the PAIR */
+    sphd_job *job;
+    double min_diag_gap; /* seconds */
+    double last_diag;    /* monotonic time of the last diag sent */
+    json_t *held_diag;   /* newest diag not sent (thinned), new ref */
+} run_ctx;
+
+static int send_wev(void *sock, const sphd_wev *ev)
+{
+    for (;;) {
+        if (zmq_send(sock, ev, sizeof *ev, 0) == (int)sizeof *ev)
+            return 0;
+        if (errno != EINTR)
+            return -1;
+    }
+}
+
+static void send_event(run_ctx *r, const char *type, json_t *body)
+{
+    sphd_wev ev = {.kind = SPHD_WEV_EVENT, .job = r->job, .body = body};
+    snprintf(ev.type, sizeof ev.type, "%s", type);
+    if (send_wev(r->sock, &ev) != 0) {
+        sphd_log("worker %d: cannot send an event: %s", r->w->index, zmq_strerror(errno));
+        json_decref(body);
+    }
+}
+
+/* sphd_emit_fn: diag events are thinned, the others pass. */
+static void on_emit(void *ud, const char *type, json_t *body)
+{
+    run_ctx *r = ud;
+    if (strcmp(type, "diag") == 0) {
+        const double now = sphd_mono();
+        if (now - r->last_diag < r->min_diag_gap) {
+            json_decref(r->held_diag);
+            r->held_diag = body;
+            return;
+        }
+        json_decref(r->held_diag);
+        r->held_diag = NULL;
+        r->last_diag = now;
+    }
+    send_event(r, type, body);
+}
+
+static void flush_diag(run_ctx *r)
+{
+    if (r->held_diag) {
+        send_event(r, "diag", r->held_diag);
+        r->held_diag = NULL;
+        r->last_diag = sphd_mono();
+    }
+}
+
+static long progress_step(const json_t *p)
+{
+    return (long)json_integer_value(json_object_get(p, "step"));
+}
+
+static double progress_t(const json_t *p, const char *key)
+{
+    json_t *v = json_object_get(p, key);
+    return json_is_number(v) ? json_number_value(v) : NAN;
+}
+
+int sphd_method_available(sph_method m)
+{
+    return m == SPH_METHOD_KERNEL_STUDY || m == SPH_METHOD_WCSPH;
+}
+
+#define SPHD_MAX_FIELDS 8
+
+json_t *sphd_particles(sphd_exec *x, const sph_case *c, json_t *fields, long max, sphd_err *e)
+{
+    const char *names[SPHD_MAX_FIELDS];
+    const size_t n = json_array_size(fields);
+    if (c->method == SPH_METHOD_KERNEL_STUDY) {
+        sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/fields", "%s jobs have no particle fields",
+                     sph_method_name(c->method));
+        return NULL;
+    }
+    if (n < 1 || n > SPHD_MAX_FIELDS) {
+        sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/fields", "'fields' names 1 to %d fields",
+                     SPHD_MAX_FIELDS);
+        return NULL;
+    }
+    for (size_t i = 0; i < n; i++)
+        names[i] = json_string_value(json_array_get(fields, i));
+    sph_error err;
+    sph_error_clear(&err);
+    json_t *r = sphd_exec_particles(x, names, (int)n, max > 0 ? max : LONG_MAX, &err);
+    if (!r)
+        sphd_err_set(e, err.code == SPH_ERR_INVALID ? SPHD_E_BAD_REQUEST : SPHD_E_INTERNAL,
+                     "/args/fields", "%s", err.message);
+    return r;
+}
+
+static void answer_particles(run_ctx *r, sphd_exec *x, sphd_wcmd *cmd)
+{
+    sphd_wev ev = {.kind = SPHD_WEV_PARTICLES, .job = r->job, .token = cmd->token};
+    ev.body = sphd_particles(x, r->job->c, cmd->fields, cmd->max, &ev.err);
+    json_decref(cmd->fields);
+    if (send_wev(r->sock, &ev) != 0)
+        json_decref(ev.body);
+}
+
+static void set_omp_threads(sphd_worker *w)
+{
+#ifdef _OPENMP
+    int busy = atomic_load(&w->d->busy);
+    int n = w->d->opts.threads / (busy > 0 ? busy : 1);
+    omp_set_num_threads(n > 0 ? n : 1);
+#else
+    (void)w;
+#endif
+}
+
+/* Runs a job until it ends, is paused or stopped, or reaches its step target. */
+static void run_job(sphd_worker *w, void *sock, sphd_wcmd *cmd)
+{
+    run_ctx r = {.w = w, .sock = sock, .job = cmd->job, .last_diag = -1e9};
+    r.min_diag_gap = w->d->opts.diag_rate > 0 ? 1.0 / w->d->opts.diag_rate : 0;
+    sphd_exec *x = cmd->exec;
+    sphd_wev end = {.kind = SPHD_WEV_END, .job = cmd->job};
+    const double t0 = sphd_mono();
+    if (!x) {
+        /* first run: prepare the job (generate and allocate the particles) */
+        sph_error err;
+        sph_error_clear(&err);
+        x = sphd_exec_new(cmd->job->c, cmd->job->dir, &err);
+        if (!x) {
+            end.end = SPHD_END_FAILED;
+            snprintf(end.reason, sizeof end.reason, "%s: %s%s%s", sph_error_code_name(err.code),
+                     err.message, err.path[0] ? " at " : "", err.path);
+            end.wall = sphd_mono() - t0;
+            if (send_wev(sock, &end) != 0)
+                sphd_log("worker %d: cannot report the end of a run: %s", w->index,
+                         zmq_strerror(errno));
+            return;
+        }
+    }
+    end.exec = x;
+    double last_progress = t0;
+    json_t *p = sphd_exec_progress(x);
+    const long step0 = progress_step(p);
+    const double sim0 = progress_t(p, "t");
+    json_decref(p);
+    long done = 0, slice = 1;
+    int ended = 0;
+    while (!ended) {
+        /* Requests from the loop, between slices. */
+        sphd_wcmd in;
+        int n;
+        while (!ended && (n = zmq_recv(sock, &in, sizeof in, ZMQ_DONTWAIT)) == (int)sizeof in) {
+            if (in.kind == SPHD_W_PAUSE) {
+                end.end = SPHD_END_PAUSED;
+                ended = 1;
+            } else if (in.kind == SPHD_W_STOP) {
+                end.end = SPHD_END_STOPPED;
+                ended = 1;
+            } else if (in.kind == SPHD_W_PARTICLES) {
+                answer_particles(&r, x, &in);
+            }
+        }
+        if (ended)
+            break;
+        long max = slice;
+        if (cmd->max_steps > 0) {
+            if (done >= cmd->max_steps) {
+                end.end = SPHD_END_TARGET;
+                break;
+            }
+            if (max > cmd->max_steps - done)
+                max = cmd->max_steps - done;
+        }
+        set_omp_threads(w);
+        sph_error err;
+        sph_error_clear(&err);
+        const double s0 = sphd_mono();
+        sphd_exec_status st = sphd_exec_advance(x, max, cmd->until, on_emit, &r, &err);
+        const double s1 = sphd_mono();
+        p = sphd_exec_progress(x);
+        const long step = progress_step(p);
+        const long did = step - step0 - done;
+        done = step - step0;
+        if (s1 - s0 < SLICE_MIN_S && slice < (1L << 20))
+            slice *= 2;
+        else if (s1 - s0 > SLICE_MAX_S && slice > 1)
+            slice /= 2;
+        if (st == SPHD_EXEC_DONE) {
+            end.end = SPHD_END_DONE;
+            ended = 1;
+        } else if (st == SPHD_EXEC_FAILED) {
+            end.end = SPHD_END_FAILED;
+            snprintf(end.reason, sizeof end.reason, "%s: %s%s%s", sph_error_code_name(err.code),
+                     err.message, err.path[0] ? " at " : "", err.path);
+            ended = 1;
+        } else if (isfinite(cmd->until) && (did <= 0 || progress_t(p, "t") >= cmd->until)) {
+            end.end = SPHD_END_TARGET; /* reached the time of a `step --until` */
+            ended = 1;
+        }
+        const double wall = s1 - t0;
+        double rate = wall > 0 ? done / wall : 0, eta = NAN;
+        const double t = progress_t(p, "t"), t_end = progress_t(p, "t_end");
+        if (wall > 0 && isfinite(t) && isfinite(sim0) && t > sim0 && isfinite(t_end))
+            eta = (t_end - t) / ((t - sim0) / wall);
+        if (!ended && s1 - last_progress >= PROGRESS_EVERY_S) {
+            sphd_wev pe = {.kind = SPHD_WEV_PROGRESS,
+                           .job = cmd->job,
+                           .body = p,
+                           .wall = wall,
+                           .steps_per_s = rate,
+                           .eta = eta};
+            if (send_wev(sock, &pe) != 0)
+                json_decref(p);
+            last_progress = s1;
+        } else {
+            json_decref(p);
+        }
+    }
+    flush_diag(&r);
+    end.wall = sphd_mono() - t0;
+    /* the final progress, whatever ended the run */
+    json_t *fp = sphd_exec_progress(x);
+    sphd_wev pe = {.kind = SPHD_WEV_PROGRESS, .job = cmd->job, .body = fp, .wall = end.wall};
+    if (fp && send_wev(sock, &pe) != 0)
+        json_decref(fp);
+    if (send_wev(sock, &end) != 0)
+        sphd_log("worker %d: cannot report the end of a run: %s", w->index, zmq_strerror(errno));
+}
+
+static void *worker_main(void *arg)
+{
+    sphd_worker *w = arg;
+    char ep[64];
+    snprintf(ep, sizeof ep, "inproc://sphd-worker-%d", w->index);
+    void *sock = zmq_socket(w->d->ctx, ZMQ_PAIR);
+    if (!sock || zmq_connect(sock, ep) != 0) {
+        sphd_log("worker %d: cannot connect %s: %s", w->index, ep, zmq_strerror(errno));
+        if (sock)
+            zmq_close(sock);
+        return NULL;
+    }
+    int zero = 0;
+    zmq_setsockopt(sock, ZMQ_LINGER, &zero, sizeof zero);
+    for (;;) {
+        sphd_wcmd cmd;
+        int n = zmq_recv(sock, &cmd, sizeof cmd, 0);
+        if (n < 0) {
+            if (errno == EINTR)
+                continue;
+            break; /* ETERM: the context is going away */
+        }
+        if (n != (int)sizeof cmd)
+            continue;
+        if (cmd.kind == SPHD_W_QUIT)
+            break;
+        if (cmd.kind == SPHD_W_RUN)
+            run_job(w, sock, &cmd);
+        else if (cmd.kind == SPHD_W_PARTICLES)
+            json_decref(cmd.fields); /* stale: the run already ended */
+        /* stale PAUSE/STOP (the run ended first) are dropped */
+    }
+    zmq_close(sock);
+    return NULL;
+}
+
+int sphd_worker_send(sphd_worker *w, const sphd_wcmd *cmd)
+{
+    for (;;) {
+        if (zmq_send(w->pair, cmd, sizeof *cmd, 0) == (int)sizeof *cmd)
+            return 0;
+        if (errno != EINTR)
+            return -1;
+    }
+}
+
+int sphd_workers_start(sphd_daemon *d)
+{
+    d->workers = calloc((size_t)d->opts.threads, sizeof *d->workers);
+    if (!d->workers)
+        return -1;
+    d->nworkers = d->opts.threads;
+    for (int i = 0; i < d->nworkers; i++) {
+        sphd_worker *w = &d->workers[i];
+        w->d = d;
+        w->index = i;
+        char ep[64];
+        snprintf(ep, sizeof ep, "inproc://sphd-worker-%d", i);
+        w->pair = zmq_socket(d->ctx, ZMQ_PAIR);
+        if (!w->pair) {
+            sphd_log("cannot create a worker socket: %s", zmq_strerror(errno));
+            return -1;
+        }
+        int zero = 0;
+        if (zmq_setsockopt(w->pair, ZMQ_LINGER, &zero, sizeof zero) != 0 ||
+            zmq_bind(w->pair, ep) != 0) {
+            sphd_log("cannot bind %s: %s", ep, zmq_strerror(errno));
+            return -1;
+        }
+        int rc = pthread_create(&w->thread, NULL, worker_main, w);
+        if (rc != 0) {
+            sphd_log("cannot start worker thread %d: %s", i, strerror(rc));
+            return -1;
+        }
+        w->started = 1;
+    }
+    return 0;
+}
+
+void sphd_workers_stop(sphd_daemon *d)
+{
+    for (int i = 0; i < d->nworkers; i++) {
+        sphd_worker *w = &d->workers[i];
+        if (w->started) {
+            sphd_wcmd q = {.kind = SPHD_W_QUIT};
+            if (sphd_worker_send(w, &q) != 0)
+                sphd_log("worker %d: cannot send quit: %s", i, zmq_strerror(errno));
+        }
+    }
+    for (int i = 0; i < d->nworkers; i++) {
+        sphd_worker *w = &d->workers[i];
+        if (w->started)
+            pthread_join(w->thread, NULL);
+        if (w->pair)
+            zmq_close(w->pair);
+    }
+    free(d->workers);
+    d->workers = NULL;
+    d->nworkers = 0;
+}

@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# sphctl against a real sphd: ping, submit --watch, list, status --json, idempotent resubmit and
+# conflict, the exit codes, 4 jobs at once on 2 threads, shutdown, a second sphd, SIGTERM.
+# Usage: sphctl_basics.sh SPHD SPHCTL SOURCE_DIR
+SPHD=$1; SPHCTL=$2; SRC=$3
+. "$(dirname "$0")/lib.sh"
+KS="$SRC/cases/kernel_study.json"
+C=$SPHCTL
+
+expect_rc "ping before sphd runs: unreachable" 69 "$C" --timeout 1 ping
+start_sphd --threads 2 --max-jobs 8
+
+expect_rc "ping" 0 "$C" ping
+expect_rc "ping --json" 0 "$C" --json ping
+check "ping --json is one JSON document" jtrue "$tmp/out" 'd["pong"]'
+
+expect_rc "submit --watch a kernel study" 0 "$C" --json submit "$KS" --id ks1 --watch
+check "watch ends with the job done" jlast "$tmp/out" 'd.get("state")=="done" or d.get("status",{}).get("state")=="done"'
+
+expect_rc "status ks1 --json" 0 "$C" status ks1 --json
+check "status: done, with its result" jtrue "$tmp/out" 'd["state"]=="done" and d["result"]["method"]=="kernel_study"'
+check "result.json and case.json in the job dir" test -s "$STATE/jobs/ks1/result.json" -a -s "$STATE/jobs/ks1/case.json"
+
+expect_rc "resubmit same case, same id" 0 "$C" --json submit "$KS" --id ks1
+check "resubmit returns the existing job" jtrue "$tmp/out" 'd["created"] is False and d["job"]=="ks1"'
+expect_rc "same id, different case: conflict" 1 "$C" --json submit "$KS" --id ks1 --set particles=51
+check "conflict code" jtrue "$tmp/out" 'd["error"]["code"]=="conflict"'
+
+expect_rc "invalid case over --set: 65" 65 "$C" submit "$KS" --set particles=2
+check "names the field" grep -qF "(at /particles)" "$tmp/err"
+expect_rc "missing file: 66" 66 "$C" submit "$tmp/nope.json"
+echo '{"method": ' > "$tmp/bad.json"
+expect_rc "not JSON: 65" 65 "$C" submit "$tmp/bad.json"
+expect_rc "unsafe job id refused" 1 "$C" submit "$KS" --id ../../etc
+expect_rc "unknown job: 1" 1 "$C" status nosuchjob
+expect_rc "stop a finished job: 1 (bad_state)" 1 "$C" stop ks1
+expect_rc "usage error: 64" 64 "$C" step
+expect_rc "unknown command: 64" 64 "$C" frobnicate
+for cmd in ping submit status list watch start step pause resume stop query shutdown; do
+  expect_rc "$cmd --help" 0 "$C" "$cmd" --help
+done
+
+# 4 jobs at once on 2 threads: 2 run, 2 wait in the queue, all finish.
+"$PY" - "$KS" "$tmp/big.json" <<'PYEOF'
+import json, sys
+c = json.load(open(sys.argv[1]))
+c.update(name="big", particles=600000, kernels=[{"type": "cubic_spline"}, {"type": "wendland_c2"}],
+         functions=["exp", "sin"])
+json.dump(c, open(sys.argv[2], "w"))
+PYEOF
+for i in 1 2 3 4; do "$C" submit "$tmp/big.json" --id "q$i" >/dev/null; done
+expect_rc "list --json" 0 "$C" --json list
+check "never more than 2 running, the others queued" "$PY" -c '
+import json,sys
+d=json.load(open(sys.argv[1])); q=[j for j in d["jobs"] if j["job"].startswith("q")]
+running=sum(j["state"]=="running" for j in q); queued=sum(j["state"]=="queued" for j in q)
+assert running<=2 and len(q)==4, q
+assert queued>=1, [j["state"] for j in q]' "$tmp/out"
+for i in 1 2 3 4; do expect_rc "q$i finishes" 0 "$C" watch "q$i"; done
+expect_rc "list (table)" 0 "$C" list
+check "list shows the 4 jobs done" test "$(grep -c ' done ' "$tmp/out")" -ge 4
+
+# --max-jobs 8: the ninth unfinished job is refused as busy (75); stopping one makes room
+for i in 1 2 3 4 5 6 7 8; do "$C" submit "$KS" --id "held$i" --no-start >/dev/null; done
+expect_rc "beyond --max-jobs: busy" 75 "$C" submit "$KS" --id held9 --no-start
+check "busy says why" grep -q "max-jobs" "$tmp/err"
+expect_rc "stop one" 0 "$C" stop held1
+expect_rc "then there is room" 0 "$C" submit "$KS" --id held9 --no-start
+expect_rc "--json prints one document" 0 "$C" --json list
+check "one line of JSON" test "$(wc -l <"$tmp/out")" = 1
+for i in 2 3 4 5 6 7 8 9; do "$C" stop "held$i" >/dev/null; done
+
+# a second sphd on the same endpoint refuses
+expect_rc "second sphd refuses" 75 "$SPHD" --listen "$SPHD_ENDPOINT" --publish "ipc://$tmp/run/s2" --state-dir "$tmp/state2"
+check "with a clear message" grep -q "already serving" "$tmp/err"
+expect_rc "first sphd still answers" 0 "$C" ping
+
+stop_sphd
+check "socket file removed" test ! -e "$tmp/run/control"
+
+# SIGTERM stops it cleanly too
+start_sphd --threads 1
+kill -TERM "$sphd_pid"; rc=0; wait "$sphd_pid" || rc=$?; sphd_pid=""
+check "SIGTERM: exit 0" test "$rc" = 0
+
+finish

@@ -1,0 +1,86 @@
+#!/usr/bin/python3
+"""The JSON Schemas in protocol/schema/ against the real thing: every case in cases/ and every
+request the tests send must validate; the invalid case files the schema can judge and a table of
+bad requests must not. Usage: check_schemas.py SOURCE_DIR"""
+import glob
+import json
+import os
+import sys
+
+import jsonschema
+from jsonschema import Draft202012Validator
+
+src = sys.argv[1]
+sdir = os.path.join(src, "protocol", "schema")
+schemas = {n: json.load(open(os.path.join(sdir, n))) for n in ("case.schema.json",
+                                                                "request.schema.json")}
+for s in schemas.values():
+    Draft202012Validator.check_schema(s)
+store = {s["$id"]: s for s in schemas.values()}
+resolver = jsonschema.RefResolver.from_schema(schemas["request.schema.json"], store=store)
+case_v = Draft202012Validator(schemas["case.schema.json"])
+req_v = Draft202012Validator(schemas["request.schema.json"], resolver=resolver)
+fails = passed = 0
+
+
+def expect(ok, what):
+    global fails, passed
+    if ok:
+        passed += 1
+    else:
+        fails += 1
+        print("FAIL:", what)
+
+
+for f in sorted(glob.glob(os.path.join(src, "cases", "*.json"))):
+    c = json.load(open(f))
+    errs = list(case_v.iter_errors(c))
+    expect(not errs, f"{f} validates: {[e.message for e in errs][:3]}")
+ks = json.load(open(os.path.join(src, "cases", "kernel_study.json")))
+# every invalid case file is refused, except those whose fault needs arithmetic or is below JSON
+# (the daemon and `sphd --run` check those)
+beyond_schema = {"at_outside", "domain_reversed", "no_interior", "duplicate_key", "not_json"}
+for f in sorted(glob.glob(os.path.join(src, "tests", "cases", "invalid", "*.json"))):
+    name = os.path.basename(f)[:-5]
+    if name in beyond_schema:
+        continue
+    try:
+        c = json.load(open(f))
+    except ValueError:
+        continue
+    if isinstance(c, dict) and c.get("method") in ("wcsph", "mps"):
+        continue  # TODO(issue 3): the wcsph part of case.schema.json is still open
+    expect(not case_v.is_valid(c), f"{name}.json is refused by the schema")
+
+good = [
+    {"v": 1, "id": "a", "op": "hello"},
+    {"op": "ping"},
+    {"v": 1, "id": 3, "op": "submit", "args": {"case": ks, "job": "ks-1", "start": False,
+                                                "set": ["particles=51"]}},
+    {"op": "step", "args": {"job": "db", "n": 10}},
+    {"op": "step", "args": {"job": "db", "until": 0.5}},
+    {"op": "query", "args": {"job": "db", "fields": ["pos", "rho"], "max": 100}},
+    {"op": "pause", "args": {"job": "db"}},
+    {"op": "list", "args": {}},
+]
+bad = [
+    {"v": 2, "op": "ping"},
+    {"id": "x"},
+    {"op": "frobnicate"},
+    {"op": "ping", "args": {"x": 1}},
+    {"op": "ping", "extra": 1},
+    {"op": "submit", "args": {}},
+    {"op": "submit", "args": {"case": ks, "job": "../x"}},
+    {"op": "step", "args": {"job": "db"}},
+    {"op": "step", "args": {"job": "db", "n": 1, "until": 1.0}},
+    {"op": "step", "args": {"job": "db", "n": "3"}},
+    {"op": "query", "args": {"job": "db", "max": 3}},
+    {"op": "stop", "args": {}},
+]
+for r in good:
+    errs = list(req_v.iter_errors(r))
+    expect(not errs, f"request validates: {r['op']}: {[e.message for e in errs][:3]}")
+for r in bad:
+    expect(not req_v.is_valid(r), f"bad request refused by the schema: {json.dumps(r)[:80]}")
+print(f"check_schemas: {passed} passed, {fails} failed")
+sys.exit(1 if fails else 0)
