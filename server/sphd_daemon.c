@@ -512,6 +512,8 @@ int sphd_daemon_main(const sphd_opts *opts)
     }
     if (sphd_workers_start(d) != 0)
         goto out;
+    sphd_jobs_recover(d);
+    sphd_jobs_schedule(d);
     sphd_log("listening on %s, publishing on %s, state in %s, %d threads, at most %d jobs",
              d->opts.listen, d->opts.publish, d->opts.state_dir, d->opts.threads, d->opts.max_jobs);
     if (loop(d) == 0)

@@ -98,6 +98,7 @@ typedef struct sphd_job {
     char reason[SPHD_REASON_MAX];
     long seq;          /* last published event's seq */
     int started;       /* has ever been queued to run */
+    int resume;        /* the next run continues from the checkpoint in dir (recovered job) */
     int worker;        /* worker index while running, else -1 */
     long step_n;       /* pending `step`: steps to do (0: none) */
     double step_until; /* pending `step`: time to reach (INFINITY: none) */
@@ -221,6 +222,8 @@ void sphd_job_record(sphd_daemon *d, sphd_job *j, int interrupted);
 void sphd_jobs_schedule(sphd_daemon *d);
 void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev);
 void sphd_jobs_free(sphd_daemon *d);
+/* On start: takes up the jobs found in STATE_DIR/jobs (see sphd_jobs.c). */
+void sphd_jobs_recover(sphd_daemon *d);
 
 /* sphd_worker.c */
 int sphd_workers_start(sphd_daemon *d);

@@ -3,6 +3,7 @@
 #include "sph_events.h"
 #include "sph_sim.h"
 #include "sph_study.h"
+#include "sphd.h"
 #include "sphd_ckpt.h"
 #include "sphd_outputs.h"
 
@@ -341,6 +342,7 @@ sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_bac
         sph_error_set(err, SPH_ERR_INVALID, "", "only simulations resume from checkpoints");
         return NULL;
     }
+    sphd_remove_stale_temps(outdir);
     sph_error why;
     sph_error_clear(&why);
     sphd_ckpt *ck = sphd_ckpt_load(outdir, fell_back, &why);

@@ -7,8 +7,11 @@
 #include "sphd_daemon.h"
 
 #include "sph_events.h"
+#include "sph_json.h"
 #include "sph_sim.h"
+#include "sphd_journal.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -137,6 +140,16 @@ void sphd_job_set_state(sphd_daemon *d, sphd_job *j, sphd_job_state s, const cha
     json_t *b = json_pack("{s:s}", "state", sphd_job_state_name(s));
     if (b && s == SPHD_JOB_FAILED)
         json_object_set_new(b, "reason", json_string(j->reason));
+    /* the journal: every state change, appended and fsync'd before anyone hears of it */
+    json_t *rec = json_pack("{s:f, s:s, s:I, s:I}", "t", sphd_now(), "state",
+                            sphd_job_state_name(s), "seq", (json_int_t)j->seq, "step",
+                            (json_int_t)json_integer_value(json_object_get(j->progress, "step")));
+    if (rec && j->reason[0])
+        json_object_set_new(rec, "reason", json_string(j->reason));
+    sph_error err;
+    if (rec && sphd_journal_append(j->dir, rec, &err) != 0)
+        sphd_log("job %s: %s", j->id, err.message);
+    json_decref(rec);
     sphd_publish(d, j, "state", b);
     sphd_job_record(d, j, 0);
 }
@@ -454,4 +467,172 @@ void sphd_jobs_free(sphd_daemon *d)
         job_free(d->jobs);
         d->jobs = n;
     }
+}
+
+/* ---- recovery ---- */
+
+typedef struct {
+    json_t *last; /* the latest journal record (new ref) */
+} replay_ctx;
+
+static void keep_last(void *ud, const json_t *rec)
+{
+    replay_ctx *r = ud;
+    json_decref(r->last);
+    r->last = json_deep_copy(rec);
+}
+
+static json_t *load_json(const char *dir, const char *name)
+{
+    char path[SPHD_PATH_MAX + 64];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return json_load_file(path, 0, NULL);
+}
+
+static int state_from_name(const char *name)
+{
+    for (int s = 0; s < (int)(sizeof state_names / sizeof state_names[0]); s++)
+        if (name && strcmp(name, state_names[s]) == 0)
+            return s;
+    return -1;
+}
+
+static int by_submitted(const void *a, const void *b)
+{
+    const sphd_job *x = *(sphd_job *const *)a, *y = *(sphd_job *const *)b;
+    return x->submitted < y->submitted   ? -1
+           : x->submitted > y->submitted ? 1
+                                         : strcmp(x->id, y->id);
+}
+
+/* One job directory: its case, and its state from the journal (job.json when the journal is
+ * missing). A job that was running or queued is queued again and continues from its checkpoint;
+ * a paused one stays paused; finished ones stay visible. */
+static sphd_job *recover_one(sphd_daemon *d, const char *id)
+{
+    sphd_job *j = calloc(1, sizeof *j);
+    if (!j || !(j->c = calloc(1, sizeof *j->c))) {
+        free(j);
+        return NULL;
+    }
+    if (snprintf(j->id, sizeof j->id, "%.*s", (int)sizeof j->id - 1, id) >= (int)sizeof j->id ||
+        snprintf(j->dir, sizeof j->dir, "%.3000s/jobs/%.63s", d->opts.state_dir, id) >=
+            (int)sizeof j->dir) {
+        job_free(j);
+        return NULL;
+    }
+    json_t *case_json = load_json(j->dir, "case.json");
+    sph_error err;
+    sph_error_clear(&err);
+    if (!case_json || sph_case_from_json(case_json, j->c, &err)) {
+        sphd_log("job %s: cannot take it up again: %s", id,
+                 case_json ? err.message : "case.json is missing or unreadable");
+        json_decref(case_json);
+        job_free(j);
+        return NULL;
+    }
+    j->case_json = case_json;
+    replay_ctx r = {0};
+    int torn = 0;
+    sphd_journal_replay(j->dir, keep_last, &r, &torn, &err);
+    json_t *rec = load_json(j->dir, "job.json");
+    const json_t *src = r.last ? r.last : rec;
+    int st = src ? state_from_name(json_string_value(json_object_get(src, "state"))) : -1;
+    const char *reason = src ? json_string_value(json_object_get(src, "reason")) : NULL;
+    j->seq = (long)json_integer_value(json_object_get(rec, "seq"));
+    if (r.last && json_integer_value(json_object_get(r.last, "seq")) > j->seq)
+        j->seq = (long)json_integer_value(json_object_get(r.last, "seq"));
+    j->submitted = json_number_value(json_object_get(rec, "submitted"));
+    j->wall = json_number_value(json_object_get(json_object_get(rec, "progress"), "wall"));
+    json_t *prog = json_object_get(rec, "progress");
+    j->worker = -1;
+    j->step_until = INFINITY;
+    j->eta = NAN;
+    j->started = 1;
+    if (j->c->method == SPH_METHOD_WCSPH)
+        j->progress =
+            json_pack("{s:O?, s:f, s:I}", "t", json_object_get(prog, "t"), "t_end", j->c->sim.t_end,
+                      "step", (json_int_t)json_integer_value(json_object_get(prog, "steps")));
+    else
+        j->progress = json_pack("{s:i}", "step", 0);
+    char ck[SPHD_PATH_MAX + 32];
+    snprintf(ck, sizeof ck, "%s/checkpoint", j->dir);
+    char prev[SPHD_PATH_MAX + 32];
+    snprintf(prev, sizeof prev, "%s/checkpoint.prev", j->dir);
+    const int has_ckpt = access(ck, F_OK) == 0 || access(prev, F_OK) == 0;
+    if (st < 0 || st == SPHD_JOB_RUNNING || st == SPHD_JOB_QUEUED) {
+        j->state = SPHD_JOB_QUEUED;
+        j->resume = has_ckpt;
+    } else if (st == SPHD_JOB_PAUSED) {
+        j->state = SPHD_JOB_PAUSED;
+        j->resume = has_ckpt;
+    } else {
+        j->state = (sphd_job_state)st;
+        snprintf(j->reason, sizeof j->reason, "%s", reason ? reason : "");
+        j->result = load_json(j->dir, "result.json");
+    }
+    if (torn)
+        sphd_log("job %s: the last line of its journal was torn by a crash; ignored", id);
+    json_decref(r.last);
+    json_decref(rec);
+    return j;
+}
+
+void sphd_jobs_recover(sphd_daemon *d)
+{
+    char dir[SPHD_PATH_MAX + 8];
+    snprintf(dir, sizeof dir, "%s/jobs", d->opts.state_dir);
+    DIR *dd = opendir(dir);
+    if (!dd)
+        return;
+    sphd_job **found = NULL;
+    size_t n = 0, cap = 0;
+    struct dirent *e;
+    while ((e = readdir(dd))) {
+        if (!sphd_job_id_ok(e->d_name) || sphd_job_find(d, e->d_name))
+            continue;
+        sphd_job *j = recover_one(d, e->d_name);
+        if (!j)
+            continue;
+        if (n == cap) {
+            cap = cap ? 2 * cap : 16;
+            sphd_job **f = realloc(found, cap * sizeof *f);
+            if (!f) {
+                job_free(j);
+                break;
+            }
+            found = f;
+        }
+        found[n++] = j;
+    }
+    closedir(dd);
+    if (n)
+        qsort(found, n, sizeof *found, by_submitted);
+    sphd_job **pp = &d->jobs;
+    while (*pp)
+        pp = &(*pp)->next;
+    long resumed = 0, finished = 0;
+    for (size_t i = 0; i < n; i++) {
+        sphd_job *j = found[i];
+        *pp = j;
+        pp = &j->next;
+        if (sphd_job_state_final(j->state)) {
+            d->njobs_final++;
+            finished++;
+        } else {
+            d->njobs_active++;
+            resumed += j->resume;
+            sphd_publish(d, j, "log",
+                         json_pack("{s:s, s:s}", "level", "info", "message",
+                                   j->resume ? "taken up after a restart; continues from its "
+                                               "checkpoint"
+                                             : "taken up after a restart"));
+            sphd_job_set_state(d, j, j->state, NULL);
+        }
+    }
+    free(found);
+    if (n)
+        sphd_log("took up %zu jobs from %s: %ld to continue from checkpoints, %ld finished", n, dir,
+                 resumed, finished);
+    prune(d);
 }

@@ -152,7 +152,25 @@ static void run_job(sphd_worker *w, void *sock, sphd_wcmd *cmd)
         /* first run: prepare the job (generate and allocate the particles) */
         sph_error err;
         sph_error_clear(&err);
-        x = sphd_exec_new(cmd->job->c, cmd->job->dir, &err);
+        if (cmd->job->resume) {
+            int fell_back = 0;
+            x = sphd_exec_resume(cmd->job->c, cmd->job->dir, &fell_back, &err);
+            char msg[SPH_ERROR_TEXT_MAX + 64];
+            if (x && fell_back)
+                snprintf(msg, sizeof msg, "resumed from the previous checkpoint: %s", err.message);
+            else if (x)
+                snprintf(msg, sizeof msg, "resumed from its latest checkpoint");
+            else
+                snprintf(msg, sizeof msg, "no checkpoint to resume from (%s): starting afresh",
+                         err.message);
+            sphd_log("job %s: %s", cmd->job->id, msg);
+            send_event(&r, "log",
+                       json_pack("{s:s, s:s}", "level", x && !fell_back ? "info" : "warning",
+                                 "message", msg));
+            sph_error_clear(&err);
+        }
+        if (!x)
+            x = sphd_exec_new(cmd->job->c, cmd->job->dir, &err);
         if (!x) {
             end.end = SPHD_END_FAILED;
             snprintf(end.reason, sizeof end.reason, "%s: %s%s%s", sph_error_code_name(err.code),
@@ -244,6 +262,14 @@ static void run_job(sphd_worker *w, void *sock, sphd_wcmd *cmd)
         }
     }
     flush_diag(&r);
+    if (end.end == SPHD_END_PAUSED || end.end == SPHD_END_TARGET) {
+        /* a paused job (on request, at a step target, at shutdown) can be resumed exactly */
+        sph_error err;
+        sph_error_clear(&err);
+        if (sphd_exec_checkpoint(x, &err) != 0)
+            send_event(&r, "log",
+                       json_pack("{s:s, s:s}", "level", "warning", "message", err.message));
+    }
     end.wall = sphd_mono() - t0;
     /* the final progress, whatever ended the run */
     json_t *fp = sphd_exec_progress(x);

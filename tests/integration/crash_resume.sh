@@ -63,8 +63,11 @@ tail -n1 "$tmp/last.jsonl" | grep -q '"state":"done"'
 "$PY" - "$tmp/ref/db" "$tmp/crash/db" <<'PYEOF'
 import sys, os, h5py, numpy as np
 a, b = sys.argv[1], sys.argv[2]
-snaps = sorted(f for f in os.listdir(a) if f.startswith("snap_"))
-assert snaps == sorted(f for f in os.listdir(b) if f.startswith("snap_")), os.listdir(b)
+import re
+snap = re.compile(r"^snap_\d+\.h5$")
+snaps = sorted(f for f in os.listdir(a) if snap.match(f))
+assert snaps == sorted(f for f in os.listdir(b) if snap.match(f)), os.listdir(b)
+assert not [f for f in os.listdir(b) if ".tmp." in f], os.listdir(b)
 for s in snaps:
     with h5py.File(os.path.join(a, s), "r") as x, h5py.File(os.path.join(b, s), "r") as y:
         assert x.attrs["step"] == y.attrs["step"] and x.attrs["time"] == y.attrs["time"], s
