@@ -111,7 +111,9 @@ static int write_field(hid_t file, const sphd_h5_field *f, long n, int compress)
     hid_t space = H5Screate_simple(vec ? 2 : 1, dims, NULL);
     hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
     if (n > 0) {
-        hsize_t chunk[2] = {(hsize_t)(n < 65536 ? n : 65536), (hsize_t)width};
+        /* chunks of at most 65536 rows, sized so that the last one is not mostly empty */
+        const long nchunks = (n + 65535) / 65536;
+        hsize_t chunk[2] = {(hsize_t)((n + nchunks - 1) / nchunks), (hsize_t)width};
         H5Pset_chunk(dcpl, vec ? 2 : 1, chunk);
         if (compress > 0) {
             H5Pset_shuffle(dcpl);
