@@ -9,7 +9,7 @@ scripts/setup.sh
 scripts/build.sh
 
 case_file=${MAIN_CASE:-cases/dambreak.json}
-job=$(basename "$case_file" .json)
+job=$(basename "$case_file" .json)-$(date +%Y%m%d-%H%M%S)
 state="$PWD/out/state"
 run=$(mktemp -d "${TMPDIR:-/tmp}/sphd-main.XXXXXX")
 export SPHD_ENDPOINT="ipc://$run/control"
@@ -33,7 +33,9 @@ echo "sphd is running (pid $pid, $SPHD_ENDPOINT); submitting $case_file as job $
 rc=0
 build/bin/sphctl submit "$case_file" --id "$job" --watch || rc=$?
 build/bin/sphctl status "$job" >&2 || true
-echo "results: $state/jobs/$job/ (case.json: the case as run, result.json: the summary, job.json: the job record)" >&2
+echo "results: $state/jobs/$job/" >&2
+echo "  particles.xmf (open in ParaView: the run as a time series), snap_*.h5 (particle snapshots)," >&2
+echo "  diag.h5 (diagnostics series), result.json (the summary), case.json (the case as run)" >&2
 build/bin/sphctl shutdown >/dev/null
 wait "$pid" || rc=$?
 exit "$rc"
