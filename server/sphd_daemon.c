@@ -145,6 +145,8 @@ void sphd_publish(sphd_daemon *d, sphd_job *j, const char *type, json_t *body)
 
 /* ---- one request ---- */
 
+#define SPHD_TRANSPORT_FACTOR 8 /* ZMQ_MAXMSGSIZE = this x --max-msg-size */
+
 static void handle_request(sphd_daemon *d)
 {
     zmq_msg_t parts[2 * SPHD_MAX_ENVELOPE];
@@ -186,6 +188,18 @@ static void handle_request(sphd_daemon *d)
         sphd_err e;
         sphd_err_set(&e, SPHD_E_BAD_REQUEST, NULL,
                      "a request is one frame holding one JSON object (got %d frames)", n - env);
+        d->requests++;
+        d->errors++;
+        json_t *r = sphd_reply_new(NULL, NULL, &e);
+        reply = r ? json_dumps(r, JSON_COMPACT) : NULL;
+        json_decref(r);
+    } else if ((long)zmq_msg_size(&parts[n - 1]) > d->opts.max_msg_size) {
+        /* read (up to the transport's bound, SPHD_TRANSPORT_FACTOR times larger) and refused */
+        sphd_err e;
+        sphd_err_set(&e, SPHD_E_TOO_LARGE, NULL,
+                     "the request is %zu bytes, more than the %ld this sphd accepts "
+                     "(--max-msg-size); send particle data and large cases in smaller pieces",
+                     zmq_msg_size(&parts[n - 1]), d->opts.max_msg_size);
         d->requests++;
         d->errors++;
         json_t *r = sphd_reply_new(NULL, NULL, &e);
@@ -495,7 +509,9 @@ int sphd_daemon_main(const sphd_opts *opts)
     d->router = zmq_socket(d->ctx, ZMQ_ROUTER);
     d->pub = zmq_socket(d->ctx, ZMQ_PUB);
     int one = 1;
-    int64_t maxmsg = d->opts.max_msg_size;
+    /* the transport drops (and disconnects) only far larger messages: those just over the limit
+     * are read and answered with too_large */
+    int64_t maxmsg = (int64_t)d->opts.max_msg_size * SPHD_TRANSPORT_FACTOR;
     if (!d->router || !d->pub || setup_socket_opts(d->router, "control", ZMQ_SNDHWM, ROUTER_HWM) ||
         setup_socket_opts(d->pub, "stream", ZMQ_SNDHWM, PUB_HWM) ||
         zmq_setsockopt(d->router, ZMQ_ROUTER_MANDATORY, &one, sizeof one) != 0 ||
