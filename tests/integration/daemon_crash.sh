@@ -18,22 +18,7 @@ t0=$(date +%s.%N)
   >/dev/null 2>&1
 runtime=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { print b - a }')
 
-whole() {
-  "$PY" - "$STATE/jobs/db" <<'PYEOF'
-import sys, os, h5py
-import xml.etree.ElementTree as ET
-d = sys.argv[1]
-for f in sorted(os.listdir(d)):
-    if f.startswith("snap_") and f.endswith(".h5"):
-        with h5py.File(os.path.join(d, f), "r") as h:
-            assert {"pos", "vel", "rho", "p", "type"} <= set(h.keys()), f
-if os.path.exists(os.path.join(d, "particles.xmf")):
-    ET.parse(os.path.join(d, "particles.xmf"))
-if os.path.exists(os.path.join(d, "diag.h5")):
-    with h5py.File(os.path.join(d, "diag.h5"), "r", libver="latest", swmr=True) as h:
-        h["step"][:]
-PYEOF
-}
+whole() { "$PY" "$(dirname "$0")/h5check.py" whole "$STATE/jobs/db"; }
 
 start_sphd --threads 1
 expect_rc "submit the dam break" 0 "$SPHCTL" submit "$SRC/cases/dambreak.json" --id db "${sets[@]}"
@@ -64,25 +49,7 @@ expect_rc "watch it to the end" 0 "$SPHCTL" --json watch db
 check "it finished" jlast "$tmp/out" 'd.get("state")=="done" or d.get("status",{}).get("state")=="done"'
 check "the log says it resumed from a checkpoint" grep -q "resumed from" "$tmp/sphd.log"
 check "snapshots and diagnostics bitwise equal to the uninterrupted run" \
-  "$PY" - "$tmp/ref/db" "$STATE/jobs/db" <<'PYEOF'
-import sys, os, h5py, numpy as np
-a, b = sys.argv[1], sys.argv[2]
-import re
-snap = re.compile(r"^snap_\d+\.h5$")
-snaps = sorted(f for f in os.listdir(a) if snap.match(f))
-got = sorted(f for f in os.listdir(b) if snap.match(f))
-assert not [f for f in os.listdir(b) if ".tmp." in f], os.listdir(b)
-assert snaps == got, (snaps, got)
-for s in snaps:
-    with h5py.File(os.path.join(a, s), "r") as x, h5py.File(os.path.join(b, s), "r") as y:
-        assert x.attrs["step"] == y.attrs["step"] and x.attrs["time"] == y.attrs["time"], s
-        for k in x:
-            assert np.array_equal(x[k][:], y[k][:]), (s, k)
-with h5py.File(os.path.join(a, "diag.h5"), "r", libver="latest", swmr=True) as x, \
-     h5py.File(os.path.join(b, "diag.h5"), "r", libver="latest", swmr=True) as y:
-    for k in x:
-        assert np.array_equal(x[k][:], y[k][:]), k
-PYEOF
+  "$PY" "$(dirname "$0")/h5check.py" same "$tmp/ref/db" "$STATE/jobs/db"
 stop_sphd
 echo "kills: $kills"
 finish
