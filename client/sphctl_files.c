@@ -91,18 +91,23 @@ int sphctl_cmd_results(sphctl *c, int argc, char **argv)
         json_decref(r);
         return 0;
     }
-    printf("%-32s %10s  %-12s%s\n", "NAME", "SIZE", "KIND", checksums ? "  CRC32" : "");
+    if (checksums)
+        printf("%-32s %10s  %-12s  %s\n", "NAME", "SIZE", "KIND", "CRC32");
+    else
+        printf("%-32s %10s  %s\n", "NAME", "SIZE", "KIND");
     size_t i;
     json_t *f;
     json_array_foreach(json_object_get(r, "files"), i, f)
     {
         char size[32];
         fmt_size((double)json_integer_value(json_object_get(f, "size")), size, sizeof size);
-        printf("%-32s %10s  %-12s", json_string_value(json_object_get(f, "name")), size,
-               json_string_value(json_object_get(f, "kind")));
+        const char *name = json_string_value(json_object_get(f, "name"));
+        const char *kind = json_string_value(json_object_get(f, "kind"));
         if (checksums)
-            printf("  %s", json_string_value(json_object_get(f, "crc32")));
-        printf("\n");
+            printf("%-32s %10s  %-12s  %s\n", name, size, kind,
+                   json_string_value(json_object_get(f, "crc32")));
+        else
+            printf("%-32s %10s  %s\n", name, size, kind);
     }
     printf("(in %s on sphd's machine)\n", json_string_value(json_object_get(r, "dir")));
     json_decref(r);
@@ -120,6 +125,26 @@ static int mkdir_if_needed(const char *path)
         errno = ENOTDIR;
     }
     return -1;
+}
+
+/* mkdir -p */
+static int mkdirs(const char *path)
+{
+    char buf[4096];
+    if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf) {
+        errno = ENAMETOOLONG;
+        return -1;
+    }
+    for (char *p = buf + 1; *p; p++) {
+        if (*p != '/' || p[-1] == '/')
+            continue;
+        *p = '\0';
+        int rc = mkdir_if_needed(buf);
+        *p = '/';
+        if (rc != 0)
+            return -1;
+    }
+    return mkdir_if_needed(buf);
 }
 
 static int write_all(int fd, const unsigned char *p, size_t n)
@@ -266,7 +291,7 @@ int sphctl_cmd_fetch(sphctl *c, int argc, char **argv)
         json_decref(list);
         return local_error(c, SPHCTL_EX_USAGE, "usage", "--dest too long: %s%s", dest, "");
     }
-    if (mkdir_if_needed(dest) != 0 || mkdir_if_needed(dir) != 0) {
+    if (mkdirs(dest) != 0 || mkdir_if_needed(dir) != 0) {
         json_decref(list);
         return local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot create %s: %s", dir,
                            strerror(errno));

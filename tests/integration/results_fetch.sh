@@ -56,10 +56,10 @@ for f in "$JOBDIR"/*; do
 done
 check "every file fetched" test "$nfetched" -ge 6
 check "no temporaries left" test -z "$(find "$tmp/dl" -name '.*part*')"
-expect_rc "fetch --json --include-checkpoints" 0 "$C" fetch db --dest "$tmp/dl2" --json --include-checkpoints
+expect_rc "fetch --json --include-checkpoints" 0 "$C" fetch db --dest "$tmp/nested/dl2" --json --include-checkpoints
 check "fetch --json: one document with every file" jtrue "$tmp/out" \
   'd["job"]=="db" and d["dest"].endswith("/db") and len(d["files"])==len(json.load(open("'"$tmp/results.json"'"))["files"]) and d["bytes"]==sum(f["size"] for f in d["files"])'
-check "checkpoint fetched too" cmp -s "$JOBDIR/checkpoint" "$tmp/dl2/db/checkpoint"
+check "checkpoint fetched too" cmp -s "$JOBDIR/checkpoint" "$tmp/nested/dl2/db/checkpoint"
 
 # chunks over the protocol: small lengths, offsets, eof, per-chunk CRC-32
 check "fetch in 1000-byte chunks reassembles the snapshot" "$PY" - "$SPHD_ENDPOINT" "$JOBDIR" <<'PYEOF'
