@@ -141,6 +141,37 @@ expect_rc "export of a kernel study: refused" 1 "$C" --json export ks
 check "bad_state, saying why" jtrue "$tmp/out" 'd["error"]["code"]=="bad_state" and "kernel study" in d["error"]["message"]'
 expect_rc "export --out into a missing directory: 73" 73 "$C" export db --out "$tmp/no/such/dir.csv"
 
+# a damaged transfer, from a fake sphd: a wrong whole-file CRC-32 (a.bin), a damaged chunk (b.bin)
+"$PY" - "ipc://$tmp/fake" <<'PYEOF' &
+import base64, json, sys, zlib, zmq
+s = zmq.Context().socket(zmq.ROUTER); s.bind(sys.argv[1])
+files = {"a.bin": (b"hello" * 100, "00000000", None), "b.bin": (b"world" * 100, None, "deadbeef")}
+for _ in range(4):
+    if not s.poll(20000): break
+    env, body = s.recv_multipart()
+    req = json.loads(body); a = req.get("args", {})
+    if req["op"] == "results":
+        want = [n for n in files if n == a["job"]]
+        res = {"job": a["job"], "dir": "/x", "files": [
+            {"name": n, "size": len(files[n][0]), "kind": "other",
+             "crc32": files[n][1] or "%08x" % (zlib.crc32(files[n][0]) & 0xffffffff)} for n in want]}
+    else:
+        data = files[a["file"]][0]
+        res = {"file": a["file"], "offset": 0, "length": len(data), "size": len(data), "eof": True,
+               "crc32": files[a["file"]][2] or "%08x" % (zlib.crc32(data) & 0xffffffff),
+               "data": base64.b64encode(data).decode()}
+    s.send_multipart([env, json.dumps({"v": 1, "id": req["id"], "ok": True, "result": res}).encode()])
+PYEOF
+fake_pid=$!
+sleep 0.3
+expect_rc "whole-file CRC-32 mismatch: exit 1" 1 "$C" --endpoint "ipc://$tmp/fake" fetch a.bin --dest "$tmp/bad"
+check "says so" grep -q "CRC-32 mismatch" "$tmp/err"
+check "no file left behind" test -z "$(ls -A "$tmp/bad/a.bin")"
+expect_rc "damaged chunk: exit 1" 1 "$C" --endpoint "ipc://$tmp/fake" --json fetch b.bin --dest "$tmp/bad"
+check "one JSON document naming the error" jtrue "$tmp/out" 'd["error"]["code"]=="checksum"'
+check "no file left behind" test -z "$(ls -A "$tmp/bad/b.bin")"
+kill "$fake_pid" 2>/dev/null; wait "$fake_pid" 2>/dev/null
+
 for cmd in results fetch export; do
   expect_rc "$cmd --help" 0 "$C" "$cmd" --help
 done
