@@ -172,24 +172,28 @@ json_t *sphd_results_list(const sphd_job *j, int checksums, sphd_err *e)
 json_t *sphd_results_fetch(const sphd_job *j, const char *file, long long offset, long length,
                            sphd_err *e)
 {
-    if (!listable_name(file))
-        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/file",
-                            "'%.64s' is not a file of the job: give a name from 'results' "
-                            "(no '/', no leading '.', no '..')",
-                            file),
-               NULL;
+    if (!listable_name(file)) {
+        sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/file",
+                     "'%.64s' is not a file of the job: give a name from 'results' "
+                     "(no '/', no leading '.', no '..')",
+                     file);
+        return NULL;
+    }
     char path[SPHD_PATH_MAX + 256];
-    if (snprintf(path, sizeof path, "%s/%s", j->dir, file) >= (int)sizeof path)
-        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/file", "file name too long"), NULL;
+    if (snprintf(path, sizeof path, "%s/%s", j->dir, file) >= (int)sizeof path) {
+        sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/file", "file name too long");
+        return NULL;
+    }
     int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0) {
-        if (errno == ENOENT || errno == ELOOP)
-            return sphd_err_set(e, SPHD_E_NOT_FOUND, "/args/file",
-                                "job %s has no file '%.64s' ('sphctl results %s' lists them)",
-                                j->id, file, j->id),
-                   NULL;
-        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot open %s: %s", path, strerror(errno)),
-               NULL;
+        if (errno == ENOENT || errno == ELOOP) {
+            sphd_err_set(e, SPHD_E_NOT_FOUND, "/args/file",
+                         "job %s has no file '%.64s' ('sphctl results %s' lists them)", j->id, file,
+                         j->id);
+            return NULL;
+        }
+        sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot open %s: %s", path, strerror(errno));
+        return NULL;
     }
     struct stat st;
     json_t *r = NULL;
@@ -248,10 +252,17 @@ out:
 json_t *sphd_results_export_csv(const sphd_job *j, sphd_err *e)
 {
     char path[SPHD_PATH_MAX + 16];
-    if (snprintf(path, sizeof path, "%s/diag.h5", j->dir) >= (int)sizeof path)
-        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "job directory path too long"), NULL;
+    if (snprintf(path, sizeof path, "%s/diag.h5", j->dir) >= (int)sizeof path) {
+        sphd_err_set(e, SPHD_E_INTERNAL, NULL, "job directory path too long");
+        return NULL;
+    }
     struct stat st;
-    if (stat(path, &st) != 0) {
+    const int missing = stat(path, &st) != 0;
+    if (missing && errno != ENOENT) {
+        sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot read %s: %s", path, strerror(errno));
+        return NULL;
+    }
+    if (missing) {
         if (j->c && j->c->method == SPH_METHOD_KERNEL_STUDY)
             sphd_err_set(e, SPHD_E_BAD_STATE, "/args/job",
                          "job %s is a kernel study: it has no diagnostics time series (its "
@@ -267,19 +278,22 @@ json_t *sphd_results_export_csv(const sphd_job *j, sphd_err *e)
     char *text = NULL;
     size_t len = 0;
     FILE *mem = open_memstream(&text, &len);
-    if (!mem)
-        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory"), NULL;
+    if (!mem) {
+        sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+        return NULL;
+    }
     sph_error err;
     sph_error_clear(&err);
     int rc = sphd_diagfile_export_csv(path, mem, &err);
     if (fclose(mem) != 0 && rc == 0) {
         free(text);
-        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory"), NULL;
+        sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+        return NULL;
     }
     if (rc != 0) {
         free(text);
-        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot export %s: %s", path, err.message),
-               NULL;
+        sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot export %s: %s", path, err.message);
+        return NULL;
     }
     long rows = 0;
     for (size_t i = 0; i < len; i++)
