@@ -26,6 +26,10 @@ static const char usage_text[] =
     "                                pause it\n"
     "  pause JOB | resume JOB | stop JOB\n"
     "  query JOB [--fields pos,vel,...] [--max N]   state, diagnostics, particle fields\n"
+    "  results JOB [--checksums]     the job's files: name, size, kind (CRC-32)\n"
+    "  fetch JOB [--dest DIR] [--include-checkpoints]   download the job's files into\n"
+    "                                DIR/JOB/, checksums verified (for another machine)\n"
+    "  export JOB [--out FILE]       the diagnostics time series as CSV\n"
     "  shutdown                      pause every job and stop sphd\n"
     "\n"
     "Options:\n"
@@ -37,8 +41,9 @@ static const char usage_text[] =
     "  (--endpoint, --json and --timeout may also follow the command)\n"
     "  --version       print the version\n"
     "\n"
-    "Exit codes: 0 ok, 1 the job failed or sphd refused the request, 64 usage, 65 invalid\n"
-    "case file, 66 file not found, 69 sphd unreachable or timed out, 75 busy (retry later),\n"
+    "Exit codes: 0 ok, 1 the job failed or sphd refused the request (or a checksum\n"
+    "mismatch in fetch), 64 usage, 65 invalid case file, 66 file not found, 69 sphd\n"
+    "unreachable or timed out, 73 cannot write an output file, 75 busy (retry later),\n"
     "77 not authorised.\n";
 
 typedef struct command {
@@ -510,10 +515,21 @@ static int cmd_shutdown(sphctl *c, int argc, char **argv)
 }
 
 static const command commands[] = {
-    {"ping", cmd_ping, ""}, {"submit", cmd_submit, ""}, {"status", cmd_status, ""},
-    {"list", cmd_list, ""}, {"watch", cmd_watch, ""},   {"start", cmd_start, ""},
-    {"step", cmd_step, ""}, {"pause", cmd_pause, ""},   {"resume", cmd_resume, ""},
-    {"stop", cmd_stop, ""}, {"query", cmd_query, ""},   {"shutdown", cmd_shutdown, ""},
+    {"ping", cmd_ping, ""},
+    {"submit", cmd_submit, ""},
+    {"status", cmd_status, ""},
+    {"list", cmd_list, ""},
+    {"watch", cmd_watch, ""},
+    {"start", cmd_start, ""},
+    {"step", cmd_step, ""},
+    {"pause", cmd_pause, ""},
+    {"resume", cmd_resume, ""},
+    {"stop", cmd_stop, ""},
+    {"query", cmd_query, ""},
+    {"shutdown", cmd_shutdown, ""},
+    {"results", sphctl_cmd_results, ""},
+    {"fetch", sphctl_cmd_fetch, ""},
+    {"export", sphctl_cmd_export, ""},
 };
 
 int main(int argc, char **argv)
@@ -606,8 +622,8 @@ int main(int argc, char **argv)
         }
         argv[n++] = argv[i];
         /* the command's options that take a value: keep the value with them */
-        static const char *const with_value[] = {"--id",     "--set", "--until",
-                                                 "--fields", "--max", NULL};
+        static const char *const with_value[] = {"--id",  "--set",  "--until", "--fields",
+                                                 "--max", "--dest", "--out",   NULL};
         for (const char *const *w = with_value; *w; w++)
             if (strcmp(a, *w) == 0 && i + 1 < argc)
                 argv[n++] = argv[++i];

@@ -14,6 +14,7 @@
 #define SPHCTL_EX_NOINPUT     66
 #define SPHCTL_EX_UNAVAILABLE 69
 #define SPHCTL_EX_SOFTWARE    70
+#define SPHCTL_EX_CANTCREAT   73
 #define SPHCTL_EX_TEMPFAIL    75
 #define SPHCTL_EX_NOPERM      77
 
@@ -44,6 +45,11 @@ void sphctl_print_json(const json_t *v, int compact);
 /* sphctl_watch.c: follows a job to its end (subscribe, then snapshot). Returns the exit code:
  * 0 done, 1 failed or stopped, 69 server gone. */
 int sphctl_watch(sphctl *c, const char *job);
+
+/* sphctl_files.c: results, fetch and export (argv[0] is the command's name). */
+int sphctl_cmd_results(sphctl *c, int argc, char **argv);
+int sphctl_cmd_fetch(sphctl *c, int argc, char **argv);
+int sphctl_cmd_export(sphctl *c, int argc, char **argv);
 
 /* Human formatting helpers. */
 void sphctl_fmt_duration(double s, char *buf, size_t n);

@@ -111,6 +111,9 @@ static int op_query(sphd_request *r, json_t **result, sphd_err *e);
 static int op_stop(sphd_request *r, json_t **result, sphd_err *e);
 static int op_list(sphd_request *r, json_t **result, sphd_err *e);
 static int op_shutdown(sphd_request *r, json_t **result, sphd_err *e);
+static int op_results(sphd_request *r, json_t **result, sphd_err *e);
+static int op_fetch(sphd_request *r, json_t **result, sphd_err *e);
+static int op_export(sphd_request *r, json_t **result, sphd_err *e);
 
 static const sphd_command commands[] = {
     {"hello", op_hello, {{0}}, 0, "version, capabilities and the stream endpoint"},
@@ -144,6 +147,21 @@ static const sphd_command commands[] = {
     {"stop", op_stop, {{"job", 's', 1}, {0}}, CMD_JOB, "stop a job for good"},
     {"list", op_list, {{0}}, 0, "all jobs"},
     {"shutdown", op_shutdown, {{0}}, 0, "pause every job at a step boundary and exit"},
+    {"results",
+     op_results,
+     {{"job", 's', 1}, {"checksums", 'b', 0}, {0}},
+     CMD_JOB,
+     "the job's files: name, size, kind, optionally CRC-32"},
+    {"fetch",
+     op_fetch,
+     {{"job", 's', 1}, {"file", 's', 1}, {"offset", 'I', 0}, {"length", 'I', 0}, {0}},
+     CMD_JOB,
+     "one chunk of one of the job's files, base64"},
+    {"export",
+     op_export,
+     {{"job", 's', 1}, {"format", 's', 0}, {0}},
+     CMD_JOB,
+     "the job's diagnostics time series as CSV"},
 };
 
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
@@ -334,7 +352,7 @@ char *sphd_dispatch(sphd_daemon *d, const sphd_pending *req, const char *body, s
     const char *op = json_string_value(op_j);
     const sphd_command *c = lookup(op);
     if (!c) {
-        char list[200] = "";
+        char list[256] = "";
         for (size_t i = 0; i < NCOMMANDS; i++)
             snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "",
                      commands[i].name);
@@ -715,4 +733,35 @@ static int op_shutdown(sphd_request *r, json_t **result, sphd_err *e)
     sphd_log("shutdown requested");
     d->stopping = 1;
     return 1; /* answered by the loop once every job is paused */
+}
+
+static int op_results(sphd_request *r, json_t **result, sphd_err *e)
+{
+    *result = sphd_results_list(r->job, json_is_true(json_object_get(r->args, "checksums")), e);
+    return *result ? 0 : -1;
+}
+
+static int op_fetch(sphd_request *r, json_t **result, sphd_err *e)
+{
+    json_t *off_j = json_object_get(r->args, "offset"), *len_j = json_object_get(r->args, "length");
+    json_int_t offset = off_j ? json_integer_value(off_j) : 0;
+    json_int_t length = len_j ? json_integer_value(len_j) : SPHD_FETCH_DEFAULT;
+    if (offset < 0)
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/offset", "'offset' must be at least 0");
+    if (length < 1 || length > SPHD_FETCH_MAX)
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/length",
+                            "'length' must be in [1, %ld] (bytes)", SPHD_FETCH_MAX);
+    *result = sphd_results_fetch(r->job, json_string_value(json_object_get(r->args, "file")),
+                                 (long long)offset, (long)length, e);
+    return *result ? 0 : -1;
+}
+
+static int op_export(sphd_request *r, json_t **result, sphd_err *e)
+{
+    json_t *fmt = json_object_get(r->args, "format");
+    if (fmt && strcmp(json_string_value(fmt), "csv") != 0)
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/format",
+                            "unknown format '%.32s' (known: csv)", json_string_value(fmt));
+    *result = sphd_results_export_csv(r->job, e);
+    return *result ? 0 : -1;
 }

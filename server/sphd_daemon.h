@@ -225,6 +225,21 @@ void sphd_jobs_free(sphd_daemon *d);
 /* On start: takes up the jobs found in STATE_DIR/jobs (see sphd_jobs.c). */
 void sphd_jobs_recover(sphd_daemon *d);
 
+/* sphd_results.c: a job's result files (`results`, `fetch`, `export`); NULL with e set. */
+#define SPHD_FETCH_DEFAULT (1L << 20)
+#define SPHD_FETCH_MAX     (4L << 20)
+/* The kind of a job file from its name: case, record, journal, result, diagnostics, snapshot,
+ * xdmf, checkpoint or other. */
+const char *sphd_results_kind(const char *name);
+/* {"job","dir","files":[{"name","size","kind"[,"crc32"]}]}: regular files sorted by name,
+ * without the temporaries of atomic writes. */
+json_t *sphd_results_list(const sphd_job *j, int checksums, sphd_err *e);
+/* One chunk of one listed file: {"file","offset","length","size","eof","crc32","data"}. */
+json_t *sphd_results_fetch(const sphd_job *j, const char *file, long long offset, long length,
+                           sphd_err *e);
+/* The diagnostics series as CSV: {"format":"csv","rows","csv"}; bad_state without diag.h5. */
+json_t *sphd_results_export_csv(const sphd_job *j, sphd_err *e);
+
 /* sphd_worker.c */
 int sphd_workers_start(sphd_daemon *d);
 void sphd_workers_stop(sphd_daemon *d);

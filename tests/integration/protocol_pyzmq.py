@@ -27,7 +27,8 @@ try:
     h = d.ok("hello")
     F.check(h["stream"] == d.stream, "hello names the stream endpoint", h)
     F.check(h["ops"] == ["hello", "ping", "submit", "start", "step", "pause", "resume", "query",
-                         "stop", "list", "shutdown"], "hello lists the ops", h["ops"])
+                         "stop", "list", "shutdown", "results", "fetch", "export"],
+            "hello lists the ops", h["ops"])
     F.check(h["protocol"] == 1 and "kernel_study" in h["methods"], "hello: protocol, methods", h)
     req = d.socket(zmq.REQ)
     r = d.request("ping", sock=req)

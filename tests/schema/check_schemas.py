@@ -61,6 +61,9 @@ good = [
     {"op": "query", "args": {"job": "db", "fields": ["pos", "rho"], "max": 100}},
     {"op": "pause", "args": {"job": "db"}},
     {"op": "list", "args": {}},
+    {"op": "results", "args": {"job": "db", "checksums": True}},
+    {"op": "fetch", "args": {"job": "db", "file": "snap_000001.h5", "offset": 0, "length": 1048576}},
+    {"op": "export", "args": {"job": "db", "format": "csv"}},
 ]
 bad = [
     {"v": 2, "op": "ping"},
@@ -75,6 +78,13 @@ bad = [
     {"op": "step", "args": {"job": "db", "n": "3"}},
     {"op": "query", "args": {"job": "db", "max": 3}},
     {"op": "stop", "args": {}},
+    {"op": "fetch", "args": {"job": "db", "file": "../case.json"}},
+    {"op": "fetch", "args": {"job": "db", "file": ".hidden"}},
+    {"op": "fetch", "args": {"job": "db", "file": "case.json", "length": 0}},
+    {"op": "fetch", "args": {"job": "db", "file": "case.json", "offset": -1}},
+    {"op": "fetch", "args": {"job": "db"}},
+    {"op": "export", "args": {"job": "db", "format": "xlsx"}},
+    {"op": "results", "args": {"job": "db", "checksums": 1}},
 ]
 for r in good:
     errs = list(req_v.iter_errors(r))

@@ -128,6 +128,16 @@ static void test_envelope_errors(void **state)
         {"{\"op\":\"query\",\"args\":{\"job\":\"none\"}}", "not_found", "/args/job"},
         {"{\"op\":\"step\",\"args\":{\"job\":\"none\",\"n\":\"1\"}}", "bad_request", "/args/n"},
         {"{\"op\":\"step\",\"args\":{\"job\":\"none\",\"n\":1}}", "not_found", "/args/job"},
+        {"{\"op\":\"results\",\"args\":{\"job\":\"none\"}}", "not_found", "/args/job"},
+        {"{\"op\":\"results\",\"args\":{\"job\":\"none\",\"checksums\":1}}", "bad_request",
+         "/args/checksums"},
+        {"{\"op\":\"fetch\",\"args\":{\"job\":\"none\"}}", "bad_request", "/args/file"},
+        {"{\"op\":\"fetch\",\"args\":{\"job\":\"none\",\"file\":\"a\",\"offset\":1.5}}",
+         "bad_request", "/args/offset"},
+        {"{\"op\":\"fetch\",\"args\":{\"job\":\"none\",\"file\":\"a\"}}", "not_found", "/args/job"},
+        {"{\"op\":\"export\",\"args\":{\"job\":\"none\",\"format\":1}}", "bad_request",
+         "/args/format"},
+        {"{\"op\":\"export\",\"args\":{\"job\":\"none\"}}", "not_found", "/args/job"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
         expect_error(f, cases[i].text, cases[i].code, cases[i].path);
@@ -157,7 +167,7 @@ static void test_hello_lists_the_table(void **state)
     size_t n = 0;
     for (; sphd_op_name(n); n++)
         assert_string_equal(json_string_value(json_array_get(ops, n)), sphd_op_name(n));
-    assert_int_equal(n, 11);
+    assert_int_equal(n, 14);
     assert_int_equal(json_array_size(ops), n);
     assert_string_equal(json_string_value(json_object_get(h, "stream")), "inproc://stream");
     json_decref(h);

@@ -1,0 +1,431 @@
+/* sphctl's result-file commands: results (the listing), fetch (download, checksum verified) and
+ * export (the diagnostics as CSV). */
+#include "sphctl.h"
+
+#include "sph_base64.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#define FETCH_CHUNK (4L << 20) /* sphd's maximum `length` */
+
+static int usage(const char *cmd, const char *msg)
+{
+    fprintf(stderr, "sphctl: %s\nTry 'sphctl %s --help'.\n", msg, cmd);
+    return SPHCTL_EX_USAGE;
+}
+
+static void fmt_size(double bytes, char *buf, size_t n)
+{
+    static const char *const units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+    int u = 0;
+    while (bytes >= 1024 && u < 4) {
+        bytes /= 1024;
+        u++;
+    }
+    if (u == 0)
+        snprintf(buf, n, "%.0f B", bytes);
+    else
+        snprintf(buf, n, "%.1f %s", bytes, units[u]);
+}
+
+/* A local failure in --json mode is still one JSON document on stdout. */
+static int local_error(sphctl *c, int rc, const char *code, const char *fmt, const char *a,
+                       const char *b)
+{
+    char msg[1024];
+    snprintf(msg, sizeof msg, fmt, a, b);
+    fprintf(stderr, "sphctl: %s\n", msg);
+    if (c->json) {
+        json_t *doc =
+            json_pack("{s:b, s:{s:s, s:s}}", "ok", 0, "error", "code", code, "message", msg);
+        if (doc)
+            sphctl_print_json(doc, 1);
+        json_decref(doc);
+    }
+    return rc;
+}
+
+/* ---- results ---- */
+
+int sphctl_cmd_results(sphctl *c, int argc, char **argv)
+{
+    static const char help[] =
+        "Usage: sphctl results JOB [--checksums]\n"
+        "Lists the job's files in sphd's state directory: name, size, kind (case, record,\n"
+        "journal, result, diagnostics, snapshot, xdmf, checkpoint).\n"
+        "  --checksums   also the CRC-32 of each file (sphd reads every file: slower)\n"
+        "Exit codes: 0 ok, 1 no such job, 69 sphd unreachable.\n";
+    static const struct option lo[] = {{"checksums", no_argument, NULL, 'c'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
+    int checksums = 0, o;
+    optind = 0;
+    while ((o = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
+        if (o == 'h') {
+            fputs(help, stdout);
+            return 0;
+        }
+        if (o != 'c')
+            return usage("results", "bad option for results");
+        checksums = 1;
+    }
+    if (argc - optind != 1)
+        return usage("results", "results takes one JOB");
+    json_t *args = json_pack("{s:s}", "job", argv[optind]);
+    if (checksums)
+        json_object_set_new(args, "checksums", json_true());
+    json_t *r;
+    int rc = sphctl_request(c, "results", args, &r, NULL, 0);
+    if (rc)
+        return rc;
+    if (c->json) {
+        sphctl_print_json(r, 1);
+        json_decref(r);
+        return 0;
+    }
+    if (checksums)
+        printf("%-32s %10s  %-12s  %s\n", "NAME", "SIZE", "KIND", "CRC32");
+    else
+        printf("%-32s %10s  %s\n", "NAME", "SIZE", "KIND");
+    size_t i;
+    json_t *f;
+    json_array_foreach(json_object_get(r, "files"), i, f)
+    {
+        char size[32];
+        fmt_size((double)json_integer_value(json_object_get(f, "size")), size, sizeof size);
+        const char *name = json_string_value(json_object_get(f, "name"));
+        const char *kind = json_string_value(json_object_get(f, "kind"));
+        if (checksums)
+            printf("%-32s %10s  %-12s  %s\n", name, size, kind,
+                   json_string_value(json_object_get(f, "crc32")));
+        else
+            printf("%-32s %10s  %s\n", name, size, kind);
+    }
+    printf("(in %s on sphd's machine)\n", json_string_value(json_object_get(r, "dir")));
+    json_decref(r);
+    return 0;
+}
+
+/* ---- fetch ---- */
+
+static int mkdir_if_needed(const char *path)
+{
+    if (mkdir(path, 0755) == 0 || errno == EEXIST) {
+        struct stat st;
+        if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+            return 0;
+        errno = ENOTDIR;
+    }
+    return -1;
+}
+
+/* mkdir -p */
+static int mkdirs(const char *path)
+{
+    char buf[4096];
+    if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf) {
+        errno = ENAMETOOLONG;
+        return -1;
+    }
+    for (char *p = buf + 1; *p; p++) {
+        if (*p != '/' || p[-1] == '/')
+            continue;
+        *p = '\0';
+        int rc = mkdir_if_needed(buf);
+        *p = '/';
+        if (rc != 0)
+            return -1;
+    }
+    return mkdir_if_needed(buf);
+}
+
+static int write_all(int fd, const unsigned char *p, size_t n)
+{
+    while (n > 0) {
+        ssize_t w = write(fd, p, n);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w < 0)
+            return -1;
+        p += w;
+        n -= (size_t)w;
+    }
+    return 0;
+}
+
+typedef struct fetch_file {
+    const char *job, *name, *dir; /* dir: DEST/JOB */
+    const char *want_crc;         /* from results --checksums */
+    long long size;               /* from results */
+    int progress;                 /* on a TTY */
+} fetch_file;
+
+/* Downloads one file into f->dir under a temporary name, then renames it. Returns 0 (crc set to
+ * the file's CRC-32, *bytes its size) or an exit code (the partial file removed). */
+static int fetch_one(sphctl *c, const fetch_file *f, char crc_out[16], long long *bytes)
+{
+    char tmp[4096], final[4096];
+    if (snprintf(final, sizeof final, "%s/%s", f->dir, f->name) >= (int)sizeof final ||
+        snprintf(tmp, sizeof tmp, "%s/.%s.part.%ld", f->dir, f->name, (long)getpid()) >=
+            (int)sizeof tmp)
+        return local_error(c, SPHCTL_EX_CANTCREAT, "io", "path too long: %s%s", f->dir, "");
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0)
+        return local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot create %s: %s", tmp,
+                           strerror(errno));
+    uLong crc = crc32(0L, Z_NULL, 0);
+    long long off = 0;
+    unsigned char *buf = malloc(FETCH_CHUNK);
+    int rc = buf ? 0 : local_error(c, SPHCTL_EX_SOFTWARE, "internal", "out of memory%s%s", "", "");
+    for (int eof = 0; !rc && !eof;) {
+        json_t *args = json_pack("{s:s, s:s, s:I, s:I}", "job", f->job, "file", f->name, "offset",
+                                 (json_int_t)off, "length", (json_int_t)FETCH_CHUNK);
+        json_t *r;
+        if ((rc = sphctl_request(c, "fetch", args, &r, NULL, 0)))
+            break;
+        const char *data = json_string_value(json_object_get(r, "data"));
+        const char *chunk_crc = json_string_value(json_object_get(r, "crc32"));
+        json_int_t len = json_integer_value(json_object_get(r, "length"));
+        eof = json_is_true(json_object_get(r, "eof"));
+        size_t dlen = data ? strlen(data) : 0;
+        long n =
+            data && dlen / 4 * 3 <= (size_t)FETCH_CHUNK ? sph_base64_decode(data, dlen, buf) : -1;
+        char hex[16] = "";
+        if (n >= 0)
+            snprintf(hex, sizeof hex, "%08lx",
+                     crc32(crc32(0L, Z_NULL, 0), buf, (uInt)n) & 0xffffffffUL);
+        if (n < 0 || n != len || !chunk_crc || strcmp(hex, chunk_crc) != 0) {
+            char where[64];
+            snprintf(where, sizeof where, "%lld", off);
+            rc = local_error(c, SPHCTL_EX_FAILED, "checksum",
+                             "%s: the chunk at offset %s arrived damaged (CRC-32 mismatch); "
+                             "partial file removed, run fetch again",
+                             f->name, where);
+        } else if (write_all(fd, buf, (size_t)n) != 0) {
+            rc = local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot write %s: %s", tmp,
+                             strerror(errno));
+        } else {
+            crc = crc32(crc, buf, (uInt)n);
+            off += n;
+            if (!eof && n == 0)
+                eof = 1; /* no progress: the file shrank */
+        }
+        json_decref(r);
+        if (f->progress && !rc) {
+            fprintf(stderr, "\r%-32s %lld/%lld bytes", f->name, off, f->size);
+            fflush(stderr);
+        }
+    }
+    free(buf);
+    if (f->progress)
+        fputs("\r\033[K", stderr);
+    if (!rc && fsync(fd) != 0)
+        rc = local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot write %s: %s", tmp, strerror(errno));
+    if (close(fd) != 0 && !rc)
+        rc = local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot write %s: %s", tmp, strerror(errno));
+    snprintf(crc_out, 16, "%08lx", crc & 0xffffffffUL);
+    if (!rc && f->want_crc && strcmp(crc_out, f->want_crc) != 0)
+        rc = local_error(c, SPHCTL_EX_FAILED, "checksum",
+                         "%s: CRC-32 mismatch over the whole file (the file changed on sphd's "
+                         "side, or the transfer is damaged; want %s); partial file removed, run "
+                         "fetch again",
+                         f->name, f->want_crc);
+    if (!rc && rename(tmp, final) != 0)
+        rc = local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot rename to %s: %s", final,
+                         strerror(errno));
+    if (rc)
+        unlink(tmp);
+    *bytes = off;
+    return rc;
+}
+
+int sphctl_cmd_fetch(sphctl *c, int argc, char **argv)
+{
+    static const char help[] =
+        "Usage: sphctl fetch JOB [--dest DIR] [--include-checkpoints]\n"
+        "Downloads the job's files over the control socket into DIR/JOB/ (default DIR: .),\n"
+        "for a client on another machine than sphd. Each chunk's CRC-32 is checked, then each\n"
+        "whole file's against 'sphctl results JOB --checksums'; a file is written under a\n"
+        "temporary name and renamed when complete.\n"
+        "  --dest DIR              where to put the JOB directory (created if needed)\n"
+        "  --include-checkpoints   also the checkpoints (large; only useful to resume elsewhere)\n"
+        "Exit codes: 0 ok, 1 refused or a checksum mismatch (the partial file is removed),\n"
+        "69 sphd unreachable, 73 cannot write DIR.\n";
+    static const struct option lo[] = {{"dest", required_argument, NULL, 'd'},
+                                       {"include-checkpoints", no_argument, NULL, 'k'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
+    const char *dest = ".";
+    int with_ckpt = 0, o;
+    optind = 0;
+    while ((o = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
+        if (o == 'h') {
+            fputs(help, stdout);
+            return 0;
+        }
+        if (o == 'd')
+            dest = optarg;
+        else if (o == 'k')
+            with_ckpt = 1;
+        else
+            return usage("fetch", "bad option for fetch");
+    }
+    if (argc - optind != 1)
+        return usage("fetch", "fetch takes one JOB");
+    const char *job = argv[optind];
+    json_t *list;
+    int rc = sphctl_request(c, "results", json_pack("{s:s, s:b}", "job", job, "checksums", 1),
+                            &list, NULL, 0);
+    if (rc)
+        return rc;
+    char dir[4096];
+    if (snprintf(dir, sizeof dir, "%s/%s", dest, job) >= (int)sizeof dir) {
+        json_decref(list);
+        return local_error(c, SPHCTL_EX_USAGE, "usage", "--dest too long: %s%s", dest, "");
+    }
+    if (mkdirs(dest) != 0 || mkdir_if_needed(dir) != 0) {
+        json_decref(list);
+        return local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot create %s: %s", dir,
+                           strerror(errno));
+    }
+    json_t *done = json_array();
+    long long total = 0;
+    size_t i;
+    json_t *f;
+    json_array_foreach(json_object_get(list, "files"), i, f)
+    {
+        const char *name = json_string_value(json_object_get(f, "name"));
+        const char *kind = json_string_value(json_object_get(f, "kind"));
+        if (!name || (!with_ckpt && kind && strcmp(kind, "checkpoint") == 0))
+            continue;
+        fetch_file ff = {.job = job,
+                         .name = name,
+                         .dir = dir,
+                         .want_crc = json_string_value(json_object_get(f, "crc32")),
+                         .size = json_integer_value(json_object_get(f, "size")),
+                         .progress = !c->json && isatty(STDERR_FILENO)};
+        char crc[16];
+        long long bytes = 0;
+        if ((rc = fetch_one(c, &ff, crc, &bytes)))
+            break;
+        total += bytes;
+        json_array_append_new(done, json_pack("{s:s, s:I, s:s}", "name", name, "size",
+                                              (json_int_t)bytes, "crc32", crc));
+        if (!c->json) {
+            char size[32];
+            fmt_size((double)bytes, size, sizeof size);
+            printf("%-32s %10s  ok\n", name, size);
+            fflush(stdout);
+        }
+    }
+    json_decref(list);
+    if (!rc) {
+        if (c->json) {
+            json_t *doc = json_pack("{s:s, s:s, s:O, s:I}", "job", job, "dest", dir, "files", done,
+                                    "bytes", (json_int_t)total);
+            sphctl_print_json(doc, 1);
+            json_decref(doc);
+        } else {
+            char size[32];
+            fmt_size((double)total, size, sizeof size);
+            printf("%zu file(s), %s in %s\n", json_array_size(done), size, dir);
+        }
+    }
+    json_decref(done);
+    return rc;
+}
+
+/* ---- export ---- */
+
+static int write_file_atomic(const char *path, const char *data, size_t len)
+{
+    char tmp[4096];
+    if (snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid()) >= (int)sizeof tmp) {
+        errno = ENAMETOOLONG;
+        return -1;
+    }
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0)
+        return -1;
+    int bad = write_all(fd, (const unsigned char *)data, len) != 0 || fsync(fd) != 0;
+    int saved = errno;
+    if (close(fd) != 0 && !bad) {
+        bad = 1;
+        saved = errno;
+    }
+    if (!bad && rename(tmp, path) != 0) {
+        bad = 1;
+        saved = errno;
+    }
+    if (bad) {
+        unlink(tmp);
+        errno = saved;
+        return -1;
+    }
+    return 0;
+}
+
+int sphctl_cmd_export(sphctl *c, int argc, char **argv)
+{
+    static const char help[] =
+        "Usage: sphctl export JOB [--out FILE]\n"
+        "The job's diagnostics time series (step, t, dt, ekin, ... one row per diag) as CSV,\n"
+        "for a spreadsheet; works while the job runs.\n"
+        "  --out FILE   write it to FILE (atomically) instead of stdout\n"
+        "With --json: {\"format\": \"csv\", \"rows\": N, \"csv\": TEXT} on stdout.\n"
+        "Exit codes: 0 ok, 1 no such job or no diagnostics (kernel studies have none, a\n"
+        "simulation has them once it ran), 69 sphd unreachable, 73 cannot write FILE.\n";
+    static const struct option lo[] = {{"out", required_argument, NULL, 'o'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
+    const char *out = NULL;
+    int o;
+    optind = 0;
+    while ((o = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
+        if (o == 'h') {
+            fputs(help, stdout);
+            return 0;
+        }
+        if (o != 'o')
+            return usage("export", "bad option for export");
+        out = optarg;
+    }
+    if (argc - optind != 1)
+        return usage("export", "export takes one JOB");
+    json_t *r;
+    int rc = sphctl_request(
+        c, "export", json_pack("{s:s, s:s}", "job", argv[optind], "format", "csv"), &r, NULL, 0);
+    if (rc)
+        return rc;
+    json_t *csv = json_object_get(r, "csv");
+    const char *text = json_string_value(csv);
+    size_t len = json_string_length(csv);
+    if (!text) {
+        json_decref(r);
+        return local_error(c, SPHCTL_EX_SOFTWARE, "internal", "sphd sent no CSV%s%s", "", "");
+    }
+    if (out && write_file_atomic(out, text, len) != 0) {
+        rc = local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot write %s: %s", out, strerror(errno));
+    } else if (c->json) {
+        if (out) {
+            json_object_del(r, "csv");
+            json_object_set_new(r, "out", json_string(out));
+        }
+        sphctl_print_json(r, 1);
+    } else if (out) {
+        printf("%lld rows written to %s\n",
+               (long long)json_integer_value(json_object_get(r, "rows")), out);
+    } else if (fwrite(text, 1, len, stdout) != len || fflush(stdout) != 0) {
+        rc = SPHCTL_EX_CANTCREAT;
+    }
+    json_decref(r);
+    return rc;
+}
