@@ -9,4 +9,4 @@ tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
   echo "FAIL: sphd --run exited $?"; tail -n 3 "$tmp/events.jsonl"; exit 1; }
 tail -n 2 "$tmp/events.jsonl" | head -n 1
 /usr/bin/python3 "$src/tests/validation/dambreak_front.py" "$tmp/events.jsonl" \
-  "${SPH_REFERENCE_DIR:-$src/../shared/reference}/dambreak_front_MartinMoyce1952_table2_n2eq2.csv" --bound 0.10
+  "${SPH_REFERENCE_DIR:-$src/tests/validation/reference}/dambreak_front_MartinMoyce1952_table2_n2eq2.csv" --bound 0.10
