@@ -54,7 +54,7 @@ typedef struct command {
 
 /* ---- helpers ---- */
 
-static int usage_error(const char *cmd, const char *fmt, const char *arg)
+int sphctl_usage(const char *cmd, const char *fmt, const char *arg)
 {
     fputs("sphctl: ", stderr);
     fprintf(stderr, fmt, arg);
@@ -62,59 +62,94 @@ static int usage_error(const char *cmd, const char *fmt, const char *arg)
     return SPHCTL_EX_USAGE;
 }
 
+int sphctl_args(const sphctl_argspec *spec, int argc, char **argv,
+                int (*on_opt)(void *ud, int o, const char *arg), void *ud)
+{
+    static const struct option help_only[] = {{"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
+    int o;
+    optind = 0;
+    while ((o = getopt_long(argc, argv, spec->optstring, spec->opts ? spec->opts : help_only,
+                            NULL)) != -1) {
+        if (o == 'h') {
+            fputs(spec->help, stdout);
+            return 0;
+        }
+        if (o == '?' || !on_opt) {
+            if (spec->bad_option)
+                return sphctl_usage(argv[0], "%s", spec->bad_option);
+            return sphctl_usage(argv[0], "bad option for %s", argv[0]);
+        }
+        int rc = on_opt(ud, o, optarg);
+        if (rc)
+            return rc;
+    }
+    int npos = argc - optind;
+    if (npos >= spec->min_args && npos <= spec->max_args)
+        return SPHCTL_RUN;
+    if (spec->bad_count)
+        return sphctl_usage(argv[0], "%s", spec->bad_count);
+    fprintf(stderr, "sphctl: %s takes %d argument%s\n%s", argv[0], spec->min_args,
+            spec->min_args == 1 ? "" : "s", spec->help);
+    return SPHCTL_EX_USAGE;
+}
+
 /* Parses the options of a command that takes none but --help, and exactly nargs positionals. */
 static int simple_args(int argc, char **argv, int nargs, const char *help)
 {
-    static const struct option lo[] = {{"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
-    int o;
-    optind = 0;
-    while ((o = getopt_long(argc, argv, "+h", lo, NULL)) != -1) {
-        if (o == 'h') {
-            fputs(help, stdout);
-            return -1;
-        }
-        return usage_error(argv[0], "bad option for %s", argv[0]);
-    }
-    if (argc - optind != nargs) {
-        fprintf(stderr, "sphctl: %s takes %d argument%s\n%s", argv[0], nargs, nargs == 1 ? "" : "s",
-                help);
-        return SPHCTL_EX_USAGE;
-    }
+    const sphctl_argspec spec = {
+        .help = help, .optstring = "+h", .min_args = nargs, .max_args = nargs};
+    return sphctl_args(&spec, argc, argv, NULL, NULL);
+}
+
+int sphctl_store_opt(void *ud, int o, const char *arg)
+{
+    ((const char **)ud)[o] = arg ? arg : "";
     return 0;
 }
 
-static double num(const json_t *o, const char *k)
+int sphctl_show(sphctl *c, const char *op, json_t *args,
+                void (*human)(const json_t *r, const void *ud), const void *ud)
 {
-    json_t *v = json_object_get(o, k);
-    return json_is_number(v) ? json_number_value(v) : NAN;
+    json_t *r;
+    int rc = sphctl_request(c, op, args, &r, NULL, 0);
+    if (rc)
+        return rc;
+    if (c->json || !human)
+        sphctl_print_json(r, c->json);
+    else
+        human(r, ud);
+    json_decref(r);
+    return 0;
 }
 
 static void print_status_line(const json_t *s)
 {
     const json_t *p = json_object_get(s, "progress");
     char prog[64] = "-", eta[32] = "-", wall[32];
-    double t = num(p, "t"), te = num(p, "t_end");
+    double t = sphctl_num(p, "t"), te = sphctl_num(p, "t_end");
     if (isfinite(t) && isfinite(te) && te > 0)
         snprintf(prog, sizeof prog, "%.4g/%.4g s", t, te);
-    sphctl_fmt_duration(num(p, "eta"), eta, sizeof eta);
-    sphctl_fmt_duration(num(p, "wall"), wall, sizeof wall);
+    sphctl_fmt_duration(sphctl_num(p, "eta"), eta, sizeof eta);
+    sphctl_fmt_duration(sphctl_num(p, "wall"), wall, sizeof wall);
     printf("%-24s %-8s %-13s %-18s %10lld %9s %8s\n", json_string_value(json_object_get(s, "job")),
            json_string_value(json_object_get(s, "state")),
            json_string_value(json_object_get(s, "method")), prog,
            (long long)json_integer_value(json_object_get(p, "steps")), wall, eta);
 }
 
-static void print_status_table(const json_t *jobs)
+static void print_status_table(const json_t *r, const void *ud)
 {
+    (void)ud;
     printf("%-24s %-8s %-13s %-18s %10s %9s %8s\n", "JOB", "STATE", "METHOD", "TIME", "STEPS",
            "WALL", "ETA");
     size_t i;
     json_t *s;
-    json_array_foreach(jobs, i, s) print_status_line(s);
+    json_array_foreach(json_object_get(r, "jobs"), i, s) print_status_line(s);
 }
 
-static void print_status_long(const json_t *s)
+static void print_status_long(const json_t *s, const void *ud)
 {
+    (void)ud;
     const json_t *p = json_object_get(s, "progress");
     printf("job      %s\n", json_string_value(json_object_get(s, "job")));
     printf("state    %s", json_string_value(json_object_get(s, "state")));
@@ -123,17 +158,17 @@ static void print_status_long(const json_t *s)
         printf(" (%s)", reason);
     printf("\nmethod   %s (case '%s')\n", json_string_value(json_object_get(s, "method")),
            json_string_value(json_object_get(s, "name")));
-    double t = num(p, "t"), te = num(p, "t_end"), rate = num(p, "steps_per_s");
+    double t = sphctl_num(p, "t"), te = sphctl_num(p, "t_end"), rate = sphctl_num(p, "steps_per_s");
     if (isfinite(t))
         printf("time     %.6g s of %.6g s\n", t, te);
     printf("steps    %lld", (long long)json_integer_value(json_object_get(p, "steps")));
     if (isfinite(rate) && rate > 0)
         printf(" (%.0f steps/s)", rate);
     char buf[32];
-    sphctl_fmt_duration(num(p, "wall"), buf, sizeof buf);
+    sphctl_fmt_duration(sphctl_num(p, "wall"), buf, sizeof buf);
     printf("\nwall     %s", buf);
-    if (isfinite(num(p, "eta"))) {
-        sphctl_fmt_duration(num(p, "eta"), buf, sizeof buf);
+    if (isfinite(sphctl_num(p, "eta"))) {
+        sphctl_fmt_duration(sphctl_num(p, "eta"), buf, sizeof buf);
         printf(", ETA %s", buf);
     }
     printf("\ndir      %s\n", json_string_value(json_object_get(s, "dir")));
@@ -141,7 +176,7 @@ static void print_status_long(const json_t *s)
     if (json_object_get(ps, "n"))
         printf("pending  step %lld\n", (long long)json_integer_value(json_object_get(ps, "n")));
     else if (json_object_get(ps, "until"))
-        printf("pending  step until t = %g s\n", num(ps, "until"));
+        printf("pending  step until t = %g s\n", sphctl_num(ps, "until"));
     const json_t *d = json_object_get(s, "diag");
     if (json_is_object(d)) {
         printf("diag    ");
@@ -158,16 +193,11 @@ static void print_status_long(const json_t *s)
         printf("result   in %s/result.json\n", json_string_value(json_object_get(s, "dir")));
 }
 
-/* Prints a one-job result (for pause, resume, stop, start, step). */
-static int print_job_result(sphctl *c, json_t *r, const char *verb)
+/* Prints a one-job result (for pause, resume, stop, start, step); ud is the verb. */
+static void print_job_result(const json_t *r, const void *verb)
 {
-    if (c->json)
-        sphctl_print_json(r, 1);
-    else
-        printf("%s: %s%s\n", json_string_value(json_object_get(r, "job")),
-               json_string_value(json_object_get(r, "state")), verb);
-    json_decref(r);
-    return 0;
+    printf("%s: %s%s\n", json_string_value(json_object_get(r, "job")),
+           json_string_value(json_object_get(r, "state")), (const char *)verb);
 }
 
 /* ---- commands ---- */
@@ -176,8 +206,8 @@ static int cmd_ping(sphctl *c, int argc, char **argv)
 {
     static const char help[] = "Usage: sphctl ping\nAsks sphd for a pong; prints the round trip.\n";
     int rc = simple_args(argc, argv, 0, help);
-    if (rc)
-        return rc < 0 ? 0 : rc;
+    if (rc != SPHCTL_RUN)
+        return rc;
     struct timespec a, b;
     clock_gettime(CLOCK_MONOTONIC, &a);
     json_t *r;
@@ -192,6 +222,34 @@ static int cmd_ping(sphctl *c, int argc, char **argv)
         printf("pong from %s in %.2f ms\n", c->endpoint, ms);
     }
     json_decref(r);
+    return 0;
+}
+
+typedef struct submit_opts {
+    const char *id;
+    int watch, nostart;
+    json_t *sets;
+} submit_opts;
+
+static int submit_opt(void *ud, int o, const char *arg)
+{
+    submit_opts *so = ud;
+    switch (o) {
+    case 'i':
+        so->id = arg;
+        break;
+    case 's':
+        if (!strchr(arg, '='))
+            return sphctl_usage("submit", "--set takes PATH=VALUE, not '%s'", arg);
+        json_array_append_new(so->sets, json_string(arg));
+        break;
+    case 'n':
+        so->nostart = 1;
+        break;
+    case 'w':
+        so->watch = 1;
+        break;
+    }
     return 0;
 }
 
@@ -212,73 +270,44 @@ static int cmd_submit(sphctl *c, int argc, char **argv)
         {"id", required_argument, NULL, 'i'}, {"set", required_argument, NULL, 's'},
         {"no-start", no_argument, NULL, 'n'}, {"watch", no_argument, NULL, 'w'},
         {"help", no_argument, NULL, 'h'},     {NULL, 0, NULL, 0}};
-    const char *id = NULL;
-    int watch = 0, nostart = 0, o;
-    json_t *sets = json_array();
-    optind = 0;
-    while ((o = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
-        switch (o) {
-        case 'i':
-            id = optarg;
-            break;
-        case 's':
-            if (!strchr(optarg, '=')) {
-                json_decref(sets);
-                return usage_error("submit", "--set takes PATH=VALUE, not '%s'", optarg);
-            }
-            json_array_append_new(sets, json_string(optarg));
-            break;
-        case 'n':
-            nostart = 1;
-            break;
-        case 'w':
-            watch = 1;
-            break;
-        case 'h':
-            fputs(help, stdout);
-            json_decref(sets);
-            return 0;
-        default:
-            json_decref(sets);
-            return usage_error("submit", "%s", "bad option");
-        }
-    }
-    if (argc - optind != 1) {
-        json_decref(sets);
-        return usage_error("submit", "%s", "submit takes one case FILE");
+    static const sphctl_argspec spec = {
+        help, "h", lo, "bad option", 1, 1, "submit takes one case FILE"};
+    submit_opts so = {.sets = json_array()};
+    int rc = sphctl_args(&spec, argc, argv, submit_opt, &so);
+    if (rc != SPHCTL_RUN) {
+        json_decref(so.sets);
+        return rc;
     }
     c->file = argv[optind];
     json_t *root;
     sph_error err;
     if (sph_case_load(c->file, &root, &err)) {
-        json_decref(sets);
+        json_decref(so.sets);
         fprintf(stderr, "sphctl: %s\n", err.message);
         return err.code == SPH_ERR_IO ? SPHCTL_EX_NOINPUT : SPHCTL_EX_DATAERR;
     }
     json_t *args = json_pack("{s:o}", "case", root);
-    if (id)
-        json_object_set_new(args, "job", json_string(id));
-    if (nostart)
+    if (so.id)
+        json_object_set_new(args, "job", json_string(so.id));
+    if (so.nostart)
         json_object_set_new(args, "start", json_false());
-    if (json_array_size(sets))
-        json_object_set(args, "set", sets);
-    json_decref(sets);
+    if (json_array_size(so.sets))
+        json_object_set(args, "set", so.sets);
+    json_decref(so.sets);
     json_t *r;
-    int rc = sphctl_request(c, "submit", args, &r, NULL, 0);
-    if (rc)
+    if ((rc = sphctl_request(c, "submit", args, &r, NULL, 0)))
         return rc;
     char job[128];
     snprintf(job, sizeof job, "%s", json_string_value(json_object_get(r, "job")));
-    if (c->json && !watch)
+    if (c->json && !so.watch)
         sphctl_print_json(r, 1);
     else if (!c->json)
-        fprintf(watch ? stderr : stdout, "%s%s\n", job,
+        fprintf(so.watch ? stderr : stdout, "%s%s\n", job,
                 json_is_false(json_object_get(r, "created")) ? " (already submitted)" : "");
     json_decref(r);
-    if (!watch)
+    if (!so.watch)
         return 0;
-    rc = sphctl_watch(c, job);
-    return rc;
+    return sphctl_watch(c, job);
 }
 
 static int cmd_status(sphctl *c, int argc, char **argv)
@@ -287,54 +316,24 @@ static int cmd_status(sphctl *c, int argc, char **argv)
         "Usage: sphctl status [JOB]\n"
         "One job's state, progress (t / t_end, steps, wall time, steps/s, ETA) and latest\n"
         "diagnostics; without JOB, a table of all jobs (like 'list').\n";
-    static const struct option lo[] = {{"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
-    int o;
-    optind = 0;
-    while ((o = getopt_long(argc, argv, "+h", lo, NULL)) != -1) {
-        if (o == 'h') {
-            fputs(help, stdout);
-            return 0;
-        }
-        return usage_error("status", "%s", "bad option");
-    }
-    if (argc - optind > 1)
-        return usage_error("status", "%s", "status takes at most one JOB");
-    json_t *r;
-    int rc;
-    if (argc - optind == 0) {
-        if ((rc = sphctl_request(c, "list", NULL, &r, NULL, 0)))
-            return rc;
-        if (c->json)
-            sphctl_print_json(r, 1);
-        else
-            print_status_table(json_object_get(r, "jobs"));
-    } else {
-        if ((rc = sphctl_request(c, "query", json_pack("{s:s}", "job", argv[optind]), &r, NULL, 0)))
-            return rc;
-        if (c->json)
-            sphctl_print_json(r, 1);
-        else
-            print_status_long(r);
-    }
-    json_decref(r);
-    return 0;
+    static const sphctl_argspec spec = {
+        help, "+h", NULL, "bad option", 0, 1, "status takes at most one JOB"};
+    int rc = sphctl_args(&spec, argc, argv, NULL, NULL);
+    if (rc != SPHCTL_RUN)
+        return rc;
+    if (argc - optind == 0)
+        return sphctl_show(c, "list", NULL, print_status_table, NULL);
+    return sphctl_show(c, "query", json_pack("{s:s}", "job", argv[optind]), print_status_long,
+                       NULL);
 }
 
 static int cmd_list(sphctl *c, int argc, char **argv)
 {
     static const char help[] = "Usage: sphctl list\nAll jobs sphd holds, oldest first.\n";
     int rc = simple_args(argc, argv, 0, help);
-    if (rc)
-        return rc < 0 ? 0 : rc;
-    json_t *r;
-    if ((rc = sphctl_request(c, "list", NULL, &r, NULL, 0)))
+    if (rc != SPHCTL_RUN)
         return rc;
-    if (c->json)
-        sphctl_print_json(r, 1);
-    else
-        print_status_table(json_object_get(r, "jobs"));
-    json_decref(r);
-    return 0;
+    return sphctl_show(c, "list", NULL, print_status_table, NULL);
 }
 
 static int cmd_watch(sphctl *c, int argc, char **argv)
@@ -346,46 +345,42 @@ static int cmd_watch(sphctl *c, int argc, char **argv)
         "then the job's events). Missed events are reported as gaps.\n"
         "Exit codes: 0 done, 1 failed or stopped, 69 sphd unreachable.\n";
     int rc = simple_args(argc, argv, 1, help);
-    if (rc)
-        return rc < 0 ? 0 : rc;
+    if (rc != SPHCTL_RUN)
+        return rc;
     return sphctl_watch(c, argv[optind]);
 }
 
 /* pause, resume, stop, start: one job, one op. */
-static int job_op(sphctl *c, int argc, char **argv, const char *help, const char *verb)
+static int job_op(sphctl *c, int argc, char **argv, const char *help)
 {
     int rc = simple_args(argc, argv, 1, help);
-    if (rc)
-        return rc < 0 ? 0 : rc;
-    json_t *r;
-    if ((rc = sphctl_request(c, argv[0], json_pack("{s:s}", "job", argv[optind]), &r, NULL, 0)))
+    if (rc != SPHCTL_RUN)
         return rc;
-    return print_job_result(c, r, verb);
+    return sphctl_show(c, argv[0], json_pack("{s:s}", "job", argv[optind]), print_job_result, "");
 }
 
 static int cmd_pause(sphctl *c, int argc, char **argv)
 {
     return job_op(c, argc, argv,
                   "Usage: sphctl pause JOB\nPauses JOB at the next step boundary (replies once "
-                  "it is paused).\n",
-                  "");
+                  "it is paused).\n");
 }
 
 static int cmd_resume(sphctl *c, int argc, char **argv)
 {
-    return job_op(c, argc, argv, "Usage: sphctl resume JOB\nRuns a paused JOB again.\n", "");
+    return job_op(c, argc, argv, "Usage: sphctl resume JOB\nRuns a paused JOB again.\n");
 }
 
 static int cmd_stop(sphctl *c, int argc, char **argv)
 {
     return job_op(c, argc, argv,
-                  "Usage: sphctl stop JOB\nStops JOB for good at the next step boundary.\n", "");
+                  "Usage: sphctl stop JOB\nStops JOB for good at the next step boundary.\n");
 }
 
 static int cmd_start(sphctl *c, int argc, char **argv)
 {
     return job_op(c, argc, argv,
-                  "Usage: sphctl start JOB\nStarts a job submitted with --no-start.\n", "");
+                  "Usage: sphctl start JOB\nStarts a job submitted with --no-start.\n");
 }
 
 static int cmd_step(sphctl *c, int argc, char **argv)
@@ -395,47 +390,35 @@ static int cmd_step(sphctl *c, int argc, char **argv)
         "       sphctl step JOB --until T\n"
         "Advances a paused (or queued) JOB by N solver steps, or to simulated time T in\n"
         "seconds, then leaves it paused.\n";
-    static const struct option lo[] = {{"until", required_argument, NULL, 'u'},
+    static const struct option lo[] = {{"until", required_argument, NULL, 0},
                                        {"help", no_argument, NULL, 'h'},
                                        {NULL, 0, NULL, 0}};
+    static const char bad_count[] = "step takes JOB and N, or JOB and --until T";
+    static const sphctl_argspec spec = {help, "h", lo, "bad option", 1, 2, bad_count};
     const char *until = NULL;
-    int o;
-    optind = 0;
-    while ((o = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
-        if (o == 'h') {
-            fputs(help, stdout);
-            return 0;
-        }
-        if (o == 'u')
-            until = optarg;
-        else
-            return usage_error("step", "%s", "bad option");
-    }
-    int npos = argc - optind;
-    if (!(npos == 2 && !until) && !(npos == 1 && until))
-        return usage_error("step", "%s", "step takes JOB and N, or JOB and --until T");
+    int rc = sphctl_args(&spec, argc, argv, sphctl_store_opt, &until);
+    if (rc != SPHCTL_RUN)
+        return rc;
+    if ((argc - optind == 2) == (until != NULL))
+        return sphctl_usage("step", "%s", bad_count);
     json_t *args = json_pack("{s:s}", "job", argv[optind]);
     char *end;
     if (until) {
         double t = strtod(until, &end);
         if (*end || end == until || !isfinite(t)) {
             json_decref(args);
-            return usage_error("step", "--until takes a time in seconds, not '%s'", until);
+            return sphctl_usage("step", "--until takes a time in seconds, not '%s'", until);
         }
         json_object_set_new(args, "until", json_real(t));
     } else {
         long n = strtol(argv[optind + 1], &end, 10);
         if (*end || n < 1) {
             json_decref(args);
-            return usage_error("step", "N must be a positive integer, not '%s'", argv[optind + 1]);
+            return sphctl_usage("step", "N must be a positive integer, not '%s'", argv[optind + 1]);
         }
         json_object_set_new(args, "n", json_integer(n));
     }
-    json_t *r;
-    int rc = sphctl_request(c, "step", args, &r, NULL, 0);
-    if (rc)
-        return rc;
-    return print_job_result(c, r, " (stepping; it pauses when done)");
+    return sphctl_show(c, "step", args, print_job_result, " (stepping; it pauses when done)");
 }
 
 static int cmd_query(sphctl *c, int argc, char **argv)
@@ -444,53 +427,43 @@ static int cmd_query(sphctl *c, int argc, char **argv)
         "Usage: sphctl query JOB [--fields pos,vel,rho,p] [--max N]\n"
         "Prints the job's state, progress and latest diagnostics as JSON; with --fields also\n"
         "the particle fields, downsampled to at most N particles with --max.\n";
-    static const struct option lo[] = {{"fields", required_argument, NULL, 'f'},
-                                       {"max", required_argument, NULL, 'm'},
+    enum { FIELDS, MAX, NOPTS };
+    static const struct option lo[] = {{"fields", required_argument, NULL, FIELDS},
+                                       {"max", required_argument, NULL, MAX},
                                        {"help", no_argument, NULL, 'h'},
                                        {NULL, 0, NULL, 0}};
-    const char *fields = NULL, *max = NULL;
-    int o;
-    optind = 0;
-    while ((o = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
-        if (o == 'h') {
-            fputs(help, stdout);
-            return 0;
-        }
-        if (o == 'f')
-            fields = optarg;
-        else if (o == 'm')
-            max = optarg;
-        else
-            return usage_error("query", "%s", "bad option");
-    }
-    if (argc - optind != 1)
-        return usage_error("query", "%s", "query takes one JOB");
+    static const sphctl_argspec spec = {help, "h", lo, "bad option", 1, 1, "query takes one JOB"};
+    const char *opt[NOPTS] = {NULL};
+    int rc = sphctl_args(&spec, argc, argv, sphctl_store_opt, opt);
+    if (rc != SPHCTL_RUN)
+        return rc;
     json_t *args = json_pack("{s:s}", "job", argv[optind]);
-    if (fields) {
+    if (opt[FIELDS]) {
         json_t *arr = json_array();
         char buf[512];
-        snprintf(buf, sizeof buf, "%s", fields);
+        snprintf(buf, sizeof buf, "%s", opt[FIELDS]);
         char *save = NULL;
         for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save))
             json_array_append_new(arr, json_string(t));
         json_object_set_new(args, "fields", arr);
     }
-    if (max) {
+    if (opt[MAX]) {
         char *end;
-        long n = strtol(max, &end, 10);
+        long n = strtol(opt[MAX], &end, 10);
         if (*end || n < 1) {
             json_decref(args);
-            return usage_error("query", "--max takes a positive integer, not '%s'", max);
+            return sphctl_usage("query", "--max takes a positive integer, not '%s'", opt[MAX]);
         }
         json_object_set_new(args, "max", json_integer(n));
     }
-    json_t *r;
-    int rc = sphctl_request(c, "query", args, &r, NULL, 0);
-    if (rc)
-        return rc;
-    sphctl_print_json(r, c->json);
-    json_decref(r);
-    return 0;
+    return sphctl_show(c, "query", args, NULL, NULL);
+}
+
+static void print_shutdown(const json_t *r, const void *ud)
+{
+    (void)ud;
+    printf("sphd is stopping; %zu unfinished job(s) kept\n",
+           json_array_size(json_object_get(r, "kept")));
 }
 
 static int cmd_shutdown(sphctl *c, int argc, char **argv)
@@ -500,18 +473,9 @@ static int cmd_shutdown(sphctl *c, int argc, char **argv)
         "Pauses every running job at a step boundary, records the jobs for a later resume,\n"
         "and stops sphd.\n";
     int rc = simple_args(argc, argv, 0, help);
-    if (rc)
-        return rc < 0 ? 0 : rc;
-    json_t *r;
-    if ((rc = sphctl_request(c, "shutdown", NULL, &r, NULL, 0)))
+    if (rc != SPHCTL_RUN)
         return rc;
-    if (c->json)
-        sphctl_print_json(r, 1);
-    else
-        printf("sphd is stopping; %zu unfinished job(s) kept\n",
-               json_array_size(json_object_get(r, "kept")));
-    json_decref(r);
-    return 0;
+    return sphctl_show(c, "shutdown", NULL, print_shutdown, NULL);
 }
 
 static const command commands[] = {
@@ -552,7 +516,7 @@ int main(int argc, char **argv)
         switch (o) {
         case OPT_ENDPOINT:
             if (strlen(optarg) >= sizeof c.endpoint)
-                return usage_error(NULL, "endpoint too long: %s", optarg);
+                return sphctl_usage(NULL, "endpoint too long: %s", optarg);
             snprintf(c.endpoint, sizeof c.endpoint, "%s", optarg);
             break;
         case OPT_JSON:
@@ -562,8 +526,8 @@ int main(int argc, char **argv)
             char *end;
             c.timeout = strtod(optarg, &end);
             if (*end || end == optarg || !(c.timeout > 0) || c.timeout > 86400)
-                return usage_error(NULL, "--timeout takes seconds (0 < S <= 86400), not '%s'",
-                                   optarg);
+                return sphctl_usage(NULL, "--timeout takes seconds (0 < S <= 86400), not '%s'",
+                                    optarg);
             break;
         }
         case 'h':
@@ -606,17 +570,17 @@ int main(int argc, char **argv)
             else if (i + 1 < argc)
                 val = argv[++i];
             else
-                return usage_error(name, "%s needs a value", a);
+                return sphctl_usage(name, "%s needs a value", a);
             if (is_ep) {
                 if (strlen(val) >= sizeof c.endpoint)
-                    return usage_error(name, "endpoint too long: %s", val);
+                    return sphctl_usage(name, "endpoint too long: %s", val);
                 snprintf(c.endpoint, sizeof c.endpoint, "%s", val);
             } else {
                 char *end;
                 c.timeout = strtod(val, &end);
                 if (*end || end == val || !(c.timeout > 0) || c.timeout > 86400)
-                    return usage_error(name, "--timeout takes seconds (0 < S <= 86400), not '%s'",
-                                       val);
+                    return sphctl_usage(name, "--timeout takes seconds (0 < S <= 86400), not '%s'",
+                                        val);
             }
             continue;
         }

@@ -4,6 +4,7 @@
 
 #include "sph_endpoint.h"
 
+#include <getopt.h>
 #include <jansson.h>
 
 /* sysexits.h codes (DESIGN.md section 3). */
@@ -53,5 +54,41 @@ int sphctl_cmd_export(sphctl *c, int argc, char **argv);
 
 /* Human formatting helpers. */
 void sphctl_fmt_duration(double s, char *buf, size_t n);
+
+/* The number o[k], NaN when it is not a number. */
+double sphctl_num(const json_t *o, const char *k);
+
+/* sphctl.c: the command line of one command. */
+
+/* Prints "sphctl: " fmt (with arg) and a pointer to 'sphctl CMD --help' to stderr; returns 64. */
+int sphctl_usage(const char *cmd, const char *fmt, const char *arg);
+
+#define SPHCTL_RUN (-1) /* sphctl_args: go on and run the command */
+
+typedef struct sphctl_argspec {
+    const char *help;          /* printed on stdout for --help */
+    const char *optstring;     /* getopt_long's: "h", or "+h" to stop at the first positional */
+    const struct option *opts; /* the long options, --help included; NULL: --help only */
+    const char *bad_option;    /* the message for an unknown option; NULL: "bad option for CMD" */
+    int min_args, max_args;    /* how many positionals */
+    const char *bad_count;     /* the message for another count; NULL: "CMD takes N argument(s)"
+                                  and the help, on stderr */
+} sphctl_argspec;
+
+/* Parses argv (argv[0] is the command's name) from optind = 0. Every option but --help goes to
+ * on_opt(ud, o, optarg) (may be NULL), which returns 0 or an exit code that ends the parse.
+ * Returns SPHCTL_RUN with the positionals from argv[optind], else the exit code to return: 0
+ * after --help, 64 on a usage error, or on_opt's. */
+int sphctl_args(const sphctl_argspec *spec, int argc, char **argv,
+                int (*on_opt)(void *ud, int o, const char *arg), void *ud);
+
+/* An on_opt for sphctl_args: ud is an array of const char *, indexed by the option's val (from
+ * 0), that gets the option's value ("" for an option without one). */
+int sphctl_store_opt(void *ud, int o, const char *arg);
+
+/* Sends op with args (stolen, may be NULL); on success prints the result, with --json as one
+ * compact line, else with human(r, ud) (NULL: indented JSON). Returns the exit code. */
+int sphctl_show(sphctl *c, const char *op, json_t *args,
+                void (*human)(const json_t *r, const void *ud), const void *ud);
 
 #endif

@@ -6,7 +6,6 @@
 
 #include <errno.h>
 #include <fcntl.h>
-#include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,12 +14,6 @@
 #include <zlib.h>
 
 #define FETCH_CHUNK (4L << 20) /* sphd's maximum `length` */
-
-static int usage(const char *cmd, const char *msg)
-{
-    fprintf(stderr, "sphctl: %s\nTry 'sphctl %s --help'.\n", msg, cmd);
-    return SPHCTL_EX_USAGE;
-}
 
 static void fmt_size(double bytes, char *buf, size_t n)
 {
@@ -55,42 +48,9 @@ static int local_error(sphctl *c, int rc, const char *code, const char *fmt, con
 
 /* ---- results ---- */
 
-int sphctl_cmd_results(sphctl *c, int argc, char **argv)
+/* The listing of results, with the CRC-32 when checksums is not NULL. */
+static void print_results(const json_t *r, const void *checksums)
 {
-    static const char help[] =
-        "Usage: sphctl results JOB [--checksums]\n"
-        "Lists the job's files in sphd's state directory: name, size, kind (case, record,\n"
-        "journal, result, diagnostics, snapshot, xdmf, checkpoint).\n"
-        "  --checksums   also the CRC-32 of each file (sphd reads every file: slower)\n"
-        "Exit codes: 0 ok, 1 no such job, 69 sphd unreachable.\n";
-    static const struct option lo[] = {{"checksums", no_argument, NULL, 'c'},
-                                       {"help", no_argument, NULL, 'h'},
-                                       {NULL, 0, NULL, 0}};
-    int checksums = 0, o;
-    optind = 0;
-    while ((o = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
-        if (o == 'h') {
-            fputs(help, stdout);
-            return 0;
-        }
-        if (o != 'c')
-            return usage("results", "bad option for results");
-        checksums = 1;
-    }
-    if (argc - optind != 1)
-        return usage("results", "results takes one JOB");
-    json_t *args = json_pack("{s:s}", "job", argv[optind]);
-    if (checksums)
-        json_object_set_new(args, "checksums", json_true());
-    json_t *r;
-    int rc = sphctl_request(c, "results", args, &r, NULL, 0);
-    if (rc)
-        return rc;
-    if (c->json) {
-        sphctl_print_json(r, 1);
-        json_decref(r);
-        return 0;
-    }
     if (checksums)
         printf("%-32s %10s  %-12s  %s\n", "NAME", "SIZE", "KIND", "CRC32");
     else
@@ -110,8 +70,27 @@ int sphctl_cmd_results(sphctl *c, int argc, char **argv)
             printf("%-32s %10s  %s\n", name, size, kind);
     }
     printf("(in %s on sphd's machine)\n", json_string_value(json_object_get(r, "dir")));
-    json_decref(r);
-    return 0;
+}
+
+int sphctl_cmd_results(sphctl *c, int argc, char **argv)
+{
+    static const char help[] =
+        "Usage: sphctl results JOB [--checksums]\n"
+        "Lists the job's files in sphd's state directory: name, size, kind (case, record,\n"
+        "journal, result, diagnostics, snapshot, xdmf, checkpoint).\n"
+        "  --checksums   also the CRC-32 of each file (sphd reads every file: slower)\n"
+        "Exit codes: 0 ok, 1 no such job, 69 sphd unreachable.\n";
+    static const struct option lo[] = {
+        {"checksums", no_argument, NULL, 0}, {"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
+    static const sphctl_argspec spec = {help, "h", lo, NULL, 1, 1, "results takes one JOB"};
+    const char *checksums = NULL;
+    int rc = sphctl_args(&spec, argc, argv, sphctl_store_opt, &checksums);
+    if (rc != SPHCTL_RUN)
+        return rc;
+    json_t *args = json_pack("{s:s}", "job", argv[optind]);
+    if (checksums)
+        json_object_set_new(args, "checksums", json_true());
+    return sphctl_show(c, "results", args, print_results, checksums);
 }
 
 /* ---- fetch ---- */
@@ -159,6 +138,18 @@ static int write_all(int fd, const unsigned char *p, size_t n)
         n -= (size_t)w;
     }
     return 0;
+}
+
+/* Closes fd, after an fsync when nothing failed before (bad is 0). Returns 0, or -1 with errno
+ * of the first failure (the caller's errno when bad). */
+static int sync_close(int fd, int bad)
+{
+    bad = bad || fsync(fd) != 0;
+    int saved = errno;
+    if (close(fd) != 0 && !bad)
+        return -1;
+    errno = saved;
+    return bad ? -1 : 0;
 }
 
 typedef struct fetch_file {
@@ -227,9 +218,7 @@ static int fetch_one(sphctl *c, const fetch_file *f, char crc_out[16], long long
     free(buf);
     if (f->progress)
         fputs("\r\033[K", stderr);
-    if (!rc && fsync(fd) != 0)
-        rc = local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot write %s: %s", tmp, strerror(errno));
-    if (close(fd) != 0 && !rc)
+    if (sync_close(fd, rc != 0) != 0 && !rc)
         rc = local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot write %s: %s", tmp, strerror(errno));
     snprintf(crc_out, 16, "%08lx", crc & 0xffffffffUL);
     if (!rc && f->want_crc && strcmp(crc_out, f->want_crc) != 0)
@@ -259,31 +248,21 @@ int sphctl_cmd_fetch(sphctl *c, int argc, char **argv)
         "  --include-checkpoints   also the checkpoints (large; only useful to resume elsewhere)\n"
         "Exit codes: 0 ok, 1 refused or a checksum mismatch (the partial file is removed),\n"
         "69 sphd unreachable, 73 cannot write DIR.\n";
-    static const struct option lo[] = {{"dest", required_argument, NULL, 'd'},
-                                       {"include-checkpoints", no_argument, NULL, 'k'},
+    enum { DEST, CKPT, NOPTS };
+    static const struct option lo[] = {{"dest", required_argument, NULL, DEST},
+                                       {"include-checkpoints", no_argument, NULL, CKPT},
                                        {"help", no_argument, NULL, 'h'},
                                        {NULL, 0, NULL, 0}};
-    const char *dest = ".";
-    int with_ckpt = 0, o;
-    optind = 0;
-    while ((o = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
-        if (o == 'h') {
-            fputs(help, stdout);
-            return 0;
-        }
-        if (o == 'd')
-            dest = optarg;
-        else if (o == 'k')
-            with_ckpt = 1;
-        else
-            return usage("fetch", "bad option for fetch");
-    }
-    if (argc - optind != 1)
-        return usage("fetch", "fetch takes one JOB");
-    const char *job = argv[optind];
+    static const sphctl_argspec spec = {help, "h", lo, NULL, 1, 1, "fetch takes one JOB"};
+    const char *opt[NOPTS] = {".", NULL};
+    int rc = sphctl_args(&spec, argc, argv, sphctl_store_opt, opt);
+    if (rc != SPHCTL_RUN)
+        return rc;
+    const char *dest = opt[DEST], *job = argv[optind];
+    int with_ckpt = opt[CKPT] != NULL;
     json_t *list;
-    int rc = sphctl_request(c, "results", json_pack("{s:s, s:b}", "job", job, "checksums", 1),
-                            &list, NULL, 0);
+    rc = sphctl_request(c, "results", json_pack("{s:s, s:b}", "job", job, "checksums", 1), &list,
+                        NULL, 0);
     if (rc)
         return rc;
     char dir[4096];
@@ -355,12 +334,8 @@ static int write_file_atomic(const char *path, const char *data, size_t len)
     int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd < 0)
         return -1;
-    int bad = write_all(fd, (const unsigned char *)data, len) != 0 || fsync(fd) != 0;
+    int bad = sync_close(fd, write_all(fd, (const unsigned char *)data, len) != 0) != 0;
     int saved = errno;
-    if (close(fd) != 0 && !bad) {
-        bad = 1;
-        saved = errno;
-    }
     if (!bad && rename(tmp, path) != 0) {
         bad = 1;
         saved = errno;
@@ -383,26 +358,16 @@ int sphctl_cmd_export(sphctl *c, int argc, char **argv)
         "With --json: {\"format\": \"csv\", \"rows\": N, \"csv\": TEXT} on stdout.\n"
         "Exit codes: 0 ok, 1 no such job or no diagnostics (kernel studies have none, a\n"
         "simulation has them once it ran), 69 sphd unreachable, 73 cannot write FILE.\n";
-    static const struct option lo[] = {{"out", required_argument, NULL, 'o'},
-                                       {"help", no_argument, NULL, 'h'},
-                                       {NULL, 0, NULL, 0}};
+    static const struct option lo[] = {
+        {"out", required_argument, NULL, 0}, {"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
+    static const sphctl_argspec spec = {help, "h", lo, NULL, 1, 1, "export takes one JOB"};
     const char *out = NULL;
-    int o;
-    optind = 0;
-    while ((o = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
-        if (o == 'h') {
-            fputs(help, stdout);
-            return 0;
-        }
-        if (o != 'o')
-            return usage("export", "bad option for export");
-        out = optarg;
-    }
-    if (argc - optind != 1)
-        return usage("export", "export takes one JOB");
+    int rc = sphctl_args(&spec, argc, argv, sphctl_store_opt, &out);
+    if (rc != SPHCTL_RUN)
+        return rc;
     json_t *r;
-    int rc = sphctl_request(
-        c, "export", json_pack("{s:s, s:s}", "job", argv[optind], "format", "csv"), &r, NULL, 0);
+    rc = sphctl_request(c, "export", json_pack("{s:s, s:s}", "job", argv[optind], "format", "csv"),
+                        &r, NULL, 0);
     if (rc)
         return rc;
     json_t *csv = json_object_get(r, "csv");

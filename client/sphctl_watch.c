@@ -51,7 +51,7 @@ void sphctl_fmt_duration(double s, char *buf, size_t n)
         snprintf(buf, n, "%.1fs", s);
 }
 
-static double num(const json_t *o, const char *k)
+double sphctl_num(const json_t *o, const char *k)
 {
     json_t *v = json_object_get(o, k);
     return json_is_number(v) ? json_number_value(v) : NAN;
@@ -65,11 +65,11 @@ static void take_status(watch *w, const json_t *s)
                  : "?");
     w->seq = (long)json_integer_value(json_object_get(s, "seq"));
     json_t *p = json_object_get(s, "progress");
-    w->t = num(p, "t");
-    w->t_end = num(p, "t_end");
+    w->t = sphctl_num(p, "t");
+    w->t_end = sphctl_num(p, "t_end");
     w->steps = (long)json_integer_value(json_object_get(p, "steps"));
-    w->rate = num(p, "steps_per_s");
-    w->eta = num(p, "eta");
+    w->rate = sphctl_num(p, "steps_per_s");
+    w->eta = sphctl_num(p, "eta");
     json_t *d = json_object_get(s, "diag");
     if (json_is_object(d)) {
         json_decref(w->diag);
@@ -113,7 +113,7 @@ static void draw(watch *w, int force)
     }
     static const char *const keys[] = {"front_x", "height_left", "ekin", "vmax", NULL};
     for (int i = 0; keys[i] && n < (int)sizeof line - 40; i++) {
-        double v = num(w->diag, keys[i]);
+        double v = sphctl_num(w->diag, keys[i]);
         if (isfinite(v))
             n += snprintf(line + n, sizeof line - (size_t)n, " %s %.4g", keys[i], v);
     }
@@ -140,7 +140,7 @@ static void on_event(watch *w, json_t *ev)
     } else if (strcmp(type, "diag") == 0) {
         json_decref(w->diag);
         w->diag = json_incref(ev);
-        double now = mono(), t = num(ev, "t");
+        double now = mono(), t = sphctl_num(ev, "t");
         long step = (long)json_integer_value(json_object_get(ev, "step"));
         if (w->last_diag_wall > 0 && now > w->last_diag_wall && step > w->last_diag_step) {
             w->rate = (double)(step - w->last_diag_step) / (now - w->last_diag_wall);
