@@ -7,7 +7,7 @@
 set -eu
 sphd=$1; src=$2; seed=${3:-$RANDOM}
 tmp=$(mktemp -d); pid=
-trap '[ -n "$pid" ] && kill -9 $pid 2>/dev/null; rm -rf "$tmp"' EXIT
+trap '[ -n "$pid" ] && kill -9 $pid 2>/dev/null || true; rm -rf "$tmp"' EXIT
 PY=/usr/bin/python3
 args=(--run "$src/cases/dambreak.json" --threads 1 --set time.end=0.3 --set output.every=0.03)
 echo "seed $seed"; RANDOM=$seed

@@ -6,7 +6,7 @@
 set -eu
 sphd=$1; src=$2
 tmp=$(mktemp -d); pid=
-trap '[ -n "$pid" ] && kill $pid 2>/dev/null; rm -rf "$tmp"' EXIT
+trap '[ -n "$pid" ] && kill $pid 2>/dev/null || true; rm -rf "$tmp"' EXIT
 PY=/usr/bin/python3
 
 # 1. a finished job (coarse, quick)
