@@ -21,3 +21,6 @@ sleep 1
 echo "machine: $(nproc) CPUs, load average $(cut -d" " -f1-3 /proc/loadavg) (the clients share the CPUs with sphd)"
 "$build/bin/bench_load" --endpoint "$SPHD_ENDPOINT" "$@" load1 load2
 # --rate R: each client paced at R requests/s (e.g. bench/load.sh build --rate 100)
+# TODO(issue 4): print sphd's own CPU per request (its loop and ZeroMQ I/O threads, from
+# /proc/PID/task/*/stat) apart from the clients', and run a steady job (hydrostatic) so that the
+# quiet phases before and after agree.
