@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/ioctl.h>
 #include <time.h>
 #include <unistd.h>
 #include <zmq.h>
@@ -117,6 +118,11 @@ static void draw(watch *w, int force)
         if (isfinite(v))
             n += snprintf(line + n, sizeof line - (size_t)n, " %s %.4g", keys[i], v);
     }
+    /* one line: cut to the terminal's width, or a redraw would wrap and scroll */
+    struct winsize ws;
+    if (ioctl(STDERR_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 1 && ws.ws_col <= sizeof line &&
+        strlen(line) >= ws.ws_col)
+        line[ws.ws_col - 1] = '\0';
     fprintf(stderr, "\r%s\033[K", line);
     fflush(stderr);
     w->drawn = 1;
