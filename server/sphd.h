@@ -23,8 +23,9 @@ typedef struct sphd_run_opts {
     const char *job;       /* NULL: the case's name */
     const char *sets[SPHD_MAX_SETS];
     int nsets;
-    int threads; /* 0: OpenMP's default */
-    int resume;  /* continue from the checkpoint in the out dir, if there is one */
+    int threads;          /* 0: OpenMP's default */
+    int resume;           /* continue from the checkpoint in the out dir, if there is one */
+    double ckpt_interval; /* wall-clock seconds between checkpoints; 0: the default */
 } sphd_run_opts;
 
 /* `sphd --run`: runs one case in the foreground, events as JSON Lines on stdout. Returns the

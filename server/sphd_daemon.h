@@ -30,11 +30,12 @@ typedef struct sphd_opts {
     char listen[SPH_ENDPOINT_MAX];
     char publish[SPH_ENDPOINT_MAX];
     char state_dir[SPHD_PATH_MAX];
-    int threads;       /* worker threads = jobs running at once */
-    int max_jobs;      /* queued + running + paused jobs held at once */
-    long max_msg_size; /* bytes; larger requests are dropped by the transport */
-    int insecure;      /* allow non-loopback tcp without CURVE */
-    int diag_rate;     /* max diag events per second per job */
+    int threads;          /* worker threads = jobs running at once */
+    int max_jobs;         /* queued + running + paused jobs held at once */
+    long max_msg_size;    /* bytes; larger requests are dropped by the transport */
+    int insecure;         /* allow non-loopback tcp without CURVE */
+    int diag_rate;        /* max diag events per second per job */
+    double ckpt_interval; /* wall-clock seconds between checkpoints; 0: the default */
 } sphd_opts;
 
 typedef enum {

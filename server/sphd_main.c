@@ -25,6 +25,11 @@ static const char usage_text[] =
     "                     a kill); starts from the beginning when there is none\n"
     "  --threads N        OpenMP threads for the solver (default: all cores)\n"
     "\n"
+    "Both modes:\n"
+    "  --checkpoint-interval S  wall-clock seconds between checkpoints of a running simulation\n"
+    "                     (default 60; checkpoints are also written after every snapshot and\n"
+    "                     when a job pauses)\n"
+    "\n"
     "Daemon mode:\n"
     "  --listen ENDPOINT  control socket (default ipc://$XDG_RUNTIME_DIR/sphd/control)\n"
     "  --publish ENDPOINT event stream (default ipc://$XDG_RUNTIME_DIR/sphd/stream)\n"
@@ -127,6 +132,7 @@ int main(int argc, char **argv)
         OPT_STATE,
         OPT_MAXJOBS,
         OPT_RESUME,
+        OPT_CKPT,
         OPT_MAXMSG,
         OPT_DIAGRATE,
         OPT_INSECURE
@@ -137,6 +143,7 @@ int main(int argc, char **argv)
         {"set", required_argument, NULL, OPT_SET},
         {"id", required_argument, NULL, OPT_ID},
         {"resume", no_argument, NULL, OPT_RESUME},
+        {"checkpoint-interval", required_argument, NULL, OPT_CKPT},
         {"threads", required_argument, NULL, OPT_THREADS},
         {"listen", required_argument, NULL, OPT_LISTEN},
         {"publish", required_argument, NULL, OPT_PUBLISH},
@@ -174,6 +181,19 @@ int main(int argc, char **argv)
         case OPT_RESUME:
             run.resume = 1;
             break;
+        case OPT_CKPT: {
+            char *end;
+            double v = strtod(optarg, &end);
+            if (*end || !(v >= 0.01 && v <= 1e6)) {
+                fprintf(stderr,
+                        "sphd: --checkpoint-interval takes seconds from 0.01 to 1e6, not '%s'\n",
+                        optarg);
+                return SPHD_EX_USAGE;
+            }
+            run.ckpt_interval = v;
+            dopts.ckpt_interval = v;
+            break;
+        }
         case OPT_THREADS: {
             char *end;
             long n = strtol(optarg, &end, 10);
@@ -266,8 +286,8 @@ int main(int argc, char **argv)
         }
         return sphd_run(&run);
     }
-    if (run.out_dir || run.nsets || run.job) {
-        fputs("sphd: --out, --set and --id go with --run\nTry 'sphd --help'.\n", stderr);
+    if (run.out_dir || run.nsets || run.job || run.resume) {
+        fputs("sphd: --out, --set, --id and --resume go with --run\nTry 'sphd --help'.\n", stderr);
         return SPHD_EX_USAGE;
     }
     if (daemon_defaults(&dopts) != 0) {

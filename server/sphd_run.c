@@ -155,6 +155,8 @@ int sphd_run(const sphd_run_opts *o)
         return err.code == SPH_ERR_INVALID || err.code == SPH_ERR_NOMEM ? SPHD_EX_DATAERR
                                                                         : SPHD_EX_SOFTWARE;
     }
+    if (o->ckpt_interval > 0)
+        sphd_exec_set_checkpoint_policy(x, o->ckpt_interval, 1);
     emit_state(&em, "running", NULL);
     sphd_exec_status st;
     while ((st = sphd_exec_advance(x, 1000, INFINITY, on_event, &em, &err)) == SPHD_EXEC_RUNNING)

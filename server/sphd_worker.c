@@ -182,6 +182,8 @@ static void run_job(sphd_worker *w, void *sock, sphd_wcmd *cmd)
             return;
         }
     }
+    if (!cmd->exec && w->d->opts.ckpt_interval > 0)
+        sphd_exec_set_checkpoint_policy(x, w->d->opts.ckpt_interval, 1);
     end.exec = x;
     double last_progress = t0;
     json_t *p = sphd_exec_progress(x);

@@ -45,4 +45,17 @@ done
 "$sphd" "${args[@]}" --out "$tmp/crash/db" --resume > "$tmp/last.jsonl" 2>"$tmp/last.err"
 tail -n1 "$tmp/last.jsonl" | grep -q '"state":"done"'
 "$PY" "$(dirname "$0")/h5check.py" same "$tmp/ref/db" "$tmp/crash/db"
-echo "crash and resume: $kills kills; 1 passed, 0 failed"
+# between snapshots, checkpoints come from the wall clock (--checkpoint-interval)
+"$sphd" --run "$src/cases/dambreak.json" --threads 1 --set output.every=100 \
+  --checkpoint-interval 0.2 --out "$tmp/interval/db" >/dev/null 2>&1 &
+pid=$!
+for _ in $(seq 1 600); do
+  [ -s "$tmp/interval/db/checkpoint.prev" ] && break   # the t = 0 one, then one from the clock
+  sleep 0.01
+done
+kill -9 $pid 2>/dev/null || true; wait $pid 2>/dev/null || true; pid=
+"$sphd" --run "$src/cases/dambreak.json" --threads 1 --set output.every=100 --out "$tmp/interval/db" \
+  --resume > "$tmp/interval.jsonl" 2>"$tmp/interval.err"
+grep -q "resuming from its checkpoint" "$tmp/interval.err"
+"$PY" -c "import json,sys; d=json.loads(open(sys.argv[1]).readlines()[1]); sys.exit(0 if d['type']=='diag' and d['step']>0 else 1)" "$tmp/interval.jsonl"
+echo "crash and resume: $kills kills; 2 passed, 0 failed"
