@@ -39,8 +39,13 @@ int sphd_write_atomic(const char *path, const char *data, size_t len);
  * starting with '.'. */
 int sphd_job_id_ok(const char *id);
 
-/* Removes the temporary files (NAME.tmp.PID) a crash left in dir: their writes never completed,
- * and the files they were to replace are intact. Returns how many, or -1. */
+/* Writes j as indented JSON to dir/name atomically (sphd_write_atomic). Returns 0 or -1 (errno). */
+struct json_t;
+int sphd_write_json(const char *dir, const char *name, const struct json_t *j);
+
+/* Removes the temporary files (NAME.tmp.PID) a crashed process left in dir: their writes never
+ * completed, and the files they were to replace are intact. This process's own (PID) are left
+ * alone: another thread may be writing one. Returns how many, or -1. */
 int sphd_remove_stale_temps(const char *dir);
 
 /* mkdir -p with mode 0700 for created directories. Returns 0 or -1 (errno). */

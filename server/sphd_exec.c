@@ -342,7 +342,6 @@ sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_bac
         sph_error_set(err, SPH_ERR_INVALID, "", "only simulations resume from checkpoints");
         return NULL;
     }
-    sphd_remove_stale_temps(outdir);
     sph_error why;
     sph_error_clear(&why);
     sphd_ckpt *ck = sphd_ckpt_load(outdir, fell_back, &why);

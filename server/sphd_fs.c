@@ -1,6 +1,8 @@
 #include "sphd.h"
 
 #include <dirent.h>
+#include <jansson.h>
+#include <stdlib.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
@@ -69,15 +71,37 @@ fail : {
 }
 }
 
+int sphd_write_json(const char *dir, const char *name, const json_t *j)
+{
+    char path[4096];
+    if (snprintf(path, sizeof path, "%s/%s", dir, name) >= (int)sizeof path) {
+        errno = ENAMETOOLONG;
+        return -1;
+    }
+    char *text = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(17));
+    if (!text) {
+        errno = ENOMEM;
+        return -1;
+    }
+    int rc = sphd_write_atomic(path, text, strlen(text));
+    int saved = errno;
+    free(text);
+    errno = saved;
+    return rc;
+}
+
 int sphd_remove_stale_temps(const char *dir)
 {
     DIR *d = opendir(dir);
     if (!d)
         return -1;
+    char mine[32]; /* this process's own temporaries may be in flight on another thread */
+    snprintf(mine, sizeof mine, ".tmp.%ld", (long)getpid());
     int removed = 0;
     struct dirent *e;
     while ((e = readdir(d))) {
-        if (!strstr(e->d_name, ".tmp."))
+        const char *t = strstr(e->d_name, ".tmp.");
+        if (!t || strcmp(t, mine) == 0)
             continue;
         char path[4096];
         if (snprintf(path, sizeof path, "%s/%s", dir, e->d_name) < (int)sizeof path &&

@@ -56,18 +56,12 @@ sphd_job *sphd_job_find(sphd_daemon *d, const char *id)
     return NULL;
 }
 
+/* A job's JSON file, written atomically; a failure is logged (the job carries on). */
 static int write_json(const char *dir, const char *name, const json_t *j)
 {
-    char path[SPHD_PATH_MAX + 64];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    char *text = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(17));
-    if (!text)
-        return -1;
-    int rc = sphd_write_atomic(path, text, strlen(text));
-    int saved = errno;
-    free(text);
+    int rc = sphd_write_json(dir, name, j);
     if (rc != 0)
-        sphd_log("cannot write %s: %s", path, strerror(saved));
+        sphd_log("cannot write %s/%s: %s", dir, name, strerror(errno));
     return rc;
 }
 

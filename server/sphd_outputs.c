@@ -1,5 +1,6 @@
 #include "sphd_outputs.h"
 
+#include "sphd.h"
 #include "sphd_h5.h"
 
 #include <math.h>
@@ -41,6 +42,7 @@ sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case
     o->dim = c->sim.dim;
     o->dx = c->sim.dx;
     o->mass = c->sim.rho0 * pow(c->sim.dx, c->sim.dim);
+    sphd_remove_stale_temps(dir); /* left by a crashed run in this directory */
     char path[4200];
     snprintf(path, sizeof path, "%s/diag.h5", dir);
     o->diag = sphd_diagfile_open(path, diag_columns, NDIAG, resume_step, err);

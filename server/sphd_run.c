@@ -60,16 +60,9 @@ static void emit_state(emitter *em, const char *state, const char *reason)
 
 static int write_json(const char *dir, const char *name, const json_t *j)
 {
-    char path[4096];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    char *text = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(17));
-    if (!text)
-        return -1;
-    size_t len = strlen(text);
-    int rc = sphd_write_atomic(path, text, len);
-    free(text);
+    int rc = sphd_write_json(dir, name, j);
     if (rc != 0)
-        fprintf(stderr, "sphd: cannot write %s: %s\n", path, strerror(errno));
+        fprintf(stderr, "sphd: cannot write %s/%s: %s\n", dir, name, strerror(errno));
     return rc;
 }
 

@@ -29,6 +29,20 @@ static int ends_with(const char *s, const char *suffix)
     return n >= m && strcmp(s + n - m, suffix) == 0;
 }
 
+/* Loads and parses one case file; returns the first error's code (0: valid). */
+static int parse_file(const char *path, sph_error *err)
+{
+    json_t *root = NULL;
+    sph_case *c = calloc(1, sizeof *c);
+    assert_non_null(c);
+    int rc = sph_case_load(path, &root, err);
+    if (rc == 0)
+        rc = sph_case_from_json(root, c, err);
+    free(c);
+    json_decref(root);
+    return rc;
+}
+
 static void test_invalid_cases(void **state)
 {
     (void)state;
@@ -51,19 +65,13 @@ static void test_invalid_cases(void **state)
         fclose(f);
 
         sph_error err;
-        json_t *root = NULL;
-        int rc = sph_case_load(path, &root, &err);
-        sph_case *c = calloc(1, sizeof *c);
-        if (rc == 0)
-            rc = sph_case_from_json(root, c, &err);
+        int rc = parse_file(path, &err);
         if (rc != SPH_ERR_INVALID)
             fail_msg("%s: expected invalid_case, got code %d", e->d_name, rc);
         if (strcmp(err.path, want) != 0)
             fail_msg("%s: error names '%s', expected '%s' (%s)", e->d_name, err.path, want,
                      err.message);
         assert_true(strlen(err.message) > 10);
-        free(c);
-        json_decref(root);
         count++;
     }
     closedir(d);
@@ -85,15 +93,8 @@ static void test_shipped_cases_valid(void **state)
         char path[8192];
         snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
         sph_error err;
-        json_t *root = NULL;
-        sph_case *c = calloc(1, sizeof *c);
-        int rc = sph_case_load(path, &root, &err);
-        if (rc == 0)
-            rc = sph_case_from_json(root, c, &err);
-        if (rc)
+        if (parse_file(path, &err))
             fail_msg("%s: %s (at %s)", e->d_name, err.message, err.path);
-        free(c);
-        json_decref(root);
         count++;
     }
     closedir(d);
