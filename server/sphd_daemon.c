@@ -506,6 +506,13 @@ int sphd_daemon_main(const sphd_opts *opts)
         sphd_log("cannot create the ZeroMQ context: %s", zmq_strerror(errno));
         goto out;
     }
+    /* the request threads on one CPU (sphd_sched.c): ZeroMQ's before its first socket */
+    int request_cpu = sphd_sched_pick_cpu(d->opts.request_cpu);
+    if (sphd_sched_zmq_threads(d->ctx, request_cpu) != 0) {
+        sphd_log("note: cannot keep the ZeroMQ threads on CPU %d: %s", request_cpu,
+                 zmq_strerror(errno));
+        request_cpu = SPHD_CPU_ANY;
+    }
     d->router = zmq_socket(d->ctx, ZMQ_ROUTER);
     d->pub = zmq_socket(d->ctx, ZMQ_PUB);
     int one = 1;
@@ -528,10 +535,21 @@ int sphd_daemon_main(const sphd_opts *opts)
     }
     if (sphd_workers_start(d) != 0)
         goto out;
+    /* the loop joins the ZeroMQ threads' CPU after the workers start, so that they and their
+     * OpenMP threads keep every CPU (sphd_sched.c) */
+    if (sphd_sched_pin_self(request_cpu) != 0) {
+        sphd_log("note: cannot keep the socket loop on CPU %d: %s", request_cpu, strerror(errno));
+        request_cpu = SPHD_CPU_ANY;
+    }
+    char sched_what[32] = "on any CPU";
+    if (request_cpu >= 0)
+        snprintf(sched_what, sizeof sched_what, "on CPU %d", request_cpu);
     sphd_jobs_recover(d);
     sphd_jobs_schedule(d);
-    sphd_log("listening on %s, publishing on %s, state in %s, %d threads, at most %d jobs",
-             d->opts.listen, d->opts.publish, d->opts.state_dir, d->opts.threads, d->opts.max_jobs);
+    sphd_log("listening on %s, publishing on %s, state in %s, %d threads, at most %d jobs, "
+             "request threads %s",
+             d->opts.listen, d->opts.publish, d->opts.state_dir, d->opts.threads, d->opts.max_jobs,
+             sched_what);
     if (loop(d) == 0)
         rc = SPHD_EX_OK;
     finish_shutdown_replies(d);

@@ -36,6 +36,7 @@ typedef struct sphd_opts {
     int insecure;         /* allow non-loopback tcp without CURVE */
     int diag_rate;        /* max diag events per second per job */
     double ckpt_interval; /* wall-clock seconds between checkpoints; 0: the default */
+    int request_cpu;      /* the CPU of the loop and ZeroMQ threads, or SPHD_CPU_ANY, _AUTO */
 } sphd_opts;
 
 typedef enum {
@@ -249,5 +250,20 @@ int sphd_worker_send(sphd_worker *w, const sphd_wcmd *cmd);
 int sphd_method_available(sph_method m);
 /* Particle fields of an idle executor (paused job): new ref or NULL with e set. */
 json_t *sphd_particles(sphd_exec *x, const sph_case *c, json_t *fields, long max, sphd_err *e);
+
+/* sphd_sched.c: where the request threads (the socket loop, the ZeroMQ threads) run. */
+#define SPHD_CPU_ANY  (-1) /* not pinned */
+#define SPHD_CPU_AUTO (-2) /* the last CPU the process may use */
+/* 1 when this process may run on CPU cpu. */
+int sphd_sched_cpu_usable(int cpu);
+/* The CPU for want (a CPU number, SPHD_CPU_AUTO or SPHD_CPU_ANY), or SPHD_CPU_ANY (errno
+ * EINVAL when want was a CPU this process may not use). */
+int sphd_sched_pick_cpu(int want);
+/* The threads that ctx starts from now on (call it before the first socket) run on cpu (>= 0;
+ * a negative cpu changes nothing). Returns 0 or -1 (errno). */
+int sphd_sched_zmq_threads(void *ctx, int cpu);
+/* The calling thread runs on cpu from now on (threads it starts later inherit that; a negative
+ * cpu changes nothing). Returns 0 or -1 (errno). */
+int sphd_sched_pin_self(int cpu);
 
 #endif

@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <zmq.h>
 #ifdef _OPENMP
 #include <omp.h>
@@ -286,6 +287,8 @@ static void *worker_main(void *arg)
 {
     sphd_worker *w = arg;
     char ep[64];
+    snprintf(ep, sizeof ep, "sphd-worker-%d", w->index);
+    prctl(PR_SET_NAME, ep, 0, 0, 0); /* the solver threads by name in top -H and /proc */
     snprintf(ep, sizeof ep, "inproc://sphd-worker-%d", w->index);
     void *sock = zmq_socket(w->d->ctx, ZMQ_PAIR);
     if (!sock || zmq_connect(sock, ep) != 0) {
