@@ -3,9 +3,6 @@
 and with sphctl: step N, step --until T, query particles (downsampled), pause, resume, stop,
 watch to done, the diag rate limit, shutdown with a running job (paused and recorded).
 
-Waits for the WCSPH solver (issue 3): until `wcsph` is in hello's methods and cases/dambreak.json
-exists, it exits 77, which ctest reports as skipped.
-
 Usage: lifecycle_wcsph.py SPHD SPHCTL SOURCE_DIR
 """
 import json
@@ -20,8 +17,8 @@ from sphd_harness import Daemon, Failures  # noqa: E402
 sphd, sphctl, src = sys.argv[1], sys.argv[2], sys.argv[3]
 case_file = os.path.join(src, "cases", "dambreak.json")
 if not os.path.exists(case_file):
-    print("SKIP: cases/dambreak.json is not there yet (WCSPH solver, issue 3)")
-    sys.exit(77)
+    print("FAIL: cases/dambreak.json is missing")
+    sys.exit(1)
 
 F = Failures("lifecycle_wcsph")
 DIAG_RATE = 20
@@ -29,9 +26,9 @@ d = Daemon(sphd, "--threads", "2", "--diag-rate", str(DIAG_RATE))
 log = ""
 try:
     if "wcsph" not in d.ok("hello")["methods"]:
-        print("SKIP: this sphd does not run wcsph jobs yet (issue 3)")
+        print("FAIL: this sphd does not list wcsph among its methods")
         d.shutdown()
-        sys.exit(77)
+        sys.exit(1)
     case = json.load(open(case_file))
     coarse = ["dx=0.01", "time.end=0.25"]  # seconds of work, even under ASan
     env = dict(os.environ, SPHD_ENDPOINT=d.control)

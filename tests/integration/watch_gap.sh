@@ -6,7 +6,7 @@
 # Usage: watch_gap.sh SPHD SPHCTL SOURCE_DIR
 SPHD=$1; SPHCTL=$2; SRC=$3
 . "$(dirname "$0")/lib.sh"
-[ -f "$SRC/cases/dambreak.json" ] || { echo "SKIP: no cases/dambreak.json (WCSPH solver)"; exit 77; }
+[ -f "$SRC/cases/dambreak.json" ] || { echo "FAIL: cases/dambreak.json is missing"; exit 1; }
 start_sphd --threads 1 --diag-rate 1000000
 C=$SPHCTL
 expect_rc "submit" 0 "$C" submit "$SRC/cases/dambreak.json" --id flood \
