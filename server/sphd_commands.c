@@ -735,10 +735,23 @@ static int op_shutdown(sphd_request *r, json_t **result, sphd_err *e)
     return 1; /* answered by the loop once every job is paused */
 }
 
+/* results, fetch and export read files: on the files thread when it runs (deferred reply),
+ * else here (the unit tests' daemon has no threads) */
+static int files_request(sphd_request *r, sphd_fcmd *cmd, json_t **result, sphd_err *e)
+{
+    cmd->job = r->job;
+    if (r->d->files_started)
+        return sphd_files_send(r->d, cmd, r->from, e);
+    *result = sphd_files_do(cmd, e);
+    free(cmd->file);
+    return *result ? 0 : -1;
+}
+
 static int op_results(sphd_request *r, json_t **result, sphd_err *e)
 {
-    *result = sphd_results_list(r->job, json_is_true(json_object_get(r->args, "checksums")), e);
-    return *result ? 0 : -1;
+    sphd_fcmd cmd = {.kind = SPHD_F_LIST,
+                     .checksums = json_is_true(json_object_get(r->args, "checksums"))};
+    return files_request(r, &cmd, result, e);
 }
 
 static int op_fetch(sphd_request *r, json_t **result, sphd_err *e)
@@ -751,9 +764,13 @@ static int op_fetch(sphd_request *r, json_t **result, sphd_err *e)
     if (length < 1 || length > SPHD_FETCH_MAX)
         return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/length",
                             "'length' must be in [1, %ld] (bytes)", SPHD_FETCH_MAX);
-    *result = sphd_results_fetch(r->job, json_string_value(json_object_get(r->args, "file")),
-                                 (long long)offset, (long)length, e);
-    return *result ? 0 : -1;
+    sphd_fcmd cmd = {.kind = SPHD_F_FETCH,
+                     .file = strdup(json_string_value(json_object_get(r->args, "file"))),
+                     .offset = (long long)offset,
+                     .length = (long)length};
+    if (!cmd.file)
+        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+    return files_request(r, &cmd, result, e);
 }
 
 static int op_export(sphd_request *r, json_t **result, sphd_err *e)
@@ -762,6 +779,6 @@ static int op_export(sphd_request *r, json_t **result, sphd_err *e)
     if (fmt && strcmp(json_string_value(fmt), "csv") != 0)
         return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/format",
                             "unknown format '%.32s' (known: csv)", json_string_value(fmt));
-    *result = sphd_results_export_csv(r->job, e);
-    return *result ? 0 : -1;
+    sphd_fcmd cmd = {.kind = SPHD_F_EXPORT};
+    return files_request(r, &cmd, result, e);
 }

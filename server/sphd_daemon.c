@@ -411,6 +411,10 @@ static int loop(sphd_daemon *d)
     items[1] = (zmq_pollitem_t){.fd = d->sigfd, .events = ZMQ_POLLIN};
     for (int i = 0; i < d->nworkers; i++)
         items[2 + i] = (zmq_pollitem_t){.socket = d->workers[i].pair, .events = ZMQ_POLLIN};
+    const int nitems = 2 + d->nworkers + (d->files_started ? 1 : 0);
+    zmq_pollitem_t *files_item = &items[2 + d->nworkers];
+    if (d->files_started)
+        *files_item = (zmq_pollitem_t){.socket = d->files, .events = ZMQ_POLLIN};
     int stop_begun = 0;
     for (;;) {
         if (d->stopping && !stop_begun) {
@@ -419,7 +423,7 @@ static int loop(sphd_daemon *d)
         }
         if (d->stopping && atomic_load(&d->busy) == 0)
             break;
-        int rc = zmq_poll(items, 2 + d->nworkers, -1);
+        int rc = zmq_poll(items, nitems, -1);
         if (rc < 0) {
             if (errno == EINTR)
                 continue;
@@ -439,6 +443,8 @@ static int loop(sphd_daemon *d)
         for (int i = 0; i < d->nworkers; i++)
             if (items[2 + i].revents & ZMQ_POLLIN)
                 handle_worker(d, &d->workers[i]);
+        if (d->files_started && (files_item->revents & ZMQ_POLLIN))
+            sphd_files_on_answer(d);
         if (items[0].revents & ZMQ_POLLIN) {
             /* a bounded batch, so the workers' events are never starved */
             for (int k = 0; k < 256; k++) {
@@ -533,7 +539,7 @@ int sphd_daemon_main(const sphd_opts *opts)
         rc = brc == -2 ? SPHD_EX_TEMPFAIL : SPHD_EX_UNAVAILABLE;
         goto out;
     }
-    if (sphd_workers_start(d) != 0)
+    if (sphd_workers_start(d) != 0 || sphd_files_start(d) != 0)
         goto out;
     /* the loop joins the ZeroMQ threads' CPU after the workers start, so that they and their
      * OpenMP threads keep every CPU (sphd_sched.c) */
@@ -552,12 +558,14 @@ int sphd_daemon_main(const sphd_opts *opts)
              sched_what);
     if (loop(d) == 0)
         rc = SPHD_EX_OK;
+    sphd_files_stop(d); /* its last answers go out before the sockets close */
     finish_shutdown_replies(d);
     for (sphd_job *j = d->jobs; j; j = j->next)
         if (!sphd_job_state_final(j->state))
             sphd_job_record(d, j, 1);
     sphd_log("stopped");
 out:
+    sphd_files_stop(d);
     if (d->workers)
         sphd_workers_stop(d);
     if (d->router) {

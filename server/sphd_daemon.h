@@ -170,6 +170,26 @@ typedef struct sphd_worker {
     sphd_job *job; /* the job it runs, or NULL */
 } sphd_worker;
 
+/* Loop -> files thread (sphd_files.c). */
+typedef enum { SPHD_F_LIST = 1, SPHD_F_FETCH, SPHD_F_EXPORT, SPHD_F_QUIT } sphd_fkind;
+
+typedef struct sphd_fcmd {
+    sphd_fkind kind;
+    const sphd_job *job;
+    int checksums;    /* LIST */
+    char *file;       /* FETCH: malloc'ed, freed by whoever ends the request */
+    long long offset; /* FETCH */
+    long length;      /* FETCH */
+    long token;
+} sphd_fcmd;
+
+/* Files thread -> loop: the answer to the request with the same token (token -1: the last). */
+typedef struct sphd_fev {
+    long token;
+    json_t *body; /* the result, or NULL with err set */
+    sphd_err err;
+} sphd_fev;
+
 typedef struct sphd_daemon {
     sphd_opts opts;
     void *ctx;
@@ -187,7 +207,11 @@ typedef struct sphd_daemon {
     long next_token;
     sphd_pending *particle_waits;
     sphd_pending *shutdown_waits;
-    int stopping; /* shutting down: pause everything, then exit */
+    void *files; /* PAIR to the files thread */
+    pthread_t files_thread;
+    int files_started;
+    sphd_pending *file_waits; /* results/fetch/export being read by the files thread */
+    int stopping;             /* shutting down: pause everything, then exit */
     double started_at;
     /* counters */
     long requests, errors;
@@ -241,6 +265,17 @@ json_t *sphd_results_fetch(const sphd_job *j, const char *file, long long offset
                            sphd_err *e);
 /* The diagnostics series as CSV: {"format":"csv","rows","csv"}; bad_state without diag.h5. */
 json_t *sphd_results_export_csv(const sphd_job *j, sphd_err *e);
+
+/* sphd_files.c: the thread that reads job files for `results`, `fetch` and `export`. */
+int sphd_files_start(sphd_daemon *d);
+/* Sends cmd (its file now owned) and keeps from for the answer: 1 (deferred), or -1 with e. */
+int sphd_files_send(sphd_daemon *d, sphd_fcmd *cmd, const sphd_pending *from, sphd_err *e);
+/* Does cmd's work in the calling thread: the result, or NULL with e set. */
+json_t *sphd_files_do(const sphd_fcmd *cmd, sphd_err *e);
+/* Replies to the answers that have come (the loop calls it when the files socket is readable). */
+void sphd_files_on_answer(sphd_daemon *d);
+/* Answers what was sent, ends the thread, frees what is left. */
+void sphd_files_stop(sphd_daemon *d);
 
 /* sphd_worker.c */
 int sphd_workers_start(sphd_daemon *d);

@@ -1,7 +1,7 @@
 /*
  * A job's result files for clients on other machines: the listing (`results`), one chunk of one
- * file (`fetch`) and the diagnostics as CSV (`export`). These run on the socket thread: every read
- * is bounded (one chunk per request; whole-file checksums only when asked).
+ * file (`fetch`) and the diagnostics as CSV (`export`). In the daemon these run on the files
+ * thread (sphd_files.c), never on the socket thread; each fetch reads one bounded chunk.
  */
 #include "sphd_daemon.h"
 #include "sphd_h5.h"

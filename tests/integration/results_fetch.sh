@@ -2,7 +2,8 @@
 # A job's files for a client on another machine: `results` (names, kinds, sizes, CRC-32 against
 # Python's zlib), `fetch --dest` (byte-identical copies), chunked `fetch` over the protocol,
 # `export` (CSV rows against h5py), and the refusals (path traversal, missing file, offset past
-# the end, length 0, unknown job, export of a kernel study).
+# the end, length 0, unknown job, export of a kernel study); a long checksum does not hold up a
+# ping.
 # Usage: results_fetch.sh SPHD SPHCTL SOURCE_DIR
 SPHD=$1; SPHCTL=$2; SRC=$3
 . "$(dirname "$0")/lib.sh"
@@ -175,6 +176,38 @@ kill "$fake_pid" 2>/dev/null; wait "$fake_pid" 2>/dev/null
 for cmd in results fetch export; do
   expect_rc "$cmd --help" 0 "$C" "$cmd" --help
 done
+
+# Reading files never holds up other requests: while sphd checksums a 1 GiB file (on its files
+# thread), a ping sent after the `results` request is answered first.
+truncate -s 1G "$JOBDIR/big.bin"
+check "ping answered while a checksum runs" "$PY" - "$SPHD_ENDPOINT" <<'PYEOF'
+import json, sys, time, zlib
+import zmq
+ctx = zmq.Context()
+def dealer():
+    s = ctx.socket(zmq.DEALER); s.setsockopt(zmq.LINGER, 0); s.connect(sys.argv[1]); return s
+a, b = dealer(), dealer()
+time.sleep(0.2)
+t0 = time.time()
+a.send(json.dumps({"v": 1, "id": "r", "op": "results", "args": {"job": "db", "checksums": True}}).encode())
+time.sleep(0.02)
+b.send(json.dumps({"v": 1, "id": "p", "op": "ping"}).encode())
+poller = zmq.Poller(); poller.register(a, zmq.POLLIN); poller.register(b, zmq.POLLIN)
+order = []
+while len(order) < 2 and time.time() - t0 < 120:
+    for s, _ in poller.poll(1000):
+        r = json.loads(s.recv()); order.append((r["id"], time.time() - t0, r))
+ids = [o[0] for o in order]
+assert ids == ["p", "r"], [(i, round(t, 3)) for i, t, _ in order]
+assert order[0][1] < 1.0, order[0][1]
+big = [f for f in order[1][2]["result"]["files"] if f["name"] == "big.bin"][0]
+crc, z = 0, bytes(1 << 24)
+for _ in range(64):
+    crc = zlib.crc32(z, crc)
+assert big["crc32"] == "%08x" % crc, big
+print(f"ping after {order[0][1]*1e3:.1f} ms, results (1 GiB checksummed) after {order[1][1]:.2f} s")
+PYEOF
+rm -f "$JOBDIR/big.bin"
 
 stop_sphd
 finish

@@ -1,0 +1,177 @@
+/*
+ * The files thread: `results`, `fetch` and `export` read a job's files here, not on the socket
+ * thread, so that a checksum over gigabytes of snapshots or a CSV export of a long series never
+ * holds up the other clients' requests. The loop checks a request's arguments, keeps its
+ * envelope (sphd_pending, with a token) and sends the work over inproc://sphd-files; the answer
+ * comes back as a sphd_fev with the same token. Requests are served one at a time, in order.
+ * What the thread reads of a job (its id, directory and case) never changes once the job
+ * exists, and jobs are never freed while sphd runs.
+ */
+#include "sphd_daemon.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <zmq.h>
+
+#define FILES_ENDPOINT "inproc://sphd-files"
+
+static int send_all(void *sock, const void *msg, size_t len)
+{
+    for (;;) {
+        if (zmq_send(sock, msg, len, 0) == (int)len)
+            return 0;
+        if (errno != EINTR)
+            return -1;
+    }
+}
+
+json_t *sphd_files_do(const sphd_fcmd *cmd, sphd_err *e)
+{
+    switch (cmd->kind) {
+    case SPHD_F_LIST:
+        return sphd_results_list(cmd->job, cmd->checksums, e);
+    case SPHD_F_FETCH:
+        return sphd_results_fetch(cmd->job, cmd->file, cmd->offset, cmd->length, e);
+    case SPHD_F_EXPORT:
+        return sphd_results_export_csv(cmd->job, e);
+    default:
+        sphd_err_set(e, SPHD_E_INTERNAL, NULL, "unknown files request");
+        return NULL;
+    }
+}
+
+static void *files_main(void *arg)
+{
+    sphd_daemon *d = arg;
+    prctl(PR_SET_NAME, "sphd-files", 0, 0, 0);
+    void *sock = zmq_socket(d->ctx, ZMQ_PAIR);
+    int zero = 0;
+    if (!sock || zmq_setsockopt(sock, ZMQ_LINGER, &zero, sizeof zero) != 0 ||
+        zmq_connect(sock, FILES_ENDPOINT) != 0) {
+        sphd_log("files thread: cannot connect %s: %s", FILES_ENDPOINT, zmq_strerror(errno));
+        if (sock)
+            zmq_close(sock);
+        return NULL;
+    }
+    for (;;) {
+        sphd_fcmd cmd;
+        int n = zmq_recv(sock, &cmd, sizeof cmd, 0);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n != (int)sizeof cmd || cmd.kind == SPHD_F_QUIT) {
+            sphd_fev bye = {.token = -1}; /* after every answer: the loop may stop reading */
+            send_all(sock, &bye, sizeof bye);
+            break;
+        }
+        sphd_fev ev = {.token = cmd.token};
+        ev.body = sphd_files_do(&cmd, &ev.err);
+        free(cmd.file);
+        if (send_all(sock, &ev, sizeof ev) != 0) {
+            sphd_log("files thread: cannot answer: %s", zmq_strerror(errno));
+            json_decref(ev.body);
+        }
+    }
+    zmq_close(sock);
+    return NULL;
+}
+
+int sphd_files_start(sphd_daemon *d)
+{
+    d->files = zmq_socket(d->ctx, ZMQ_PAIR);
+    int zero = 0;
+    if (!d->files || zmq_setsockopt(d->files, ZMQ_LINGER, &zero, sizeof zero) != 0 ||
+        zmq_bind(d->files, FILES_ENDPOINT) != 0) {
+        sphd_log("cannot bind %s: %s", FILES_ENDPOINT, zmq_strerror(errno));
+        return -1;
+    }
+    int rc = pthread_create(&d->files_thread, NULL, files_main, d);
+    if (rc != 0) {
+        sphd_log("cannot start the files thread: %s", strerror(rc));
+        return -1;
+    }
+    d->files_started = 1;
+    return 0;
+}
+
+int sphd_files_send(sphd_daemon *d, sphd_fcmd *cmd, const sphd_pending *from, sphd_err *e)
+{
+    sphd_pending *p = sphd_pending_copy(from);
+    if (!p) {
+        free(cmd->file);
+        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+    }
+    cmd->token = p->token = ++d->next_token;
+    if (send_all(d->files, cmd, sizeof *cmd) != 0) {
+        free(cmd->file);
+        sphd_pending_free(p);
+        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the files thread: %s",
+                            zmq_strerror(errno));
+    }
+    p->next = d->file_waits;
+    d->file_waits = p;
+    return 1;
+}
+
+/* Replies to the answers the files thread sent; with wait, blocks until its last (token -1).
+ * Returns 1 once that last answer came. */
+static int take_answers(sphd_daemon *d, int wait)
+{
+    for (;;) {
+        sphd_fev ev;
+        int n = zmq_recv(d->files, &ev, sizeof ev, wait ? 0 : ZMQ_DONTWAIT);
+        if (n < 0) {
+            if (errno == EINTR)
+                continue;
+            return 0;
+        }
+        if (n != (int)sizeof ev)
+            continue;
+        if (ev.token == -1)
+            return 1;
+        sphd_pending *p = NULL;
+        for (sphd_pending **pp = &d->file_waits; *pp; pp = &(*pp)->next) {
+            if ((*pp)->token == ev.token) {
+                p = *pp;
+                *pp = p->next;
+                break;
+            }
+        }
+        if (!p) {
+            json_decref(ev.body);
+            continue;
+        }
+        sphd_reply(d, p, ev.body, ev.body ? NULL : &ev.err);
+        sphd_pending_free(p);
+    }
+}
+
+void sphd_files_on_answer(sphd_daemon *d)
+{
+    take_answers(d, 0);
+}
+
+void sphd_files_stop(sphd_daemon *d)
+{
+    if (d->files_started) {
+        /* the thread answers what it was sent before the quit, then says so and ends */
+        sphd_fcmd q = {.kind = SPHD_F_QUIT};
+        int wait_ms = 60000; /* a thread that died early never says its last */
+        zmq_setsockopt(d->files, ZMQ_RCVTIMEO, &wait_ms, sizeof wait_ms);
+        if (send_all(d->files, &q, sizeof q) == 0 && take_answers(d, 1))
+            pthread_join(d->files_thread, NULL);
+        else
+            pthread_detach(d->files_thread);
+        d->files_started = 0;
+    }
+    if (d->files) {
+        zmq_close(d->files);
+        d->files = NULL;
+    }
+    while (d->file_waits) { /* never answered (the thread failed): free them */
+        sphd_pending *p = d->file_waits;
+        d->file_waits = p->next;
+        sphd_pending_free(p);
+    }
+}
