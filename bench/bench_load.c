@@ -2,7 +2,7 @@
  * bench_load: request latency of sphd under load, and what the load costs the running jobs.
  *
  *     bench_load --endpoint EP [--clients 32] [--seconds 10] [--rounds 5] [--quiet-seconds 2]
- *                [--rates 10,100,0] [--cpu N] JOB...
+ *                [--rates 10,100,0] [--cpu N|auto|any] JOB...
  *
  * With the given jobs running in sphd, it alternates quiet phases (no requests) with loaded
  * ones. In a loaded phase --clients connections (one DEALER socket each, all driven from this
@@ -390,11 +390,13 @@ static void usage(FILE *f)
 {
     fprintf(f,
             "Usage: bench_load --endpoint EP [--clients 32] [--seconds 10] [--rounds 5]\n"
-            "                  [--quiet-seconds 2] [--rates 10,100,0] [--cpu N] JOB...\n"
+            "                  [--quiet-seconds 2] [--rates 10,100,0] [--cpu N|auto|any] JOB...\n"
             "  --rates R,...  requests/s per client, one series of loaded phases per rate; "
             "0 = closed loop\n"
             "  --seconds S    loaded time per rate, split over --rounds phases\n"
-            "  --cpu N        pin the load generator (this thread and its I/O thread) to CPU N\n");
+            "  --cpu N        pin the load generator (this thread and its I/O thread) to CPU N;\n"
+            "                 auto: the last CPU it may use (where sphd keeps its request\n"
+            "                 threads); any: not pinned (the default)\n");
 }
 
 int main(int argc, char **argv)
@@ -439,7 +441,9 @@ int main(int argc, char **argv)
             }
             break;
         case 'p':
-            cpu = atoi(optarg);
+            cpu = !strcmp(optarg, "auto")  ? SPHD_CPU_AUTO
+                  : !strcmp(optarg, "any") ? SPHD_CPU_ANY
+                                           : atoi(optarg);
             break;
         case 'h':
             usage(stdout);
@@ -461,9 +465,9 @@ int main(int argc, char **argv)
      * ZeroMQ threads on one CPU */
     char sched_what[48] = "";
     if (cpu != SPHD_CPU_ANY) {
-        if (!sphd_sched_cpu_usable(cpu) || sphd_sched_zmq_threads(b.ctx, cpu) != 0 ||
-            sphd_sched_pin_self(cpu) != 0) {
-            fprintf(stderr, "bench_load: cannot run on CPU %d\n", cpu);
+        cpu = sphd_sched_pick_cpu(cpu);
+        if (cpu < 0 || sphd_sched_zmq_threads(b.ctx, cpu) != 0 || sphd_sched_pin_self(cpu) != 0) {
+            fprintf(stderr, "bench_load: --cpu: cannot run on that CPU\n");
             return 64;
         }
         snprintf(sched_what, sizeof sched_what, "on CPU %d", cpu);
@@ -508,7 +512,8 @@ int main(int argc, char **argv)
     printf("%-12s %7s %7s %7s %7s %7s %8s %7s", "load", "req/s", "p50 ms", "p90 ms", "p99 ms",
            "max ms", "slowed", "range");
     if (b.sphd_pid > 0)
-        printf(" | CPU %% of a core: solver  sphd loop+zmq  generator  other | sphd us/req");
+        printf(" | CPU %% of a core: solver  sphd loop+zmq  generator  other | solver lost"
+               "  sphd us/req");
     printf("\n");
     double quiet_cpu[CPU_N] = {0}, quiet_wall = 0;
     for (int i = 0; i < nph; i += 2) {
@@ -564,9 +569,11 @@ int main(int argc, char **argv)
         if (b.sphd_pid > 0) {
             double sphd = cpu_l[CPU_LOOP] + cpu_l[CPU_ZMQ];
             double sphd_quiet = (quiet_cpu[CPU_LOOP] + quiet_cpu[CPU_ZMQ]) / quiet_wall;
-            printf(" | %27.1f %13.1f %10.1f %6.1f | %.1f", 100 * cpu_l[CPU_SOLVER] / wall_l,
+            const double solver = cpu_l[CPU_SOLVER] / wall_l;
+            printf(" | %27.1f %13.1f %10.1f %6.1f | %10.1f%% %12.1f", 100 * solver,
                    100 * sphd / wall_l, 100 * cpu_l[CPU_GEN] / wall_l,
                    100 * cpu_l[CPU_OTHER] / wall_l,
+                   100 * (1 - solver / (quiet_cpu[CPU_SOLVER] / quiet_wall)),
                    r->n ? 1e6 * (sphd - sphd_quiet * wall_l) / n : NAN);
         }
         printf("\n");
@@ -576,6 +583,9 @@ int main(int argc, char **argv)
     printf("jobs' speed in the quiet phases: %.0f to %.0f steps/s (slowed: median over the "
            "rounds, range: the rounds' lowest and highest, in %%)\n",
            steps_lo, steps_hi);
+    if (b.sphd_pid > 0)
+        printf("solver lost: the CPU time the solver threads lost against the quiet phases, "
+               "which the machine's drift does not blur\n");
     if (stale)
         printf("note: a job was NOT running all along: give the jobs a later time.end\n");
     for (int k = 0; k < b.nrates; k++)

@@ -3,9 +3,12 @@
 # (bench_load): quiet phases alternate with loaded ones (each client at 10/s, at 100/s, and in a
 # closed loop, by default). Prints requests/s, p50/p90/p99 latency, how much the jobs slowed,
 # and where the CPU went (solver threads, sphd's loop and ZeroMQ threads, the load generator).
-# The jobs are hydrostatic tanks: their cost per step is steady, so quiet phases agree.
+# The jobs are hydrostatic tanks, whose cost per step is steady: what changes between phases is
+# the load, and the machine's own drift, which the short alternating phases average out.
+# The load generator runs on the CPU that sphd keeps for its request threads (--cpu auto).
 # Usage: bench/load.sh [BUILD_DIR] [bench_load options]   (build first: scripts/build.sh)
 #   e.g. bench/load.sh build --rates 100 --seconds 20
+#   SPHD_OPTS="--request-cpu any" bench/load.sh build --cpu any     (nothing pinned)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -24,5 +27,4 @@ done
 sleep 1
 "$build/bin/sphctl" list
 echo "machine: $(nproc) CPUs, load average $(cut -d" " -f1-3 /proc/loadavg) (the clients share the CPUs with sphd)"
-# the load generator on the CPU that sphd keeps for its request threads (the last one)
-"$build/bin/bench_load" --endpoint "$SPHD_ENDPOINT" ${BENCH_CPU---cpu $(($(nproc) - 1))} "$@" load1 load2
+"$build/bin/bench_load" --endpoint "$SPHD_ENDPOINT" --cpu auto "$@" load1 load2
