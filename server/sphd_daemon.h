@@ -37,6 +37,7 @@ typedef struct sphd_opts {
     int diag_rate;        /* max diag events per second per job */
     double ckpt_interval; /* wall-clock seconds between checkpoints; 0: the default */
     int request_cpu;      /* the CPU of the loop and ZeroMQ threads, or SPHD_CPU_ANY, _AUTO */
+    int worker_nice;      /* the solver threads' nice value above sphd's own */
 } sphd_opts;
 
 typedef enum {
@@ -300,5 +301,8 @@ int sphd_sched_zmq_threads(void *ctx, int cpu);
 /* The calling thread runs on cpu from now on (threads it starts later inherit that; a negative
  * cpu changes nothing). Returns 0 or -1 (errno). */
 int sphd_sched_pin_self(int cpu);
+/* The calling thread's nice value goes up by `by` (at most to 19); threads it starts later
+ * inherit it. Returns 0 or -1 (errno). */
+int sphd_sched_lower_self(int by);
 
 #endif

@@ -289,6 +289,10 @@ static void *worker_main(void *arg)
     char ep[64];
     snprintf(ep, sizeof ep, "sphd-worker-%d", w->index);
     prctl(PR_SET_NAME, ep, 0, 0, 0); /* the solver threads by name in top -H and /proc */
+    /* below the socket loop, so that requests preempt the solver at once (sphd_sched.c); the
+     * OpenMP threads this thread starts inherit it */
+    if (sphd_sched_lower_self(w->d->opts.worker_nice) != 0)
+        sphd_log("worker %d: cannot lower its priority: %s", w->index, strerror(errno));
     snprintf(ep, sizeof ep, "inproc://sphd-worker-%d", w->index);
     void *sock = zmq_socket(w->d->ctx, ZMQ_PAIR);
     if (!sock || zmq_connect(sock, ep) != 0) {

@@ -12,25 +12,33 @@ expect_rc "ping before sphd runs: unreachable" 69 "$C" --timeout 1 ping
 start_sphd --threads 2 --max-jobs 8
 
 expect_rc "ping" 0 "$C" ping
-# the socket loop and the ZeroMQ I/O thread share the last CPU; the workers keep every CPU
-check "request threads on the last CPU, workers on all" "$PY" - "$sphd_pid" "$tmp/sphd.log" <<'PYEOF'
+# the socket loop and the ZeroMQ I/O thread share the last CPU; the workers keep every CPU and
+# run 5 nice levels lower (the default --worker-nice)
+check "request threads on the last CPU, workers on all, 5 nice levels lower" "$PY" - "$sphd_pid" "$tmp/sphd.log" <<'PYEOF'
 import os, sys
 pid, log = sys.argv[1], open(sys.argv[2]).read()
 mine = os.sched_getaffinity(0)
 assert f"request threads on CPU {max(mine)}" in log, log
 def cpus(tid):
     return os.sched_getaffinity(int(tid))
+def nice(tid):
+    stat = open(f"/proc/{pid}/task/{tid}/stat").read()
+    return int(stat[stat.rindex(")") + 2:].split()[16])
+main_nice = nice(pid)
 seen = set()
 for tid in os.listdir(f"/proc/{pid}/task"):
     comm = open(f"/proc/{pid}/task/{tid}/comm").read().strip()
     if comm == "sphd" or comm.startswith("ZMQbg/IO/"):
         assert cpus(tid) == {max(mine)}, (comm, cpus(tid))
+        assert nice(tid) == main_nice, (comm, nice(tid), main_nice)
     elif comm.startswith("sphd-worker-"):
         assert cpus(tid) == mine, (comm, cpus(tid))
+        assert nice(tid) == min(main_nice + 5, 19), (comm, nice(tid), main_nice)
     seen.add(comm.rstrip("0123456789"))
 assert {"sphd", "ZMQbg/IO/", "sphd-worker-"} <= seen, seen
 PYEOF
 expect_rc "sphd --request-cpu: a CPU it may not use is a usage error" 64 "$SPHD" --request-cpu 4000
+expect_rc "sphd --worker-nice 20: a usage error" 64 "$SPHD" --worker-nice 20
 expect_rc "ping --json" 0 "$C" --json ping
 check "ping --json is one JSON document" jtrue "$tmp/out" 'd["pong"]'
 
