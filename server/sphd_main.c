@@ -81,6 +81,15 @@ static int parse_size(const char *s, long lo, long hi, long *out)
     return 0;
 }
 
+/* --NAME COUNT: a number from lo to hi (K, M, G suffixes allowed); says what is wrong. */
+static int count_opt(const char *name, const char *arg, long lo, long hi, long *out)
+{
+    if (isdigit((unsigned char)*arg) && parse_size(arg, lo, hi, out) == 0)
+        return 0;
+    fprintf(stderr, "sphd: --%s takes a number from %ld to %ld, not '%s'\n", name, lo, hi, arg);
+    return -1;
+}
+
 static int daemon_defaults(sphd_opts *o)
 {
     if (!o->listen[0] && sph_default_control_endpoint(o->listen, sizeof o->listen))
@@ -244,11 +253,8 @@ int main(int argc, char **argv)
         }
         case OPT_MAXJOBS: {
             long n;
-            if (parse_size(optarg, 1, 100000, &n)) {
-                fprintf(stderr, "sphd: --max-jobs takes a number from 1 to 100000, not '%s'\n",
-                        optarg);
+            if (count_opt("max-jobs", optarg, 1, 100000, &n))
                 return SPHD_EX_USAGE;
-            }
             dopts.max_jobs = (int)n;
             daemon_only = 1;
             break;
@@ -267,11 +273,8 @@ int main(int argc, char **argv)
         }
         case OPT_DIAGRATE: {
             long n;
-            if (parse_size(optarg, 1, 1000000, &n)) {
-                fprintf(stderr, "sphd: --diag-rate takes a number from 1 to 1000000, not '%s'\n",
-                        optarg);
+            if (count_opt("diag-rate", optarg, 1, 1000000, &n))
                 return SPHD_EX_USAGE;
-            }
             dopts.diag_rate = (int)n;
             daemon_only = 1;
             break;
@@ -297,11 +300,8 @@ int main(int argc, char **argv)
         }
         case OPT_WNICE: {
             long n;
-            if (parse_size(optarg, 0, 19, &n) || !isdigit((unsigned char)*optarg)) {
-                fprintf(stderr, "sphd: --worker-nice takes a number from 0 to 19, not '%s'\n",
-                        optarg);
+            if (count_opt("worker-nice", optarg, 0, 19, &n))
                 return SPHD_EX_USAGE;
-            }
             dopts.worker_nice = (int)n;
             daemon_only = 1;
             break;
