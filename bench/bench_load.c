@@ -51,13 +51,6 @@ typedef struct bench {
     long sphd_pid;
 } bench;
 
-static double mono(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static void sleep_s(double s)
 {
     if (s <= 0)
@@ -100,16 +93,16 @@ static json_t *rpc(void *s, const char *text)
 
 /* ---- CPU accounting from /proc ---------------------------------------------------------- */
 
-enum { CPU_SOLVER, CPU_LOOP, CPU_ZMQ, CPU_GEN, CPU_OTHER, CPU_IDLE, CPU_N };
+/* solver threads, sphd's request threads (socket loop, ZeroMQ), the load generator, the rest */
+enum { CPU_SOLVER, CPU_SPHD, CPU_GEN, CPU_OTHER, CPU_N };
 typedef struct cpu {
-    int ok;          /* sphd's threads were readable */
     double s[CPU_N]; /* CPU seconds since some origin */
     double wall;
 } cpu;
 
-/* Sum of each thread's run time (schedstat, ns) of process PID ("self" or a number),
- * sorted by thread name. */
-static int read_threads(const char *pid, double *solver, double *loop, double *zmq)
+/* The run time (schedstat) of process PID's threads ("self" or a number): the solver threads'
+ * (named sphd-worker-N) added to *solver, all the others' to *rest. */
+static int read_threads(const char *pid, double *solver, double *rest)
 {
     char path[300];
     snprintf(path, sizeof path, "/proc/%s/task", pid);
@@ -136,13 +129,7 @@ static int read_threads(const char *pid, double *solver, double *loop, double *z
         if (fscanf(f, "%llu", &ns) != 1)
             ns = 0;
         fclose(f);
-        const double sec = 1e-9 * (double)ns;
-        if (!strncmp(comm, "ZMQbg", 5))
-            *zmq += sec;
-        else if (!strncmp(comm, "sphd-worker", 11))
-            *solver += sec;
-        else
-            *loop += sec; /* the main thread: the socket loop (or, for "self", everything) */
+        *(strncmp(comm, "sphd-worker", 11) ? rest : solver) += 1e-9 * (double)ns;
     }
     closedir(dir);
     return 0;
@@ -151,19 +138,15 @@ static int read_threads(const char *pid, double *solver, double *loop, double *z
 static void cpu_read(bench *b, cpu *c)
 {
     memset(c, 0, sizeof *c);
-    c->wall = mono();
-    double solver = 0, loop = 0, zmq = 0, gen = 0, gen_zmq = 0, unused = 0;
+    c->wall = sphd_mono();
     if (b->sphd_pid > 0) {
         char pid[32];
         snprintf(pid, sizeof pid, "%ld", b->sphd_pid);
-        c->ok = read_threads(pid, &solver, &loop, &zmq) == 0;
+        read_threads(pid, &c->s[CPU_SOLVER], &c->s[CPU_SPHD]);
     }
-    read_threads("self", &unused, &gen, &gen_zmq);
-    c->s[CPU_SOLVER] = solver;
-    c->s[CPU_LOOP] = loop;
-    c->s[CPU_ZMQ] = zmq;
-    c->s[CPU_GEN] = gen + gen_zmq;
-    /* the whole machine: busy and idle time of all CPUs */
+    double none = 0;
+    read_threads("self", &none, &c->s[CPU_GEN]);
+    /* the whole machine: its busy time, less what the threads above used */
     FILE *f = fopen("/proc/stat", "r");
     unsigned long long v[10] = {0};
     if (f) {
@@ -173,10 +156,8 @@ static void cpu_read(bench *b, cpu *c)
         fclose(f);
     }
     const double tick = 1.0 / (double)sysconf(_SC_CLK_TCK);
-    const double idle = (double)(v[3] + v[4]) * tick;
     const double busy = (double)(v[0] + v[1] + v[2] + v[5] + v[6] + v[7]) * tick;
-    c->s[CPU_IDLE] = idle;
-    c->s[CPU_OTHER] = busy - (solver + loop + zmq + gen + gen_zmq);
+    c->s[CPU_OTHER] = busy - (c->s[CPU_SOLVER] + c->s[CPU_SPHD] + c->s[CPU_GEN]);
 }
 
 /* ---- the jobs' progress ----------------------------------------------------------------- */
@@ -213,7 +194,7 @@ static long pid_of(void *s)
 
 static void take_sample(bench *b, void *s, sample *out)
 {
-    out->wall = mono();
+    out->wall = sphd_mono();
     for (int j = 0; j < b->njobs; j++) {
         char text[256];
         snprintf(text, sizeof text,
@@ -285,18 +266,18 @@ static void run_load(bench *b, conn *c, double rate, double seconds, result *r, 
     zmq_pollitem_t items[MAX_CLIENTS];
     int who[MAX_CLIENTS];
     const double period = rate > 0 ? 1.0 / rate : 0;
-    const double t0 = mono(), t_stop = t0 + seconds;
+    const double t0 = sphd_mono(), t_stop = t0 + seconds;
     for (int i = 0; i < n; i++)
         c[i].next = t0 + period * i / n; /* staggered */
     for (;;) {
-        double now = mono();
+        double now = sphd_mono();
         int busy = 0;
         double wake = now + 0.1;
         for (int i = 0; i < n; i++) {
             if (!c[i].busy && now < t_stop && c[i].next <= now) {
                 const char *text = req[c[i].k % 8 == 7 ? nreq - 1 : (int)(c[i].k % (nreq - 1))];
                 c[i].k++;
-                c[i].sent = mono();
+                c[i].sent = sphd_mono();
                 if (zmq_send(c[i].s, text, strlen(text), 0) < 0) {
                     fail(r, zmq_strerror(errno), strlen(zmq_strerror(errno)));
                     continue;
@@ -333,7 +314,7 @@ static void run_load(bench *b, conn *c, double rate, double seconds, result *r, 
                 zmq_msg_close(&m);
                 continue;
             }
-            const double dt = mono() - c[i].sent;
+            const double dt = sphd_mono() - c[i].sent;
             c[i].busy = 0;
             const char *data = zmq_msg_data(&m);
             const size_t len = zmq_msg_size(&m);
@@ -344,7 +325,7 @@ static void run_load(bench *b, conn *c, double rate, double seconds, result *r, 
             zmq_msg_close(&m);
         }
     }
-    r->wall += mono() - t0;
+    r->wall += sphd_mono() - t0;
 }
 
 static void run_phase(bench *b, void *s, phase *ph, conn *c, double seconds, result *r,
@@ -535,8 +516,8 @@ int main(int argc, char **argv)
     if (b.sphd_pid > 0) {
         printf("%-12s %7s %7s %7s %7s %7s %8s %7s | %27.1f %13.1f %10.1f %6.1f\n", "quiet", "-",
                "-", "-", "-", "-", "-", "-", 100 * quiet_cpu[CPU_SOLVER] / quiet_wall,
-               100 * (quiet_cpu[CPU_LOOP] + quiet_cpu[CPU_ZMQ]) / quiet_wall,
-               100 * quiet_cpu[CPU_GEN] / quiet_wall, 100 * quiet_cpu[CPU_OTHER] / quiet_wall);
+               100 * quiet_cpu[CPU_SPHD] / quiet_wall, 100 * quiet_cpu[CPU_GEN] / quiet_wall,
+               100 * quiet_cpu[CPU_OTHER] / quiet_wall);
     }
     for (int k = 0; k < b.nrates; k++) {
         result *r = &res[k];
@@ -567,8 +548,8 @@ int main(int argc, char **argv)
         printf("%-12s %7.0f %7.3f %7.3f %7.3f %7.3f %7.1f%% %7s", name, n / r->wall, PCT(50),
                PCT(90), PCT(99), r->n ? 1e3 * r->lat[r->n - 1] : NAN, median, range);
         if (b.sphd_pid > 0) {
-            double sphd = cpu_l[CPU_LOOP] + cpu_l[CPU_ZMQ];
-            double sphd_quiet = (quiet_cpu[CPU_LOOP] + quiet_cpu[CPU_ZMQ]) / quiet_wall;
+            double sphd = cpu_l[CPU_SPHD];
+            double sphd_quiet = quiet_cpu[CPU_SPHD] / quiet_wall;
             const double solver = cpu_l[CPU_SOLVER] / wall_l;
             printf(" | %27.1f %13.1f %10.1f %6.1f | %10.1f%% %12.1f", 100 * solver,
                    100 * sphd / wall_l, 100 * cpu_l[CPU_GEN] / wall_l,

@@ -3,6 +3,7 @@
 #include "sphctl.h"
 
 #include "sph_base64.h"
+#include "sph_fileio.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -95,51 +96,6 @@ int sphctl_cmd_results(sphctl *c, int argc, char **argv)
 
 /* ---- fetch ---- */
 
-static int mkdir_if_needed(const char *path)
-{
-    if (mkdir(path, 0755) == 0 || errno == EEXIST) {
-        struct stat st;
-        if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
-            return 0;
-        errno = ENOTDIR;
-    }
-    return -1;
-}
-
-/* mkdir -p */
-static int mkdirs(const char *path)
-{
-    char buf[4096];
-    if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf) {
-        errno = ENAMETOOLONG;
-        return -1;
-    }
-    for (char *p = buf + 1; *p; p++) {
-        if (*p != '/' || p[-1] == '/')
-            continue;
-        *p = '\0';
-        int rc = mkdir_if_needed(buf);
-        *p = '/';
-        if (rc != 0)
-            return -1;
-    }
-    return mkdir_if_needed(buf);
-}
-
-static int write_all(int fd, const unsigned char *p, size_t n)
-{
-    while (n > 0) {
-        ssize_t w = write(fd, p, n);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w < 0)
-            return -1;
-        p += w;
-        n -= (size_t)w;
-    }
-    return 0;
-}
-
 /* Closes fd, after an fsync when nothing failed before (bad is 0). Returns 0, or -1 with errno
  * of the first failure (the caller's errno when bad). */
 static int sync_close(int fd, int bad)
@@ -200,7 +156,7 @@ static int fetch_one(sphctl *c, const fetch_file *f, char crc_out[16], long long
                              "%s: the chunk at offset %s arrived damaged (CRC-32 mismatch); "
                              "partial file removed, run fetch again",
                              f->name, where);
-        } else if (write_all(fd, buf, (size_t)n) != 0) {
+        } else if (sph_write_all(fd, buf, (size_t)n) != 0) {
             rc = local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot write %s: %s", tmp,
                              strerror(errno));
         } else {
@@ -270,7 +226,7 @@ int sphctl_cmd_fetch(sphctl *c, int argc, char **argv)
         json_decref(list);
         return local_error(c, SPHCTL_EX_USAGE, "usage", "--dest too long: %s%s", dest, "");
     }
-    if (mkdirs(dest) != 0 || mkdir_if_needed(dir) != 0) {
+    if (sph_mkdirs(dir, 0755) != 0) {
         json_decref(list);
         return local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot create %s: %s", dir,
                            strerror(errno));
@@ -324,30 +280,6 @@ int sphctl_cmd_fetch(sphctl *c, int argc, char **argv)
 
 /* ---- export ---- */
 
-static int write_file_atomic(const char *path, const char *data, size_t len)
-{
-    char tmp[4096];
-    if (snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid()) >= (int)sizeof tmp) {
-        errno = ENAMETOOLONG;
-        return -1;
-    }
-    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0)
-        return -1;
-    int bad = sync_close(fd, write_all(fd, (const unsigned char *)data, len) != 0) != 0;
-    int saved = errno;
-    if (!bad && rename(tmp, path) != 0) {
-        bad = 1;
-        saved = errno;
-    }
-    if (bad) {
-        unlink(tmp);
-        errno = saved;
-        return -1;
-    }
-    return 0;
-}
-
 int sphctl_cmd_export(sphctl *c, int argc, char **argv)
 {
     static const char help[] =
@@ -377,7 +309,7 @@ int sphctl_cmd_export(sphctl *c, int argc, char **argv)
         json_decref(r);
         return local_error(c, SPHCTL_EX_SOFTWARE, "internal", "sphd sent no CSV%s%s", "", "");
     }
-    if (out && write_file_atomic(out, text, len) != 0) {
+    if (out && sph_write_atomic(out, text, len, 0644) != 0) {
         rc = local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot write %s: %s", out, strerror(errno));
     } else if (c->json) {
         if (out) {

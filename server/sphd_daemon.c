@@ -89,6 +89,42 @@ void sphd_pending_free(sphd_pending *p)
     free(p);
 }
 
+sphd_pending *sphd_pending_take(sphd_pending **list, long token)
+{
+    for (sphd_pending **pp = list; *pp; pp = &(*pp)->next) {
+        if ((*pp)->token == token) {
+            sphd_pending *p = *pp;
+            *pp = p->next;
+            return p;
+        }
+    }
+    return NULL;
+}
+
+void *sphd_pair_open(void *ctx, const char *endpoint, int bind)
+{
+    void *s = zmq_socket(ctx, ZMQ_PAIR);
+    int zero = 0;
+    if (!s || zmq_setsockopt(s, ZMQ_LINGER, &zero, sizeof zero) != 0 ||
+        (bind ? zmq_bind(s, endpoint) : zmq_connect(s, endpoint)) != 0) {
+        sphd_log("cannot %s %s: %s", bind ? "bind" : "connect", endpoint, zmq_strerror(errno));
+        if (s)
+            zmq_close(s);
+        return NULL;
+    }
+    return s;
+}
+
+int sphd_pair_send(void *sock, const void *msg, size_t len)
+{
+    for (;;) {
+        if (zmq_send(sock, msg, len, 0) == (int)len)
+            return 0;
+        if (errno != EINTR)
+            return -1;
+    }
+}
+
 /* Sends an encoded reply (taken: freed here) with the request's envelope. */
 static void send_reply_text(sphd_daemon *d, const sphd_pending *to, char *text)
 {
@@ -403,18 +439,16 @@ static void begin_stopping(sphd_daemon *d)
 
 static int loop(sphd_daemon *d)
 {
-    const int n = 3 + d->nworkers;
-    zmq_pollitem_t *items = calloc((size_t)n, sizeof *items);
+    const int nitems = 3 + d->nworkers; /* control, signals, each worker, the files thread */
+    zmq_pollitem_t *items = calloc((size_t)nitems, sizeof *items);
     if (!items)
         return -1;
     items[0] = (zmq_pollitem_t){.socket = d->router, .events = ZMQ_POLLIN};
     items[1] = (zmq_pollitem_t){.fd = d->sigfd, .events = ZMQ_POLLIN};
     for (int i = 0; i < d->nworkers; i++)
         items[2 + i] = (zmq_pollitem_t){.socket = d->workers[i].pair, .events = ZMQ_POLLIN};
-    const int nitems = 2 + d->nworkers + (d->files_started ? 1 : 0);
     zmq_pollitem_t *files_item = &items[2 + d->nworkers];
-    if (d->files_started)
-        *files_item = (zmq_pollitem_t){.socket = d->files, .events = ZMQ_POLLIN};
+    *files_item = (zmq_pollitem_t){.socket = d->files, .events = ZMQ_POLLIN};
     int stop_begun = 0;
     for (;;) {
         if (d->stopping && !stop_begun) {
@@ -443,7 +477,7 @@ static int loop(sphd_daemon *d)
         for (int i = 0; i < d->nworkers; i++)
             if (items[2 + i].revents & ZMQ_POLLIN)
                 handle_worker(d, &d->workers[i]);
-        if (d->files_started && (files_item->revents & ZMQ_POLLIN))
+        if (files_item->revents & ZMQ_POLLIN)
             sphd_files_on_answer(d);
         if (items[0].revents & ZMQ_POLLIN) {
             /* a bounded batch, so the workers' events are never starved */
@@ -558,14 +592,13 @@ int sphd_daemon_main(const sphd_opts *opts)
              sched_what);
     if (loop(d) == 0)
         rc = SPHD_EX_OK;
-    sphd_files_stop(d); /* its last answers go out before the sockets close */
     finish_shutdown_replies(d);
     for (sphd_job *j = d->jobs; j; j = j->next)
         if (!sphd_job_state_final(j->state))
             sphd_job_record(d, j, 1);
     sphd_log("stopped");
 out:
-    sphd_files_stop(d);
+    sphd_files_stop(d); /* its last answers go out before the sockets close */
     if (d->workers)
         sphd_workers_stop(d);
     if (d->router) {

@@ -228,6 +228,14 @@ void sphd_publish(sphd_daemon *d, sphd_job *j, const char *type, json_t *body);
 void sphd_log(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 sphd_pending *sphd_pending_copy(const sphd_pending *p);
 void sphd_pending_free(sphd_pending *p);
+/* Unlinks and returns the request of `list` kept under token, or NULL. */
+sphd_pending *sphd_pending_take(sphd_pending **list, long token);
+/* An inproc PAIR between the loop (bind) and one of its threads (connect), LINGER 0; NULL (logged)
+ * on failure. */
+void *sphd_pair_open(void *ctx, const char *endpoint, int bind);
+/* Sends one fixed-size message (a command or an event struct) over a PAIR, retrying on EINTR.
+ * Returns 0 or -1 (errno). */
+int sphd_pair_send(void *sock, const void *msg, size_t len);
 
 /* sphd_commands.c: parses and dispatches one request; returns the encoded reply to send now
  * (malloc'ed) or NULL when the reply is deferred (the handler kept a copy of `req`). */

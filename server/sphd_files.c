@@ -17,16 +17,6 @@
 
 #define FILES_ENDPOINT "inproc://sphd-files"
 
-static int send_all(void *sock, const void *msg, size_t len)
-{
-    for (;;) {
-        if (zmq_send(sock, msg, len, 0) == (int)len)
-            return 0;
-        if (errno != EINTR)
-            return -1;
-    }
-}
-
 json_t *sphd_files_do(const sphd_fcmd *cmd, sphd_err *e)
 {
     switch (cmd->kind) {
@@ -46,15 +36,9 @@ static void *files_main(void *arg)
 {
     sphd_daemon *d = arg;
     prctl(PR_SET_NAME, "sphd-files", 0, 0, 0);
-    void *sock = zmq_socket(d->ctx, ZMQ_PAIR);
-    int zero = 0;
-    if (!sock || zmq_setsockopt(sock, ZMQ_LINGER, &zero, sizeof zero) != 0 ||
-        zmq_connect(sock, FILES_ENDPOINT) != 0) {
-        sphd_log("files thread: cannot connect %s: %s", FILES_ENDPOINT, zmq_strerror(errno));
-        if (sock)
-            zmq_close(sock);
+    void *sock = sphd_pair_open(d->ctx, FILES_ENDPOINT, 0);
+    if (!sock)
         return NULL;
-    }
     for (;;) {
         sphd_fcmd cmd;
         int n = zmq_recv(sock, &cmd, sizeof cmd, 0);
@@ -62,13 +46,13 @@ static void *files_main(void *arg)
             continue;
         if (n != (int)sizeof cmd || cmd.kind == SPHD_F_QUIT) {
             sphd_fev bye = {.token = -1}; /* after every answer: the loop may stop reading */
-            send_all(sock, &bye, sizeof bye);
+            sphd_pair_send(sock, &bye, sizeof bye);
             break;
         }
         sphd_fev ev = {.token = cmd.token};
         ev.body = sphd_files_do(&cmd, &ev.err);
         free(cmd.file);
-        if (send_all(sock, &ev, sizeof ev) != 0) {
+        if (sphd_pair_send(sock, &ev, sizeof ev) != 0) {
             sphd_log("files thread: cannot answer: %s", zmq_strerror(errno));
             json_decref(ev.body);
         }
@@ -79,13 +63,9 @@ static void *files_main(void *arg)
 
 int sphd_files_start(sphd_daemon *d)
 {
-    d->files = zmq_socket(d->ctx, ZMQ_PAIR);
-    int zero = 0;
-    if (!d->files || zmq_setsockopt(d->files, ZMQ_LINGER, &zero, sizeof zero) != 0 ||
-        zmq_bind(d->files, FILES_ENDPOINT) != 0) {
-        sphd_log("cannot bind %s: %s", FILES_ENDPOINT, zmq_strerror(errno));
+    d->files = sphd_pair_open(d->ctx, FILES_ENDPOINT, 1);
+    if (!d->files)
         return -1;
-    }
     int rc = pthread_create(&d->files_thread, NULL, files_main, d);
     if (rc != 0) {
         sphd_log("cannot start the files thread: %s", strerror(rc));
@@ -103,7 +83,7 @@ int sphd_files_send(sphd_daemon *d, sphd_fcmd *cmd, const sphd_pending *from, sp
         return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
     }
     cmd->token = p->token = ++d->next_token;
-    if (send_all(d->files, cmd, sizeof *cmd) != 0) {
+    if (sphd_pair_send(d->files, cmd, sizeof *cmd) != 0) {
         free(cmd->file);
         sphd_pending_free(p);
         return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the files thread: %s",
@@ -130,14 +110,7 @@ static int take_answers(sphd_daemon *d, int wait)
             continue;
         if (ev.token == -1)
             return 1;
-        sphd_pending *p = NULL;
-        for (sphd_pending **pp = &d->file_waits; *pp; pp = &(*pp)->next) {
-            if ((*pp)->token == ev.token) {
-                p = *pp;
-                *pp = p->next;
-                break;
-            }
-        }
+        sphd_pending *p = sphd_pending_take(&d->file_waits, ev.token);
         if (!p) {
             json_decref(ev.body);
             continue;
@@ -159,7 +132,7 @@ void sphd_files_stop(sphd_daemon *d)
         sphd_fcmd q = {.kind = SPHD_F_QUIT};
         int wait_ms = 60000; /* a thread that died early never says its last */
         zmq_setsockopt(d->files, ZMQ_RCVTIMEO, &wait_ms, sizeof wait_ms);
-        if (send_all(d->files, &q, sizeof q) == 0 && take_answers(d, 1))
+        if (sphd_pair_send(d->files, &q, sizeof q) == 0 && take_answers(d, 1))
             pthread_join(d->files_thread, NULL);
         else
             pthread_detach(d->files_thread);

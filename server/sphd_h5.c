@@ -64,20 +64,6 @@ size_t sphd_h5_type_size(sphd_h5_type t)
     }
 }
 
-int sphd_h5_attr_string(hid_t obj, const char *name, const char *value)
-{
-    hid_t type = H5Tcopy(H5T_C_S1);
-    H5Tset_size(type, strlen(value) + 1);
-    hid_t space = H5Screate(H5S_SCALAR);
-    hid_t a = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
-    herr_t rc = a < 0 ? -1 : H5Awrite(a, type, value);
-    if (a >= 0)
-        H5Aclose(a);
-    H5Sclose(space);
-    H5Tclose(type);
-    return rc < 0 ? -1 : 0;
-}
-
 int sphd_h5_attr_number(hid_t obj, const char *name, hid_t type, const void *value)
 {
     hid_t space = H5Screate(H5S_SCALAR);
@@ -87,6 +73,15 @@ int sphd_h5_attr_number(hid_t obj, const char *name, hid_t type, const void *val
         H5Aclose(a);
     H5Sclose(space);
     return rc < 0 ? -1 : 0;
+}
+
+int sphd_h5_attr_string(hid_t obj, const char *name, const char *value)
+{
+    hid_t type = H5Tcopy(H5T_C_S1); /* a scalar of a fixed-length string type */
+    H5Tset_size(type, strlen(value) + 1);
+    int rc = sphd_h5_attr_number(obj, name, type, value);
+    H5Tclose(type);
+    return rc;
 }
 
 int sphd_fsync_path(const char *path)

@@ -12,6 +12,8 @@ void sphd_h5_quiet(void);
 int sphd_h5_fail(sph_error *err, const char *what, const char *path);
 hid_t sphd_h5_type_id(sphd_h5_type t);
 size_t sphd_h5_type_size(sphd_h5_type t);
+/* A scalar attribute: a string, or any value of `type` (numbers; attr_string passes its string
+ * type). Return 0 or -1. */
 int sphd_h5_attr_string(hid_t obj, const char *name, const char *value);
 int sphd_h5_attr_number(hid_t obj, const char *name, hid_t type, const void *value);
 /* fsync a file by path (after HDF5 has closed it). */

@@ -355,18 +355,6 @@ static void answer_waiters(sphd_daemon *d, sphd_job *j)
     }
 }
 
-static sphd_pending *take_particle_wait(sphd_daemon *d, long token)
-{
-    for (sphd_pending **pp = &d->particle_waits; *pp; pp = &(*pp)->next) {
-        if ((*pp)->token == token) {
-            sphd_pending *p = *pp;
-            *pp = p->next;
-            return p;
-        }
-    }
-    return NULL;
-}
-
 void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
 {
     sphd_job *j = ev->job;
@@ -391,7 +379,7 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
         j->run_wall = ev->wall;
         return;
     case SPHD_WEV_PARTICLES: {
-        sphd_pending *p = take_particle_wait(d, ev->token);
+        sphd_pending *p = sphd_pending_take(&d->particle_waits, ev->token);
         json_t *s = NULL;
         if (p && ev->body && (s = sphd_job_status(j))) {
             json_object_set(s, "diag", j->diag ? j->diag : json_null());

@@ -33,12 +33,7 @@ typedef struct run_ctx {
 
 static int send_wev(void *sock, const sphd_wev *ev)
 {
-    for (;;) {
-        if (zmq_send(sock, ev, sizeof *ev, 0) == (int)sizeof *ev)
-            return 0;
-        if (errno != EINTR)
-            return -1;
-    }
+    return sphd_pair_send(sock, ev, sizeof *ev);
 }
 
 static void send_event(run_ctx *r, const char *type, json_t *body)
@@ -294,15 +289,9 @@ static void *worker_main(void *arg)
     if (sphd_sched_lower_self(w->d->opts.worker_nice) != 0)
         sphd_log("worker %d: cannot lower its priority: %s", w->index, strerror(errno));
     snprintf(ep, sizeof ep, "inproc://sphd-worker-%d", w->index);
-    void *sock = zmq_socket(w->d->ctx, ZMQ_PAIR);
-    if (!sock || zmq_connect(sock, ep) != 0) {
-        sphd_log("worker %d: cannot connect %s: %s", w->index, ep, zmq_strerror(errno));
-        if (sock)
-            zmq_close(sock);
+    void *sock = sphd_pair_open(w->d->ctx, ep, 0);
+    if (!sock)
         return NULL;
-    }
-    int zero = 0;
-    zmq_setsockopt(sock, ZMQ_LINGER, &zero, sizeof zero);
     for (;;) {
         sphd_wcmd cmd;
         int n = zmq_recv(sock, &cmd, sizeof cmd, 0);
@@ -327,12 +316,7 @@ static void *worker_main(void *arg)
 
 int sphd_worker_send(sphd_worker *w, const sphd_wcmd *cmd)
 {
-    for (;;) {
-        if (zmq_send(w->pair, cmd, sizeof *cmd, 0) == (int)sizeof *cmd)
-            return 0;
-        if (errno != EINTR)
-            return -1;
-    }
+    return sphd_pair_send(w->pair, cmd, sizeof *cmd);
 }
 
 int sphd_workers_start(sphd_daemon *d)
@@ -347,17 +331,9 @@ int sphd_workers_start(sphd_daemon *d)
         w->index = i;
         char ep[64];
         snprintf(ep, sizeof ep, "inproc://sphd-worker-%d", i);
-        w->pair = zmq_socket(d->ctx, ZMQ_PAIR);
-        if (!w->pair) {
-            sphd_log("cannot create a worker socket: %s", zmq_strerror(errno));
+        w->pair = sphd_pair_open(d->ctx, ep, 1);
+        if (!w->pair)
             return -1;
-        }
-        int zero = 0;
-        if (zmq_setsockopt(w->pair, ZMQ_LINGER, &zero, sizeof zero) != 0 ||
-            zmq_bind(w->pair, ep) != 0) {
-            sphd_log("cannot bind %s: %s", ep, zmq_strerror(errno));
-            return -1;
-        }
         int rc = pthread_create(&w->thread, NULL, worker_main, w);
         if (rc != 0) {
             sphd_log("cannot start worker thread %d: %s", i, strerror(rc));
