@@ -133,7 +133,6 @@ int sph_integrate_step(sph_sim *s, double dt_cap, sph_error *err)
             rho = rho0; /* walls do not pull fluid in (as DualSPHysics does) */
         }
         P->rho[i] = rho;
-        P->p[i] = sph_eos(c, rho); /* of the final density, for outputs */
         bad += !isfinite(rho);
         rlo = rho < rlo ? rho : rlo;
         rhi = rho > rhi ? rho : rhi;

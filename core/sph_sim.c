@@ -223,6 +223,11 @@ void sph_sim_timing(const sph_sim *s, sph_timing *timing)
 
 void sph_sim_particles(const sph_sim *s, sph_particle_view *v)
 {
+    /* the pressure of the current density: the steps compute it only inside the force loop,
+     * before the corrector changes the density, so it is brought up to date here */
+    const sph_particles *P = &s->P;
+    for (long i = 0; i < P->n; i++)
+        P->p[i] = sph_eos(&s->cfg, P->rho[i]);
     memset(v, 0, sizeof *v);
     v->n = s->P.n;
     v->dim = 2;

@@ -80,6 +80,8 @@ int sph_sim_step(sph_sim *s, long nsteps, sph_error *err);
 const sph_diag *sph_sim_diag(const sph_sim *s);
 double sph_sim_time(const sph_sim *s);
 const sph_config *sph_sim_config(const sph_sim *s);
+/* A view of the particle arrays (valid until the next step); the pressures are computed from
+ * the densities when it is taken. */
 void sph_sim_particles(const sph_sim *s, sph_particle_view *view);
 void sph_sim_timing(const sph_sim *s, sph_timing *timing);
 /* Resident bytes of the sim's particle and cell storage. */

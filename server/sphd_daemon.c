@@ -219,30 +219,28 @@ static void handle_request(sphd_daemon *d)
         from.frame[i] = zmq_msg_data(&parts[i]);
         from.len[i] = zmq_msg_size(&parts[i]);
     }
-    char *reply;
+    char *reply = NULL;
+    sphd_err e;
+    int refused = 1; /* refused unread: no id to echo */
     if (n - env != 1 || dropped) {
-        sphd_err e;
         sphd_err_set(&e, SPHD_E_BAD_REQUEST, NULL,
                      "a request is one frame holding one JSON object (got %d frames)", n - env);
-        d->requests++;
-        d->errors++;
-        json_t *r = sphd_reply_new(NULL, NULL, &e);
-        reply = r ? json_dumps(r, JSON_COMPACT) : NULL;
-        json_decref(r);
     } else if ((long)zmq_msg_size(&parts[n - 1]) > d->opts.max_msg_size) {
         /* read (up to the transport's bound, SPHD_TRANSPORT_FACTOR times larger) and refused */
-        sphd_err e;
         sphd_err_set(&e, SPHD_E_TOO_LARGE, NULL,
                      "the request is %zu bytes, more than the %ld this sphd accepts "
                      "(--max-msg-size); send particle data and large cases in smaller pieces",
                      zmq_msg_size(&parts[n - 1]), d->opts.max_msg_size);
+    } else {
+        reply = sphd_dispatch(d, &from, zmq_msg_data(&parts[n - 1]), zmq_msg_size(&parts[n - 1]));
+        refused = 0;
+    }
+    if (refused) {
         d->requests++;
         d->errors++;
         json_t *r = sphd_reply_new(NULL, NULL, &e);
         reply = r ? json_dumps(r, JSON_COMPACT) : NULL;
         json_decref(r);
-    } else {
-        reply = sphd_dispatch(d, &from, zmq_msg_data(&parts[n - 1]), zmq_msg_size(&parts[n - 1]));
     }
     if (reply)
         send_reply_text(d, &from, reply);
