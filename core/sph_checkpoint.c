@@ -3,8 +3,8 @@
  * server puts them in a checkpoint file). Saved: the configuration, the scalars of the time
  * integration (t, step, dt, the latest max acceleration and speed), the latest diagnostics, and
  * every per-particle array that lives from one step to the next, in the particles' current
- * (cell-sorted) order. Not saved: what every step rebuilds (the cell list, the probes' histogram,
- * the force loop's scratch arrays).
+ * (cell-sorted) order (the method lists them). Not saved: what every step rebuilds (the cell list,
+ * the probes' histogram, the force loop's scratch arrays).
  */
 #include "sph_sim_impl.h"
 
@@ -13,7 +13,7 @@
 #include <string.h>
 
 #define SIM_MAGIC   "SPHSIM01"
-#define SIM_VERSION 1u
+#define SIM_VERSION 2u /* 2: sph_config.method */
 
 typedef struct {
     char magic[8];
@@ -26,22 +26,16 @@ typedef struct {
     sph_diag diag;
 } sim_header;
 
-/* The per-particle arrays that persist across steps, in a fixed order. */
-static int persistent_arrays(const sph_particles *P, double **d, int maxd)
+/* The per-particle arrays that persist across steps, in the method's fixed order. */
+static int persistent_arrays(const sph_sim *s, double **d, int maxd)
 {
-    double *all[] = {P->x,   P->y,   P->vx,    P->vy,  P->rho, P->p,   P->ax,  P->ay,  P->drho,
-                     P->ax0, P->ay0, P->drho0, P->txx, P->txy, P->tyy, P->gxx, P->gxy, P->gyy};
-    int n = 0;
-    for (size_t i = 0; i < sizeof all / sizeof all[0] && n < maxd; i++)
-        if (all[i])
-            d[n++] = all[i];
-    return n;
+    return s->ops->arrays(s, d, maxd);
 }
 
 int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
 {
     double *arrays[32];
-    const int na = persistent_arrays(&s->P, arrays, 32);
+    const int na = persistent_arrays(s, arrays, 32);
     const size_t n = (size_t)s->P.n;
     const size_t size =
         sizeof(sim_header) + (size_t)na * n * sizeof(double) + n * (1 + sizeof(int));
@@ -97,7 +91,7 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
     if (!s)
         return NULL;
     double *arrays[32];
-    const int na = persistent_arrays(&s->P, arrays, 32);
+    const int na = persistent_arrays(s, arrays, 32);
     const size_t n = (size_t)s->P.n;
     if (h.n != s->P.n || (s->P.txx != NULL) != (h.sps != 0) ||
         len != sizeof h + (size_t)na * n * sizeof(double) + n * (1 + sizeof(int))) {

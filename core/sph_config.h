@@ -16,6 +16,15 @@ typedef struct sph_box {
     double max[3]; /* upper corner [m] */
 } sph_box;
 
+/* What a case runs (its "method"). The kernel study is not a particle simulation (study/); the
+ * others run behind the sim handle through the table of sph_method.h. */
+typedef enum {
+    SPH_METHOD_KERNEL_STUDY = 0,
+    SPH_METHOD_WCSPH,
+    SPH_METHOD_MPS,
+    SPH_METHOD_COUNT
+} sph_method;
+
 typedef enum { SPH_BOUNDARY_NONE = 0, SPH_BOUNDARY_DYNAMIC } sph_boundary_type;
 typedef enum { SPH_EOS_LINEAR = 0, SPH_EOS_TAIT } sph_eos_type;
 typedef enum { SPH_VISC_ARTIFICIAL = 0, SPH_VISC_LAMINAR } sph_visc_type;
@@ -25,6 +34,7 @@ typedef enum { SPH_TURB_NONE = 0, SPH_TURB_SPS } sph_turb_type;
 enum { SPH_PROBE_FRONT_X = 1 << 0, SPH_PROBE_HEIGHT_LEFT = 1 << 1 };
 
 typedef struct sph_config {
+    sph_method method;                   /* wcsph (mps later) */
     int dim;                             /* 2 (3D later) */
     sph_kernel_spec kernel;              /* kernel type and parameters */
     double h_over_dx;                    /* smoothing length in units of dx [-] */

@@ -93,4 +93,6 @@ void sph_diag_compute(sph_sim *s)
     const double bottom = c->has_tank ? c->tank.min[1] : c->domain.min[1];
     d->front_x = probe(s, P->x, P->y, c->domain.min[0], -INFINITY, INFINITY);
     d->height_left = probe(s, P->y, P->x, bottom, wall, wall + 2.0 * c->dx) - bottom;
+    if (s->ops->diag)
+        s->ops->diag(s);
 }

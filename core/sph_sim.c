@@ -1,6 +1,6 @@
 /*
- * sph_sim: the simulation handle (creation, stepping, observation). WCSPH only for now; the
- * handle itself is method-agnostic.
+ * sph_sim: the simulation handle (creation, stepping, observation). Method-agnostic: every
+ * method-specific call goes through the method's row of the table (sph_method.h).
  */
 #include "sph_geometry.h"
 #include "sph_sim_impl.h"
@@ -15,6 +15,7 @@ sph_config sph_config_default(void)
 {
     sph_config c;
     memset(&c, 0, sizeof c);
+    c.method = SPH_METHOD_WCSPH;
     c.dim = 2;
     c.kernel = sph_kernel_spec_default(SPH_KERNEL_WENDLAND_C2);
     c.h_over_dx = 1.414; /* sqrt(2): what the shipped cases are validated with */
@@ -81,7 +82,8 @@ double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nbounda
     double lo[2], hi[2];
     grid_bounds(cfg, lo, hi);
     const double cells = sph_cells_count(lo, hi, support_of(cfg));
-    const double per = (double)sph_particles_bytes_per_particle(cfg->turb == SPH_TURB_SPS);
+    const sph_method_ops *ops = sph_method_ops_of(cfg->method);
+    const double per = ops ? (double)ops->bytes_per_particle(cfg) : 0.0;
     const double bins = (fmax(hi[0] - lo[0], hi[1] - lo[1]) / cfg->dx + 2.0) * 12.0;
     return (double)(nf + nb) * per + cells * sizeof(int) + bins + sizeof(sph_sim);
 }
@@ -89,6 +91,10 @@ double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nbounda
 /* Configuration checks the case parser already makes; repeated here for direct API users. */
 static int check_config(const sph_config *c, sph_error *err)
 {
+    const sph_method_ops *ops = sph_method_ops_of(c->method);
+    if (!ops)
+        return sph_error_set(err, SPH_ERR_INVALID, "/method",
+                             "method %d is not a particle method of this build", (int)c->method);
     if (c->dim != 2)
         return sph_error_set(err, SPH_ERR_INVALID, "/dim", "only 2D simulations are available");
     if (!(c->dx > 0.0) || !isfinite(c->dx))
@@ -96,21 +102,17 @@ static int check_config(const sph_config *c, sph_error *err)
     if (!(c->h_over_dx > 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/kernel/h_over_dx",
                              "h_over_dx must be positive");
-    if (sph_kernel_is_mps(c->kernel.type))
-        return sph_error_set(err, SPH_ERR_INVALID, "/kernel/type",
-                             "'%s' is an MPS weight function, not an SPH kernel",
-                             sph_kernel_type_name(c->kernel.type));
     for (int d = 0; d < 2; d++)
         if (!(c->domain.max[d] > c->domain.min[d]))
             return sph_error_set(err, SPH_ERR_INVALID, "/domain/max",
                                  "the domain's max must exceed its min");
-    if (!(c->rho0 > 0.0) || !(c->c0 > 0.0))
-        return sph_error_set(err, SPH_ERR_INVALID, "/physics", "rho0 and c0 must be positive");
+    if (!(c->rho0 > 0.0))
+        return sph_error_set(err, SPH_ERR_INVALID, "/physics/rho0", "rho0 must be positive");
     if (!(c->t_end > 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/time/end", "the end time must be positive");
     if (!(c->cfl > 0.0) && !(c->dt_fixed > 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/time/cfl", "cfl must be positive");
-    return 0;
+    return ops->check(c, err);
 }
 
 sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
@@ -141,6 +143,7 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
         return NULL;
     }
     s->cfg = *cfg;
+    s->ops = sph_method_ops_of(cfg->method);
     s->h = cfg->h_over_dx * cfg->dx;
     s->mass = cfg->rho0 * cfg->dx * cfg->dx;
     s->nfluid = nf;
@@ -170,7 +173,10 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
         return NULL;
     }
     sph_geometry_fill(cfg, &s->P);
-    sph_wcsph_forces(s);
+    if (s->ops->init(s, err)) {
+        sph_sim_destroy(s);
+        return NULL;
+    }
     sph_diag_compute(s);
     return s;
 }
@@ -183,10 +189,10 @@ int sph_sim_advance(sph_sim *s, long max_steps, double t_until, sph_error *err)
     for (long k = 0; k < max_steps && s->t < t_until; k++) {
         /* land on t_until: shorten the last step, and the one before if the last would be tiny */
         double cap = t_until - s->t;
-        const double dt = sph_integrate_dt(s);
+        const double dt = s->ops->dt(s);
         if (cap > dt && cap < 1.5 * dt)
             cap = 0.5 * cap;
-        if ((rc = sph_integrate_step(s, cap, err)) != 0) {
+        if ((rc = s->ops->step(s, cap, err)) != 0) {
             s->failed = 1;
             break;
         }
@@ -223,11 +229,7 @@ void sph_sim_timing(const sph_sim *s, sph_timing *timing)
 
 void sph_sim_particles(const sph_sim *s, sph_particle_view *v)
 {
-    /* the pressure of the current density: the steps compute it only inside the force loop,
-     * before the corrector changes the density, so it is brought up to date here */
-    const sph_particles *P = &s->P;
-    for (long i = 0; i < P->n; i++)
-        P->p[i] = sph_eos(&s->cfg, P->rho[i]);
+    s->ops->pressure(s); /* a derived field: brought up to date for the view */
     memset(v, 0, sizeof *v);
     v->n = s->P.n;
     v->dim = 2;
@@ -244,7 +246,7 @@ void sph_sim_particles(const sph_sim *s, sph_particle_view *v)
 double sph_sim_bytes(const sph_sim *s)
 {
     const double n = (double)s->P.n;
-    return n * (double)sph_particles_bytes_per_particle(s->P.gxx != NULL) +
+    return n * (double)s->ops->bytes_per_particle(&s->cfg) +
            (double)(s->cells.ncells + 4) * sizeof(int) + (double)s->nbins * 12.0 + sizeof *s;
 }
 
@@ -252,6 +254,8 @@ void sph_sim_destroy(sph_sim *s)
 {
     if (!s)
         return;
+    if (s->ops && s->ops->destroy)
+        s->ops->destroy(s);
     sph_particles_free(&s->P);
     sph_cells_free(&s->cells);
     free(s->bin_count);

@@ -1,6 +1,7 @@
 /*
  * sph_sim: a particle simulation behind an opaque handle. Method-agnostic: the configuration says
- * which method (only WCSPH today), the handle is created, stepped, observed and destroyed:
+ * which method (cfg.method; a table inside the core, sph_method.h, holds each); the handle is
+ * created, stepped, observed and destroyed:
  *
  *     sph_sim *s = sph_sim_create(&cfg, &err);
  *     while (sph_sim_time(s) < cfg.t_end)
@@ -62,6 +63,9 @@ typedef struct sph_timing {
     long pairs;          /* interacting pairs (r < support) in the latest force evaluation */
     long active;         /* particles in the latest force evaluation */
 } sph_timing;
+
+/* 1 if this build runs method m as a particle simulation (a row of the method table). */
+int sph_sim_has_method(sph_method m);
 
 /* Creates the simulation: builds the particles, the cell list and the initial forces. Fails with
  * SPH_ERR_INVALID (bad configuration, path names the case field), SPH_ERR_NOMEM ("too_large": the

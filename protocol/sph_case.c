@@ -11,6 +11,11 @@ static const char *const method_names[] = {[SPH_METHOD_KERNEL_STUDY] = "kernel_s
                                            [SPH_METHOD_WCSPH] = "wcsph",
                                            [SPH_METHOD_MPS] = "mps"};
 
+int sph_case_is_sim(const sph_case *c)
+{
+    return c->method != SPH_METHOD_KERNEL_STUDY;
+}
+
 const char *sph_method_name(sph_method m)
 {
     if ((int)m < 0 || (size_t)m >= sizeof method_names / sizeof method_names[0])
@@ -343,6 +348,7 @@ static int parse_sim(const json_t *root, sph_config *c, sph_output_config *out, 
     if (sph_json_check_keys(root, "", keys, err))
         return SPH_ERR_INVALID;
     *c = sph_config_default();
+    c->method = SPH_METHOD_WCSPH;
     long dim = 2;
     if (sph_json_integer(root, "", "dim", 0, 1, 3, &dim, err))
         return SPH_ERR_INVALID;

@@ -14,12 +14,6 @@
 
 #define SPH_CASE_NAME_MAX 64
 
-typedef enum {
-    SPH_METHOD_KERNEL_STUDY = 0,
-    SPH_METHOD_WCSPH,
-    SPH_METHOD_MPS,
-} sph_method;
-
 /* Particle snapshots (the case's "output"); the core knows nothing of them. */
 enum {
     SPH_FIELD_POS = 1 << 0,
@@ -41,8 +35,8 @@ typedef struct sph_case {
     char name[SPH_CASE_NAME_MAX]; /* the case's "name" */
     sph_method method;
     sph_study_config study;   /* method == SPH_METHOD_KERNEL_STUDY */
-    sph_config sim;           /* method == SPH_METHOD_WCSPH */
-    sph_output_config output; /* method == SPH_METHOD_WCSPH */
+    sph_config sim;           /* a particle simulation (sph_case_is_sim) */
+    sph_output_config output; /* a particle simulation */
 } sph_case;
 
 /* Reads a case file into a new JSON object (*root, new reference). SPH_ERR_IO if the file cannot
@@ -54,5 +48,9 @@ int sph_case_from_json(const json_t *root, sph_case *out, sph_error *err);
 
 /* Case-file name of a method. */
 const char *sph_method_name(sph_method m);
+
+/* 1 if the case is a particle simulation run through the sim handle (sim and output hold it),
+ * 0 for a kernel study. */
+int sph_case_is_sim(const sph_case *c);
 
 #endif

@@ -415,7 +415,7 @@ static int op_hello(sphd_request *r, json_t **result, sphd_err *e)
     for (size_t i = 0; i < NCOMMANDS; i++)
         json_array_append_new(ops, json_string(commands[i].name));
     json_t *methods = json_array();
-    for (int m = SPH_METHOD_KERNEL_STUDY; m <= SPH_METHOD_MPS; m++)
+    for (int m = SPH_METHOD_KERNEL_STUDY; m < SPH_METHOD_COUNT; m++)
         if (sphd_method_available((sph_method)m))
             json_array_append_new(methods, json_string(sph_method_name((sph_method)m)));
     *result = json_pack(

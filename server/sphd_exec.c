@@ -16,7 +16,7 @@ struct sphd_exec {
     sph_case c;
     char *outdir;
     int finished;
-    sph_sim *sim;             /* SPH_METHOD_WCSPH */
+    sph_sim *sim;             /* a particle simulation (sph_case_is_sim) */
     double wall;              /* wall-clock seconds spent advancing [s] */
     long last_diag;           /* step of the latest diag event, -1 before the first */
     json_t *diag;             /* latest diag body (owned) */
@@ -58,23 +58,13 @@ sphd_exec *sphd_exec_new(const sph_case *c, const char *outdir, sph_error *err)
         sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory");
         return NULL;
     }
-    switch (c->method) {
-    case SPH_METHOD_KERNEL_STUDY:
+    if (!sph_case_is_sim(c)) {
         if (sph_study_validate(&c->study, err)) {
             sphd_exec_free(x);
             return NULL;
         }
-        break;
-    case SPH_METHOD_WCSPH:
-        if (!(x->sim = sph_sim_create(&c->sim, err)) ||
-            (outdir && !(x->out = sphd_outputs_open(outdir, job_of(outdir), c, -1, err)))) {
-            sphd_exec_free(x);
-            return NULL;
-        }
-        break;
-    default:
-        sph_error_set(err, SPH_ERR_INVALID, "/method", "method '%s' is not available",
-                      sph_method_name(c->method));
+    } else if (!(x->sim = sph_sim_create(&c->sim, err)) ||
+               (outdir && !(x->out = sphd_outputs_open(outdir, job_of(outdir), c, -1, err)))) {
         sphd_exec_free(x);
         return NULL;
     }
@@ -211,15 +201,9 @@ sphd_exec_status sphd_exec_advance(sphd_exec *x, long max_steps, double until, s
 {
     if (x->finished)
         return SPHD_EXEC_DONE;
-    switch (x->c.method) {
-    case SPH_METHOD_KERNEL_STUDY:
+    if (!sph_case_is_sim(&x->c))
         return advance_study(x, emit, ud, err);
-    case SPH_METHOD_WCSPH:
-        return advance_sim(x, max_steps, until, emit, ud, err);
-    default:
-        sph_error_set(err, SPH_ERR_INTERNAL, "", "method not implemented");
-        return SPHD_EXEC_FAILED;
-    }
+    return advance_sim(x, max_steps, until, emit, ud, err);
 }
 
 json_t *sphd_exec_progress(const sphd_exec *x)
@@ -338,7 +322,7 @@ int sphd_exec_checkpoint(sphd_exec *x, sph_error *err)
 
 sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_back, sph_error *err)
 {
-    if (c->method != SPH_METHOD_WCSPH) {
+    if (!sph_case_is_sim(c)) {
         sph_error_set(err, SPH_ERR_INVALID, "", "only simulations resume from checkpoints");
         return NULL;
     }

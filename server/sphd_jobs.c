@@ -237,7 +237,7 @@ sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int
     }
     /* The executor (particle generation, allocation) is solver work: the worker creates it
      * when the job first runs. Here only the cheap check of its size. */
-    if (j->c->method == SPH_METHOD_WCSPH) {
+    if (sph_case_is_sim(j->c)) {
         long nf = 0, nb = 0;
         const double bytes = sph_sim_estimate_bytes(&j->c->sim, &nf, &nb);
         if (bytes > j->c->sim.max_bytes) {
@@ -264,7 +264,7 @@ sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int
     j->step_until = INFINITY;
     j->eta = NAN;
     j->submitted = sphd_now();
-    if (j->c->method == SPH_METHOD_WCSPH)
+    if (sph_case_is_sim(j->c))
         j->progress = json_pack("{s:f, s:f, s:i}", "t", 0.0, "t_end", j->c->sim.t_end, "step", 0);
     else
         j->progress = json_pack("{s:i}", "step", 0);
@@ -531,7 +531,7 @@ static sphd_job *recover_one(sphd_daemon *d, const char *id)
     j->step_until = INFINITY;
     j->eta = NAN;
     j->started = 1;
-    if (j->c->method == SPH_METHOD_WCSPH)
+    if (sph_case_is_sim(j->c))
         j->progress =
             json_pack("{s:O?, s:f, s:I}", "t", json_object_get(prog, "t"), "t_end", j->c->sim.t_end,
                       "step", (json_int_t)json_integer_value(json_object_get(prog, "steps")));

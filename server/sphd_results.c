@@ -263,7 +263,7 @@ json_t *sphd_results_export_csv(const sphd_job *j, sphd_err *e)
         return NULL;
     }
     if (missing) {
-        if (j->c && j->c->method == SPH_METHOD_KERNEL_STUDY)
+        if (j->c && !sph_case_is_sim(j->c))
             sphd_err_set(e, SPHD_E_BAD_STATE, "/args/job",
                          "job %s is a kernel study: it has no diagnostics time series (its "
                          "result is in result.json: 'sphctl fetch %s')",

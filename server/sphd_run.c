@@ -125,7 +125,7 @@ int sphd_run(const sphd_run_opts *o)
     int rc = SPHD_EX_OK;
     write_json(outdir, "case.json", root);
     sphd_exec *x = NULL;
-    if (o->resume && c->method == SPH_METHOD_WCSPH) {
+    if (o->resume && sph_case_is_sim(c)) {
         int fell_back = 0;
         char ck[4200];
         snprintf(ck, sizeof ck, "%s/checkpoint", outdir);

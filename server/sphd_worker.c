@@ -5,6 +5,7 @@
  * thinned to at most opts.diag_rate per second so that a fast job never floods the stream.
  */
 #include "sphd_daemon.h"
+#include "sph_sim.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -86,7 +87,7 @@ static double progress_t(const json_t *p, const char *key)
 
 int sphd_method_available(sph_method m)
 {
-    return m == SPH_METHOD_KERNEL_STUDY || m == SPH_METHOD_WCSPH;
+    return m == SPH_METHOD_KERNEL_STUDY || sph_sim_has_method(m);
 }
 
 #define SPHD_MAX_FIELDS 8
@@ -95,7 +96,7 @@ json_t *sphd_particles(sphd_exec *x, const sph_case *c, json_t *fields, long max
 {
     const char *names[SPHD_MAX_FIELDS];
     const size_t n = json_array_size(fields);
-    if (c->method == SPH_METHOD_KERNEL_STUDY) {
+    if (!sph_case_is_sim(c)) {
         sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/fields", "%s jobs have no particle fields",
                      sph_method_name(c->method));
         return NULL;

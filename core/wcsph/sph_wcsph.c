@@ -14,7 +14,7 @@
  * The order in which a particle receives its contributions is fixed by the grid alone, so the
  * results are bitwise the same whatever the number of threads.
  */
-#include "sph_sim_impl.h"
+#include "sph_wcsph.h"
 
 #include <math.h>
 #include <omp.h>

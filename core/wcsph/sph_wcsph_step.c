@@ -1,7 +1,8 @@
 /*
- * sph_integrate: time integration. Velocity Verlet with one force evaluation per step, the
- * velocity-dependent terms evaluated with the predicted velocity, and the density advanced with
- * the trapezoidal rule over the two density rates:
+ * sph_wcsph_step: the WCSPH method's time integration and its row of the method table. Velocity
+ * Verlet with one force evaluation per step, the velocity-dependent terms evaluated with the
+ * predicted velocity, and the density advanced with the trapezoidal rule over the two density
+ * rates:
  *
  *     x(n+1)  = x(n) + dt v(n) + dt^2/2 a(n)
  *     v*      = v(n) + dt a(n),            rho* = rho(n) + dt D(n)
@@ -13,7 +14,7 @@
  * After every step the state is checked: non-finite values, density outside [rho0/2, 2 rho0],
  * too many particles lost, a collapsing time step are blow-ups reported with the step.
  */
-#include "sph_sim_impl.h"
+#include "sph_wcsph.h"
 
 #include <math.h>
 #include <omp.h>
@@ -23,7 +24,7 @@
 /* An adaptive dt below this fraction of cfl h / c0 is a blow-up (it would take forever). */
 #define SPH_DT_COLLAPSE 1e-3
 
-double sph_integrate_dt(const sph_sim *s)
+static double wcsph_dt(const sph_sim *s)
 {
     const sph_config *c = &s->cfg;
     if (c->dt_fixed > 0.0)
@@ -58,12 +59,12 @@ static long first_bad(const sph_particles *P, long n)
     return -1;
 }
 
-int sph_integrate_step(sph_sim *s, double dt_cap, sph_error *err)
+static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
 {
     const sph_config *c = &s->cfg;
     sph_particles *P = &s->P;
     const double t0 = omp_get_wtime();
-    const double dt_free = sph_integrate_dt(s);
+    const double dt_free = wcsph_dt(s);
     const long step = s->step + 1;
     if (!(dt_free >= SPH_DT_COLLAPSE * c->cfl * s->h / c->c0))
         return sph_error_set(err, SPH_ERR_UNSTABLE, "",
@@ -164,3 +165,61 @@ int sph_integrate_step(sph_sim *s, double dt_cap, sph_error *err)
                              step, s->t, lost, s->max_lost);
     return 0;
 }
+
+static int wcsph_check(const sph_config *c, sph_error *err)
+{
+    if (sph_kernel_is_mps(c->kernel.type))
+        return sph_error_set(err, SPH_ERR_INVALID, "/kernel/type",
+                             "'%s' is an MPS weight function, not an SPH kernel",
+                             sph_kernel_type_name(c->kernel.type));
+    if (!(c->c0 > 0.0))
+        return sph_error_set(err, SPH_ERR_INVALID, "/physics/eos/c0", "c0 must be positive");
+    return 0;
+}
+
+static size_t wcsph_bytes_per_particle(const sph_config *c)
+{
+    return sph_particles_bytes_per_particle(c->turb == SPH_TURB_SPS);
+}
+
+static int wcsph_init(sph_sim *s, sph_error *err)
+{
+    (void)err;
+    sph_wcsph_forces(s);
+    return 0;
+}
+
+/* The pressure of the current density: the steps compute it only inside the force loop, before
+ * the corrector changes the density, so it is brought up to date for a view. */
+static void wcsph_pressure(const sph_sim *s)
+{
+    const sph_particles *P = &s->P;
+    for (long i = 0; i < P->n; i++)
+        P->p[i] = sph_eos(&s->cfg, P->rho[i]);
+}
+
+/* What lives from one step to the next: the state and the previous rates of the corrector. */
+static int wcsph_arrays(const sph_sim *s, double **d, int maxd)
+{
+    const sph_particles *P = &s->P;
+    double *all[] = {P->x,   P->y,   P->vx,    P->vy,  P->rho, P->p,   P->ax,  P->ay,  P->drho,
+                     P->ax0, P->ay0, P->drho0, P->txx, P->txy, P->tyy, P->gxx, P->gxy, P->gyy};
+    int n = 0;
+    for (size_t i = 0; i < sizeof all / sizeof all[0] && n < maxd; i++)
+        if (all[i])
+            d[n++] = all[i];
+    return n;
+}
+
+const sph_method_ops sph_wcsph_ops = {
+    .name = "wcsph",
+    .check = wcsph_check,
+    .bytes_per_particle = wcsph_bytes_per_particle,
+    .init = wcsph_init,
+    .dt = wcsph_dt,
+    .step = wcsph_step,
+    .pressure = wcsph_pressure,
+    .diag = NULL,
+    .arrays = wcsph_arrays,
+    .destroy = NULL,
+};

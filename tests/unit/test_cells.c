@@ -10,7 +10,7 @@
 
 #include <cmocka.h>
 
-#include "sph_sim_impl.h"
+#include "sph_wcsph.h"
 
 #include <math.h>
 #include <omp.h>

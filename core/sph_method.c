@@ -1,0 +1,21 @@
+/*
+ * sph_method: the table of the particle methods of this build (sph_method.h).
+ */
+#include "sph_method.h"
+#include "sph_sim.h"
+#include "sph_wcsph.h"
+
+const sph_method_ops *sph_method_ops_of(sph_method m)
+{
+    switch (m) {
+    case SPH_METHOD_WCSPH:
+        return &sph_wcsph_ops;
+    default:
+        return NULL;
+    }
+}
+
+int sph_sim_has_method(sph_method m)
+{
+    return sph_method_ops_of(m) != NULL;
+}

@@ -1,0 +1,48 @@
+/*
+ * sph_method: the per-method table behind the sim handle. sph_sim.c knows each method only as a
+ * row of this table; a method's files (wcsph/, mps/) know the handle through sph_sim_impl.h.
+ * Nothing outside this table branches on the method.
+ *
+ * The handle owns what every method shares: the configuration, the particles (positions,
+ * velocities, density or number density, pressure, type, id), the cell list, time, step, dt,
+ * the diagnostics and the timers. A method keeps anything else in s->mstate.
+ */
+#ifndef SPH_METHOD_H
+#define SPH_METHOD_H
+
+#include "sph_config.h"
+#include "sph_error.h"
+
+#include <stddef.h>
+
+typedef struct sph_sim sph_sim;
+
+typedef struct sph_method_ops {
+    const char *name; /* the case file's "method" */
+    /* Checks the configuration fields the method reads (err->path names the case field).
+     * Called by sph_sim_create() after the shared checks. */
+    int (*check)(const sph_config *cfg, sph_error *err);
+    /* Bytes per particle of the particle storage the method needs. */
+    size_t (*bytes_per_particle)(const sph_config *cfg);
+    /* Particles are built: allocate s->mstate, evaluate what the first step needs. */
+    int (*init)(sph_sim *s, sph_error *err);
+    /* The time step the next step would take, before any cap [s]. */
+    double (*dt)(const sph_sim *s);
+    /* One step of at most dt_cap [s]; updates s->t, s->step, s->dt. Returns 0 or
+     * SPH_ERR_UNSTABLE (message with the step and the quantity). */
+    int (*step)(sph_sim *s, double dt_cap, sph_error *err);
+    /* Brings P.p up to date for a particle view (const: the pressure is a derived field). */
+    void (*pressure)(const sph_sim *s);
+    /* Fills the method's own diagnostics into s->diag after the shared ones; may be NULL. */
+    void (*diag)(sph_sim *s);
+    /* The per-particle double arrays that live from one step to the next, in a fixed order
+     * (what a checkpoint saves besides type and id); returns how many (at most maxd). */
+    int (*arrays)(const sph_sim *s, double **d, int maxd);
+    /* Frees s->mstate; may be NULL. */
+    void (*destroy)(sph_sim *s);
+} sph_method_ops;
+
+/* The row of method m, or NULL when m is not a particle simulation of this build. */
+const sph_method_ops *sph_method_ops_of(sph_method m);
+
+#endif
