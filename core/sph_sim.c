@@ -88,8 +88,8 @@ double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nbounda
     return (double)(nf + nb) * per + cells * sizeof(int) + bins + sizeof(sph_sim);
 }
 
-/* Configuration checks the case parser already makes; repeated here for direct API users. */
-static int check_config(const sph_config *c, sph_error *err)
+/* The checks of a configuration that the table of the case parser cannot make. */
+int sph_sim_check(const sph_config *c, sph_error *err)
 {
     const sph_method_ops *ops = sph_method_ops_of(c->method);
     if (!ops)
@@ -117,7 +117,7 @@ static int check_config(const sph_config *c, sph_error *err)
 
 sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
 {
-    if (check_config(cfg, err))
+    if (sph_sim_check(cfg, err))
         return NULL;
     long nf, nb;
     const double bytes = sph_sim_estimate_bytes(cfg, &nf, &nb);

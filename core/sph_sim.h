@@ -67,6 +67,10 @@ typedef struct sph_timing {
 /* 1 if this build runs method m as a particle simulation (a row of the method table). */
 int sph_sim_has_method(sph_method m);
 
+/* Checks a configuration as sph_sim_create() does, without building anything: the shared rules
+ * and the method's own (err->path names the case field). */
+int sph_sim_check(const sph_config *cfg, sph_error *err);
+
 /* Creates the simulation: builds the particles, the cell list and the initial forces. Fails with
  * SPH_ERR_INVALID (bad configuration, path names the case field), SPH_ERR_NOMEM ("too_large": the
  * case needs more than cfg->max_bytes, or memory ran out). */

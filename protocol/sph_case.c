@@ -1,4 +1,6 @@
 #include "sph_case.h"
+#include "sph_case_table.h"
+#include "sph_sim.h"
 #include "sph_geometry.h"
 #include "sph_json.h"
 
@@ -45,9 +47,9 @@ int sph_case_load(const char *file, json_t **root, sph_error *err)
 }
 
 /* A kernel object {"type": ..., "kappa": ..., "radius": ...} at path base. */
-static int parse_kernel_keys(const json_t *obj, const char *base, const char *const *keys,
-                             sph_kernel_spec *spec, sph_error *err)
+static int parse_kernel(const json_t *obj, const char *base, sph_kernel_spec *spec, sph_error *err)
 {
+    static const char *const keys[] = {"type", "kappa", "radius", NULL};
     if (!json_is_object(obj))
         return sph_error_set(err, SPH_ERR_INVALID, base,
                              "a kernel must be an object like {\"type\": \"wendland_c2\"}, not %s",
@@ -84,12 +86,6 @@ static int parse_kernel_keys(const json_t *obj, const char *base, const char *co
                         SPH_KERNEL_GAUSS_RADIUS_MAX, &spec->radius, err))
         return SPH_ERR_INVALID;
     return 0;
-}
-
-static int parse_kernel(const json_t *obj, const char *base, sph_kernel_spec *spec, sph_error *err)
-{
-    static const char *const keys[] = {"type", "kappa", "radius", NULL};
-    return parse_kernel_keys(obj, base, keys, spec, err);
 }
 
 static int parse_study(const json_t *root, sph_study_config *c, sph_error *err)
@@ -187,21 +183,149 @@ static int parse_study(const json_t *root, sph_study_config *c, sph_error *err)
     return sph_study_validate(c, err);
 }
 
-/* An object member at base/key (required or optional); *out NULL when absent. */
-static int get_object(const json_t *obj, const char *base, const char *key, int required,
-                      json_t **out, char *path, size_t pathsize, sph_error *err)
+/* The parent path of a JSON pointer ("/a/b" -> "/a", "/a" -> ""), into buf. */
+static const char *parent_of(const char *path, char *buf, size_t n)
 {
-    if (sph_json_get(obj, base, key, required, out, err))
-        return SPH_ERR_INVALID;
-    snprintf(path, pathsize, "%s/%s", base, key);
-    if (*out && !json_is_object(*out))
-        return sph_error_set(err, SPH_ERR_INVALID, path, "'%s' must be an object, not %s", key,
-                             sph_json_type_name(*out));
+    const char *slash = strrchr(path, '/');
+    const size_t len = slash ? (size_t)(slash - path) : 0;
+    snprintf(buf, n, "%.*s", (int)len, path);
+    return buf;
+}
+
+static const char *key_of(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
+/* The value at a JSON pointer of the table (plain keys, no escapes), or NULL. */
+static const json_t *lookup(const json_t *root, const char *path)
+{
+    const json_t *v = root;
+    char key[64];
+    while (v && *path == '/') {
+        const char *end = strchr(path + 1, '/');
+        const size_t len = end ? (size_t)(end - path - 1) : strlen(path + 1);
+        if (!json_is_object(v) || len >= sizeof key)
+            return NULL;
+        memcpy(key, path + 1, len);
+        key[len] = '\0';
+        v = json_object_get(v, key);
+        path += len + 1;
+    }
+    return v;
+}
+
+static const sph_case_field *row_of(const char *path)
+{
+    for (const sph_case_field *f = sph_case_fields; f->path; f++)
+        if (strcmp(f->path, path) == 0)
+            return f;
+    return NULL;
+}
+
+static void *dest(const sph_case_field *f, sph_config *c, sph_output_config *o)
+{
+    return (f->dst == SPH_CF_OUT ? (char *)o : (char *)c) + f->off;
+}
+
+/* The name an enum row holds in this case: given, or its default. */
+static const char *enum_name(const json_t *root, const sph_case_field *f)
+{
+    const json_t *v = lookup(root, f->path);
+    if (json_is_string(v))
+        return json_string_value(v);
+    return f->has_def ? f->names[(int)f->def] : "";
+}
+
+/* Whether a row's `when` holds ("/path=a|b"); *what gets "type of /path is a or b". */
+static int when_holds(const json_t *root, const sph_case_field *f, char *what, size_t n)
+{
+    if (!f->when)
+        return 1;
+    const char *eq = strchr(f->when, '=');
+    char path[SPH_ERROR_PATH_MAX];
+    snprintf(path, sizeof path, "%.*s", (int)(eq - f->when), f->when);
+    const sph_case_field *ref = row_of(path);
+    const char *name = ref ? enum_name(root, ref) : "";
+    snprintf(what, n, "'%s' applies only when %s is %s", key_of(f->path), path + 1, eq + 1);
+    for (char *p = what; *p; p++)
+        if (*p == '|')
+            *p = '/';
+    for (const char *a = eq + 1; *a;) {
+        const char *bar = strchr(a, '|');
+        const size_t len = bar ? (size_t)(bar - a) : strlen(a);
+        if (strlen(name) == len && strncmp(a, name, len) == 0)
+            return 1;
+        a += len + (bar ? 1 : 0);
+    }
     return 0;
 }
 
-/* {"min": [x, y], "max": [x, y]} with max > min. */
-static int parse_box(const json_t *obj, const char *base, sph_box *b, sph_error *err)
+/* Fields of the object at path that this method does not know. */
+static int check_object_keys(const json_t *obj, const char *path, sph_method m, sph_error *err)
+{
+    const char *key;
+    json_t *v;
+    char parent[SPH_ERROR_PATH_MAX], fpath[SPH_ERROR_PATH_MAX];
+    json_object_foreach((json_t *)obj, key, v)
+    {
+        snprintf(fpath, sizeof fpath, "%s/%s", path, key);
+        const sph_case_field *f = row_of(fpath);
+        if (f && (f->methods & SPH_CF_M(m)))
+            continue;
+        if (f) {
+            char list[96] = "";
+            for (int k = 0; k < SPH_METHOD_COUNT; k++)
+                if (f->methods & SPH_CF_M(k))
+                    snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
+                             list[0] ? ", " : "", sph_method_name((sph_method)k));
+            return sph_error_set(err, SPH_ERR_INVALID, fpath, "'%s' applies to method %s, not %s",
+                                 key, list, sph_method_name(m));
+        }
+        char allowed[240] = "";
+        for (const sph_case_field *g = sph_case_fields; g->path; g++)
+            if ((g->methods & SPH_CF_M(m)) &&
+                strcmp(parent_of(g->path, parent, sizeof parent), path) == 0 &&
+                strlen(allowed) + strlen(key_of(g->path)) + 8 < sizeof allowed)
+                snprintf(allowed + strlen(allowed), sizeof allowed - strlen(allowed), "%s%s",
+                         allowed[0] ? ", " : "", key_of(g->path));
+        return sph_error_set(err, SPH_ERR_INVALID, fpath, "unknown field '%s' (allowed: %s)", key,
+                             allowed);
+    }
+    return 0;
+}
+
+/* An array of names into a mask. */
+static int parse_names(const json_t *a, const sph_case_field *f, unsigned *mask, sph_error *err)
+{
+    if (!json_is_array(a))
+        return sph_error_set(err, SPH_ERR_INVALID, f->path, "'%s' must be an array of names",
+                             key_of(f->path));
+    *mask = 0;
+    size_t i;
+    json_t *v;
+    json_array_foreach(a, i, v)
+    {
+        int k = -1;
+        for (int j = 0; json_is_string(v) && f->names[j]; j++)
+            if (strcmp(json_string_value(v), f->names[j]) == 0)
+                k = j;
+        if (k < 0) {
+            char ipath[SPH_ERROR_PATH_MAX + 32], list[200] = "";
+            for (int j = 0; f->names[j] && strlen(list) < sizeof list - 40; j++)
+                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", j ? ", " : "",
+                         f->names[j]);
+            snprintf(ipath, sizeof ipath, "%s/%zu", f->path, i);
+            return sph_error_set(err, SPH_ERR_INVALID, ipath, "unknown name in '%s' (known: %s)",
+                                 key_of(f->path), list);
+        }
+        *mask |= f->values ? (unsigned)f->values[k] : 1u << k;
+    }
+    return 0;
+}
+
+int sph_case_parse_box(const json_t *obj, const char *base, int dim, sph_box *b, sph_error *err)
 {
     static const char *const keys[] = {"min", "max", NULL};
     if (!json_is_object(obj))
@@ -209,10 +333,10 @@ static int parse_box(const json_t *obj, const char *base, sph_box *b, sph_error 
                              "a box must be an object {\"min\": [x, y], \"max\": [x, y]}");
     memset(b, 0, sizeof *b);
     if (sph_json_check_keys(obj, base, keys, err) ||
-        sph_json_vector(obj, base, "min", 1, 2, b->min, err) ||
-        sph_json_vector(obj, base, "max", 1, 2, b->max, err))
+        sph_json_vector(obj, base, "min", 1, dim, b->min, err) ||
+        sph_json_vector(obj, base, "max", 1, dim, b->max, err))
         return SPH_ERR_INVALID;
-    for (int d = 0; d < 2; d++)
+    for (int d = 0; d < dim; d++)
         if (!(b->max[d] > b->min[d])) {
             char path[SPH_ERROR_PATH_MAX];
             snprintf(path, sizeof path, "%s/max/%d", base, d);
@@ -222,261 +346,119 @@ static int parse_box(const json_t *obj, const char *base, sph_box *b, sph_error 
     return 0;
 }
 
-static int parse_physics(const json_t *root, sph_config *c, sph_error *err)
+/* One row, present (v) or not, whose parent object is present or not. */
+static int parse_row(const json_t *root, const sph_case_field *f, const json_t *v,
+                     int parent_present, sph_method m, sph_config *c, sph_output_config *o,
+                     sph_error *err)
 {
-    static const char *const keys[] = {"rho0",       "gravity",   "eos", "viscosity",
-                                       "turbulence", "delta_sph", NULL};
-    static const char *const eos_keys[] = {"type", "c0", NULL};
-    static const char *const visc_keys[] = {"type", "alpha", "nu", NULL};
-    char path[SPH_ERROR_PATH_MAX], sub[SPH_ERROR_PATH_MAX];
-    json_t *ph, *o;
-    if (get_object(root, "", "physics", 1, &ph, path, sizeof path, err) ||
-        sph_json_check_keys(ph, path, keys, err) ||
-        sph_json_number(ph, path, "rho0", 0, 1e-3, 1e6, &c->rho0, err) ||
-        sph_json_vector(ph, path, "gravity", 0, 2, c->gravity, err) ||
-        sph_json_number(ph, path, "delta_sph", 0, 0.0, 1.0, &c->delta_sph, err))
-        return SPH_ERR_INVALID;
-    for (int d = 0; d < 2; d++)
-        if (fabs(c->gravity[d]) > 1e3)
-            return sph_error_set(err, SPH_ERR_INVALID, "/physics/gravity",
-                                 "gravity components must be within +-1000 m/s^2");
-
-    const char *type = NULL;
-    if (get_object(ph, path, "eos", 1, &o, sub, sizeof sub, err) ||
-        sph_json_check_keys(o, sub, eos_keys, err) ||
-        sph_json_string(o, sub, "type", 1, &type, err) ||
-        sph_json_number(o, sub, "c0", 1, 1e-3, 1e5, &c->c0, err))
-        return SPH_ERR_INVALID;
-    if (strcmp(type, "linear") == 0)
-        c->eos = SPH_EOS_LINEAR;
-    else if (strcmp(type, "tait") == 0)
-        c->eos = SPH_EOS_TAIT;
-    else
-        return sph_error_set(err, SPH_ERR_INVALID, "/physics/eos/type",
-                             "unknown eos '%s' (known: linear, tait)", type);
-
-    if (get_object(ph, path, "viscosity", 0, &o, sub, sizeof sub, err))
-        return SPH_ERR_INVALID;
-    if (o) {
-        if (sph_json_check_keys(o, sub, visc_keys, err) ||
-            sph_json_string(o, sub, "type", 1, &type, err))
-            return SPH_ERR_INVALID;
-        if (strcmp(type, "artificial") == 0) {
-            c->visc = SPH_VISC_ARTIFICIAL;
-            if (json_object_get(o, "nu"))
-                return sph_error_set(err, SPH_ERR_INVALID, "/physics/viscosity/nu",
-                                     "'nu' applies to laminar viscosity only");
-            if (sph_json_number(o, sub, "alpha", 0, 0.0, 10.0, &c->alpha, err))
-                return SPH_ERR_INVALID;
-        } else if (strcmp(type, "laminar") == 0) {
-            c->visc = SPH_VISC_LAMINAR;
-            if (json_object_get(o, "alpha"))
-                return sph_error_set(err, SPH_ERR_INVALID, "/physics/viscosity/alpha",
-                                     "'alpha' applies to artificial viscosity only");
-            if (sph_json_number(o, sub, "nu", 1, 0.0, 1e3, &c->nu, err))
-                return SPH_ERR_INVALID;
-        } else {
-            return sph_error_set(err, SPH_ERR_INVALID, "/physics/viscosity/type",
-                                 "unknown viscosity '%s' (known: artificial, laminar)", type);
-        }
-    }
-    const char *turb = "none";
-    if (sph_json_string(ph, path, "turbulence", 0, &turb, err))
-        return SPH_ERR_INVALID;
-    if (strcmp(turb, "none") == 0)
-        c->turb = SPH_TURB_NONE;
-    else if (strcmp(turb, "sps") == 0)
-        c->turb = SPH_TURB_SPS;
-    else
-        return sph_error_set(err, SPH_ERR_INVALID, "/physics/turbulence",
-                             "unknown turbulence model '%s' (known: none, sps)", turb);
-    return 0;
-}
-
-/* Names in an array of strings, each from `known` (NULL-terminated); returns a bit per name. */
-static int parse_names(const json_t *obj, const char *base, const char *key,
-                       const char *const *known, unsigned *mask, sph_error *err)
-{
-    json_t *a;
-    if (sph_json_get(obj, base, key, 0, &a, err))
-        return SPH_ERR_INVALID;
-    if (!a)
+    char what[SPH_ERROR_PATH_MAX + 64], parent[SPH_ERROR_PATH_MAX];
+    if (!when_holds(root, f, what, sizeof what)) {
+        if (v)
+            return sph_error_set(err, SPH_ERR_INVALID, f->path, "%s", what);
         return 0;
-    char path[SPH_ERROR_PATH_MAX];
-    snprintf(path, sizeof path, "%s/%s", base, key);
-    if (!json_is_array(a))
-        return sph_error_set(err, SPH_ERR_INVALID, path, "'%s' must be an array of names", key);
-    *mask = 0;
-    size_t i;
-    json_t *v;
-    json_array_foreach(a, i, v)
-    {
-        int k = -1;
-        for (int j = 0; json_is_string(v) && known[j]; j++)
-            if (strcmp(json_string_value(v), known[j]) == 0)
-                k = j;
-        if (k < 0) {
-            char ipath[SPH_ERROR_PATH_MAX + 32];
-            snprintf(ipath, sizeof ipath, "%s/%zu", path, i);
-            return sph_error_set(err, SPH_ERR_INVALID, ipath,
-                                 "unknown name in '%s' (known: %s%s%s%s%s)", key, known[0],
-                                 known[1] ? ", " : "", known[1] ? known[1] : "",
-                                 known[1] && known[2] ? ", ..." : "", "");
+    }
+    void *dst = dest(f, c, o);
+    if (!v) {
+        if ((f->required & SPH_CF_M(m)) && parent_present)
+            return sph_error_set(err, SPH_ERR_INVALID, f->path, "missing required field '%s'",
+                                 key_of(f->path));
+        if (f->type == SPH_CF_NAMES)
+            *(unsigned *)dst = f->def_mask;
+        else if (f->has_def && f->type == SPH_CF_NUMBER)
+            *(double *)dst = f->def;
+        else if (f->has_def && f->type == SPH_CF_INTEGER && f->size == sizeof(long))
+            *(long *)dst = (long)f->def;
+        else if (f->has_def && (f->type == SPH_CF_INTEGER || f->type == SPH_CF_ENUM))
+            *(int *)dst = f->values ? f->values[(int)f->def] : (int)f->def;
+        return 0;
+    }
+    const json_t *obj = lookup(root, parent_of(f->path, parent, sizeof parent));
+    const char *key = key_of(f->path);
+    double num;
+    long lval;
+    const char *str;
+    switch (f->type) {
+    case SPH_CF_OBJECT:
+        if (!json_is_object(v))
+            return sph_error_set(err, SPH_ERR_INVALID, f->path, "'%s' must be an object, not %s",
+                                 key, sph_json_type_name(v));
+        return check_object_keys(v, f->path, m, err);
+    case SPH_CF_TEXT:
+        return sph_json_string(obj, parent, key, 0, &str, err);
+    case SPH_CF_NUMBER:
+        if (sph_json_number(obj, parent, key, 1, f->lo_open ? -INFINITY : f->lo, f->hi, &num, err))
+            return SPH_ERR_INVALID;
+        if (f->lo_open && !(num > f->lo))
+            return sph_error_set(err, SPH_ERR_INVALID, f->path,
+                                 "'%s' must be greater than %g, got %g", key, f->lo, num);
+        *(double *)dst = num;
+        return 0;
+    case SPH_CF_INTEGER:
+        if (sph_json_integer(obj, parent, key, 1, (long)f->lo, (long)f->hi, &lval, err))
+            return SPH_ERR_INVALID;
+        if (f->size == sizeof(long))
+            *(long *)dst = lval;
+        else
+            *(int *)dst = (int)lval;
+        return 0;
+    case SPH_CF_ENUM:
+        if (sph_json_string(obj, parent, key, 1, &str, err))
+            return SPH_ERR_INVALID;
+        for (int k = 0; f->names[k]; k++)
+            if (strcmp(str, f->names[k]) == 0) {
+                *(int *)dst = f->values ? f->values[k] : k;
+                return 0;
+            }
+        {
+            char list[200] = "";
+            for (int k = 0; f->names[k] && strlen(list) < sizeof list - 40; k++)
+                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", k ? ", " : "",
+                         f->names[k]);
+            return sph_error_set(err, SPH_ERR_INVALID, f->path, "unknown %s '%s' (known: %s)", key,
+                                 str, list);
         }
-        *mask |= 1u << k;
+    case SPH_CF_VECTOR: {
+        double *vec = dst;
+        if (sph_json_vector(obj, parent, key, 1, c->dim, vec, err))
+            return SPH_ERR_INVALID;
+        for (int d = 0; d < c->dim; d++)
+            if (!(vec[d] >= f->lo && vec[d] <= f->hi))
+                return sph_error_set(err, SPH_ERR_INVALID, f->path,
+                                     "'%s' components must be in [%g, %g]", key, f->lo, f->hi);
+        return 0;
+    }
+    case SPH_CF_BOX:
+        return sph_case_parse_box(v, f->path, c->dim, dst, err);
+    case SPH_CF_NAMES:
+        return parse_names(v, f, dst, err);
+    case SPH_CF_CUSTOM:
+        return f->parse(v, f->path, c, o, err);
     }
     return 0;
 }
 
-static int parse_sim(const json_t *root, sph_config *c, sph_output_config *out, sph_error *err)
+int sph_case_parse_sim(const json_t *root, sph_method m, sph_config *c, sph_output_config *o,
+                       sph_error *err)
 {
-    static const char *const keys[] = {"name", "description", "method",      "dim",      "kernel",
-                                       "dx",   "domain",      "fluid",       "boundary", "physics",
-                                       "time", "output",      "diagnostics", NULL};
-    static const char *const kernel_keys[] = {"type", "kappa", "radius", "h_over_dx", NULL};
-    static const char *const boundary_keys[] = {"type", "layers", "tank", NULL};
-    static const char *const time_keys[] = {"end", "cfl", "dt", NULL};
-    static const char *const output_keys[] = {"every", "fields", "compress", NULL};
-    static const char *const diag_keys[] = {"every", "probes", NULL};
-    /* probe names: bit k of the mask is known[k]; the first two are SPH_PROBE_* */
-    static const char *const probes[] = {"front_x", "height_left", "ekin", "epot", "vmax", NULL};
-    /* bit k is known[k]: the SPH_FIELD_* of sph_case.h */
-    static const char *const fields[] = {"pos", "vel", "rho", "p", "type", "id", "mass", NULL};
-    char path[SPH_ERROR_PATH_MAX];
-    json_t *o;
-
-    if (sph_json_check_keys(root, "", keys, err))
-        return SPH_ERR_INVALID;
     *c = sph_config_default();
-    c->method = SPH_METHOD_WCSPH;
-    long dim = 2;
-    if (sph_json_integer(root, "", "dim", 0, 1, 3, &dim, err))
+    c->method = m;
+    memset(o, 0, sizeof *o);
+    if (check_object_keys(root, "", m, err))
         return SPH_ERR_INVALID;
-    if (dim != 2)
-        return sph_error_set(err, SPH_ERR_INVALID, "/dim",
-                             "wcsph is available in 2D only in this version (dim = 2)");
-
-    if (get_object(root, "", "kernel", 0, &o, path, sizeof path, err))
-        return SPH_ERR_INVALID;
-    if (o) {
-        if (parse_kernel_keys(o, path, kernel_keys, &c->kernel, err) ||
-            sph_json_number(o, path, "h_over_dx", 0, 0.5, 4.0, &c->h_over_dx, err))
+    char parent[SPH_ERROR_PATH_MAX];
+    for (const sph_case_field *f = sph_case_fields; f->path; f++) {
+        if (!(f->methods & SPH_CF_M(m)))
+            continue;
+        const json_t *up = lookup(root, parent_of(f->path, parent, sizeof parent));
+        if (parse_row(root, f, lookup(root, f->path), up != NULL, m, c, o, err))
             return SPH_ERR_INVALID;
-        if (sph_kernel_is_mps(c->kernel.type))
-            return sph_error_set(err, SPH_ERR_INVALID, "/kernel/type",
-                                 "'%s' is an MPS weight function, not a WCSPH kernel",
-                                 sph_kernel_type_name(c->kernel.type));
+        if (strcmp(f->path, "/dim") == 0 && c->dim != 2)
+            return sph_error_set(err, SPH_ERR_INVALID, "/dim",
+                                 "%s is available in 2D only in this version (dim = 2)",
+                                 sph_method_name(m));
     }
-    if (sph_json_number(root, "", "dx", 1, -INFINITY, 1e3, &c->dx, err))
-        return SPH_ERR_INVALID;
-    if (!(c->dx > 0.0))
-        return sph_error_set(err, SPH_ERR_INVALID, "/dx", "'dx' must be positive, got %g", c->dx);
-
-    json_t *dom;
-    if (sph_json_get(root, "", "domain", 1, &dom, err) ||
-        parse_box(dom, "/domain", &c->domain, err))
-        return SPH_ERR_INVALID;
-
-    json_t *fluid;
-    if (sph_json_get(root, "", "fluid", 1, &fluid, err))
-        return SPH_ERR_INVALID;
-    if (!json_is_array(fluid) || json_array_size(fluid) < 1 ||
-        json_array_size(fluid) > SPH_CONFIG_MAX_BOXES)
-        return sph_error_set(err, SPH_ERR_INVALID, "/fluid",
-                             "'fluid' must be an array of 1 to %d objects {\"box\": {...}}",
-                             SPH_CONFIG_MAX_BOXES);
-    size_t i;
-    json_t *v;
-    json_array_foreach(fluid, i, v)
-    {
-        static const char *const fkeys[] = {"box", NULL};
-        char base[64], bpath[80];
-        snprintf(base, sizeof base, "/fluid/%zu", i);
-        snprintf(bpath, sizeof bpath, "%s/box", base);
-        json_t *box;
-        if (!json_is_object(v))
-            return sph_error_set(err, SPH_ERR_INVALID, base,
-                                 "a fluid block must be an object {\"box\": {...}}");
-        if (sph_json_check_keys(v, base, fkeys, err) ||
-            sph_json_get(v, base, "box", 1, &box, err) || parse_box(box, bpath, &c->fluid[i], err))
-            return SPH_ERR_INVALID;
-        for (int d = 0; d < 2; d++) {
-            if (c->fluid[i].min[d] < c->domain.min[d]) {
-                snprintf(path, sizeof path, "%s/min/%d", bpath, d);
-                return sph_error_set(err, SPH_ERR_INVALID, path, "the fluid is outside the domain");
-            }
-            if (c->fluid[i].max[d] > c->domain.max[d]) {
-                snprintf(path, sizeof path, "%s/max/%d", bpath, d);
-                return sph_error_set(err, SPH_ERR_INVALID, path, "the fluid is outside the domain");
-            }
-        }
-        if (sph_geometry_box_count(&c->fluid[i], 2, c->dx) == 0)
-            return sph_error_set(err, SPH_ERR_INVALID, bpath,
-                                 "the box holds no particles at dx = %g m (it is thinner than dx)",
-                                 c->dx);
-    }
-    c->nfluid = (int)json_array_size(fluid);
-
-    c->boundary = SPH_BOUNDARY_NONE;
-    if (get_object(root, "", "boundary", 0, &o, path, sizeof path, err))
-        return SPH_ERR_INVALID;
-    if (o) {
-        const char *type = NULL;
-        long layers = 3;
-        if (sph_json_check_keys(o, path, boundary_keys, err) ||
-            sph_json_string(o, path, "type", 1, &type, err) ||
-            sph_json_integer(o, path, "layers", 0, 1, 8, &layers, err))
-            return SPH_ERR_INVALID;
-        if (strcmp(type, "dynamic") == 0)
-            c->boundary = SPH_BOUNDARY_DYNAMIC;
-        else if (strcmp(type, "none") != 0)
-            return sph_error_set(err, SPH_ERR_INVALID, "/boundary/type",
-                                 "unknown boundary '%s' (known: dynamic, none)", type);
-        c->layers = (int)layers;
-        json_t *tank;
-        if (sph_json_get(o, path, "tank", 0, &tank, err) ||
-            (tank && parse_box(tank, "/boundary/tank", &c->tank, err)))
-            return SPH_ERR_INVALID;
-        c->has_tank = tank != NULL;
-    }
-
-    if (parse_physics(root, c, err))
-        return SPH_ERR_INVALID;
-
-    if (get_object(root, "", "time", 1, &o, path, sizeof path, err) ||
-        sph_json_check_keys(o, path, time_keys, err) ||
-        sph_json_number(o, path, "end", 1, 1e-9, 1e6, &c->t_end, err) ||
-        sph_json_number(o, path, "cfl", 0, 1e-3, 1.0, &c->cfl, err) ||
-        sph_json_number(o, path, "dt", 0, 1e-12, 1.0, &c->dt_fixed, err))
-        return SPH_ERR_INVALID;
-
-    unsigned mask = 0;
-    if (get_object(root, "", "output", 0, &o, path, sizeof path, err))
-        return SPH_ERR_INVALID;
-    out->every = 0.0;
-    out->fields = SPH_FIELD_POS | SPH_FIELD_VEL | SPH_FIELD_RHO | SPH_FIELD_P | SPH_FIELD_TYPE;
-    out->compress = 0;
-    if (o) {
-        long compress = 0;
-        if (sph_json_check_keys(o, path, output_keys, err) ||
-            sph_json_number(o, path, "every", 1, 1e-9, 1e6, &out->every, err) ||
-            parse_names(o, path, "fields", fields, &out->fields, err) ||
-            sph_json_integer(o, path, "compress", 0, 0, 9, &compress, err))
-            return SPH_ERR_INVALID;
-        out->fields |= SPH_FIELD_POS;
-        out->compress = (int)compress;
-    }
-    if (get_object(root, "", "diagnostics", 0, &o, path, sizeof path, err))
-        return SPH_ERR_INVALID;
-    if (o) {
-        mask = SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT;
-        if (sph_json_check_keys(o, path, diag_keys, err) ||
-            sph_json_integer(o, path, "every", 0, 1, 1000000000L, &c->diag_every, err) ||
-            parse_names(o, path, "probes", probes, &mask, err))
-            return SPH_ERR_INVALID;
-        c->probes = mask & (SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT);
-    }
-    return 0;
+    o->fields |= SPH_FIELD_POS;
+    return sph_sim_check(c, err);
 }
 
 int sph_case_from_json(const json_t *root, sph_case *out, sph_error *err)
@@ -496,13 +478,63 @@ int sph_case_from_json(const json_t *root, sph_case *out, sph_error *err)
         out->method = SPH_METHOD_KERNEL_STUDY;
         return parse_study(root, &out->study, err);
     }
-    if (strcmp(method, "wcsph") == 0) {
-        out->method = SPH_METHOD_WCSPH;
-        return parse_sim(root, &out->sim, &out->output, err);
-    }
-    if (strcmp(method, "mps") == 0)
-        return sph_error_set(err, SPH_ERR_INVALID, "/method",
-                             "method '%s' is not available in this version of sphd yet", method);
+    for (int m = 0; m < SPH_METHOD_COUNT; m++)
+        if (m != SPH_METHOD_KERNEL_STUDY && strcmp(method, sph_method_name((sph_method)m)) == 0) {
+            if (!sph_sim_has_method((sph_method)m))
+                return sph_error_set(err, SPH_ERR_INVALID, "/method",
+                                     "method '%s' is not available in this version of sphd yet",
+                                     method);
+            out->method = (sph_method)m;
+            return sph_case_parse_sim(root, out->method, &out->sim, &out->output, err);
+        }
     return sph_error_set(err, SPH_ERR_INVALID, "/method",
                          "unknown method '%s' (known: kernel_study, wcsph, mps)", method);
+}
+
+json_t *sph_case_fields_json(void)
+{
+    static const char *const types[] = {"object", "text", "number", "integer", "enum",
+                                        "vector", "box",  "names",  "custom"};
+    json_t *rows = json_array();
+    for (const sph_case_field *f = sph_case_fields; rows && f->path; f++) {
+        json_t *methods = json_array(), *required = json_array();
+        for (int m = 0; m < SPH_METHOD_COUNT; m++) {
+            if (!sph_sim_has_method((sph_method)m))
+                continue; /* a method of a later version: its rows are not in force */
+            if (f->methods & SPH_CF_M(m))
+                json_array_append_new(methods, json_string(sph_method_name((sph_method)m)));
+            if (f->required & SPH_CF_M(m))
+                json_array_append_new(required, json_string(sph_method_name((sph_method)m)));
+        }
+        json_t *row = json_pack("{s:s, s:s, s:o, s:o, s:s?, s:s}", "path", f->path, "type",
+                                types[f->type], "methods", methods, "required", required, "when",
+                                f->when, "doc", f->doc ? f->doc : "");
+        if (!row)
+            continue;
+        if (f->type == SPH_CF_NUMBER || f->type == SPH_CF_INTEGER || f->type == SPH_CF_VECTOR) {
+            json_object_set_new(row, f->lo_open ? "exclusive_min" : "min", json_real(f->lo));
+            json_object_set_new(row, "max", json_real(f->hi));
+        }
+        json_t *names = NULL;
+        if (f->names) {
+            names = json_array();
+            for (int k = 0; f->names[k]; k++)
+                json_array_append_new(names, json_string(f->names[k]));
+            json_object_set(row, "names", names);
+        }
+        if (f->type == SPH_CF_NAMES) {
+            json_t *def = json_array();
+            for (int k = 0; f->names[k]; k++)
+                if ((f->values ? (unsigned)f->values[k] : 1u << k) & f->def_mask)
+                    json_array_append_new(def, json_string(f->names[k]));
+            json_object_set_new(row, "default", def);
+        } else if (f->has_def && f->type == SPH_CF_ENUM) {
+            json_object_set(row, "default", json_array_get(names, (size_t)f->def));
+        } else if (f->has_def) {
+            json_object_set_new(row, "default", json_real(f->def));
+        }
+        json_decref(names);
+        json_array_append_new(rows, row);
+    }
+    return rows;
 }

@@ -10,6 +10,7 @@
 #include <cmocka.h>
 
 #include "sph_case.h"
+#include "sph_case_table.h"
 #include "sph_json.h"
 
 #include <dirent.h>
@@ -125,12 +126,75 @@ static void test_apply_set(void **state)
     json_decref(root);
 }
 
+/* The case table's defaults are the core's (sph_config_default), and its rows are well formed:
+ * every parent is an object row listed before its children, every `when` names an enum row. */
+static void test_table_defaults(void **state)
+{
+    (void)state;
+    const sph_config def = sph_config_default();
+    int checked = 0;
+    for (const sph_case_field *f = sph_case_fields; f->path; f++) {
+        const char *slash = strrchr(f->path, '/');
+        if (slash != f->path) {
+            int found = 0;
+            for (const sph_case_field *g = sph_case_fields; g < f; g++)
+                found |= g->type == SPH_CF_OBJECT && strlen(g->path) == (size_t)(slash - f->path) &&
+                         strncmp(g->path, f->path, (size_t)(slash - f->path)) == 0;
+            if (!found)
+                fail_msg("%s: no object row before it for its parent", f->path);
+        }
+        if (f->when) {
+            const char *eq = strchr(f->when, '=');
+            int found = 0;
+            for (const sph_case_field *g = sph_case_fields; g < f; g++)
+                found |= g->type == SPH_CF_ENUM && strlen(g->path) == (size_t)(eq - f->when) &&
+                         strncmp(g->path, f->when, (size_t)(eq - f->when)) == 0;
+            if (!found)
+                fail_msg("%s: its condition '%s' names no enum row before it", f->path, f->when);
+        }
+        if (f->dst != SPH_CF_CFG || !(f->has_def || f->type == SPH_CF_NAMES))
+            continue;
+        const char *p = (const char *)&def + f->off;
+        switch (f->type) {
+        case SPH_CF_NUMBER:
+            if (*(const double *)p != f->def)
+                fail_msg("%s: table default %g, sph_config_default %g", f->path, f->def,
+                         *(const double *)p);
+            break;
+        case SPH_CF_INTEGER: {
+            const long v = f->size == sizeof(long) ? *(const long *)p : *(const int *)p;
+            if (v != (long)f->def)
+                fail_msg("%s: table default %g, sph_config_default %ld", f->path, f->def, v);
+            break;
+        }
+        case SPH_CF_ENUM: {
+            const int want = f->values ? f->values[(int)f->def] : (int)f->def;
+            if (*(const int *)p != want)
+                fail_msg("%s: table default %d, sph_config_default %d", f->path, want,
+                         *(const int *)p);
+            break;
+        }
+        case SPH_CF_NAMES:
+            if (*(const unsigned *)p != f->def_mask)
+                fail_msg("%s: table default %#x, sph_config_default %#x", f->path, f->def_mask,
+                         *(const unsigned *)p);
+            break;
+        default:
+            fail_msg("%s: a default on a row of this type is not supported", f->path);
+        }
+        checked++;
+    }
+    print_message("case table: %d defaults agree with sph_config_default()\n", checked);
+    assert_true(checked >= 15);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_invalid_cases),
         cmocka_unit_test(test_shipped_cases_valid),
         cmocka_unit_test(test_apply_set),
+        cmocka_unit_test(test_table_defaults),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

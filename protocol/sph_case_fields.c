@@ -1,0 +1,201 @@
+/*
+ * sph_case_fields: the rows of the simulation case table (sph_case_table.h). Defaults here are
+ * those of sph_config_default() (a unit test holds them equal); the JSON Schema
+ * (schema/case.schema.json) and PROTOCOL.md section 1 say the same (tests/schema checks).
+ */
+#include "sph_case_table.h"
+#include "sph_geometry.h"
+#include "sph_json.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#define CFG(member)                                                                                \
+    .dst = SPH_CF_CFG, .off = offsetof(sph_config, member),                                        \
+    .size = sizeof(((sph_config *)0)->member)
+#define OUT(member)                                                                                \
+    .dst = SPH_CF_OUT, .off = offsetof(sph_output_config, member),                                 \
+    .size = sizeof(((sph_output_config *)0)->member)
+
+static const char *const kernel_names[] = {
+    "cubic_spline",          "gaussian",  "double_cosine", "wendland_c2",
+    "renormalized_gaussian", "koshizuka", "sheu_quartic",  NULL}; /* sph_kernel_type order */
+static const char *const boundary_names[] = {"dynamic", "none", NULL};
+static const int boundary_values[] = {SPH_BOUNDARY_DYNAMIC, SPH_BOUNDARY_NONE};
+static const char *const eos_names[] = {"linear", "tait", NULL};
+static const int eos_values[] = {SPH_EOS_LINEAR, SPH_EOS_TAIT};
+static const char *const visc_names[] = {"artificial", "laminar", NULL};
+static const int visc_values[] = {SPH_VISC_ARTIFICIAL, SPH_VISC_LAMINAR};
+static const char *const turb_names[] = {"none", "sps", NULL};
+static const int turb_values[] = {SPH_TURB_NONE, SPH_TURB_SPS};
+static const char *const probe_names[] = {"front_x", "height_left", "ekin", "epot", "vmax", NULL};
+/* ekin, epot and vmax are always in diag: accepted, no bit */
+static const int probe_bits[] = {SPH_PROBE_FRONT_X, SPH_PROBE_HEIGHT_LEFT, 0, 0, 0};
+static const char *const field_names[] = {"pos", "vel", "rho", "p", "type", "id", "mass", NULL};
+static const int field_bits[] = {SPH_FIELD_POS,  SPH_FIELD_VEL, SPH_FIELD_RHO, SPH_FIELD_P,
+                                 SPH_FIELD_TYPE, SPH_FIELD_ID,  SPH_FIELD_MASS};
+
+/* "fluid": 1 to SPH_CONFIG_MAX_BOXES blocks {"box": {...}} inside the domain. */
+static int parse_fluid(const json_t *fluid, const char *path, sph_config *c, sph_output_config *o,
+                       sph_error *err)
+{
+    (void)o;
+    if (!json_is_array(fluid) || json_array_size(fluid) < 1 ||
+        json_array_size(fluid) > SPH_CONFIG_MAX_BOXES)
+        return sph_error_set(err, SPH_ERR_INVALID, path,
+                             "'fluid' must be an array of 1 to %d objects {\"box\": {...}}",
+                             SPH_CONFIG_MAX_BOXES);
+    size_t i;
+    json_t *v;
+    json_array_foreach(fluid, i, v)
+    {
+        static const char *const fkeys[] = {"box", NULL};
+        char base[64], bpath[80], fpath[SPH_ERROR_PATH_MAX];
+        snprintf(base, sizeof base, "%s/%zu", path, i);
+        snprintf(bpath, sizeof bpath, "%s/box", base);
+        json_t *box;
+        if (!json_is_object(v))
+            return sph_error_set(err, SPH_ERR_INVALID, base,
+                                 "a fluid block must be an object {\"box\": {...}}");
+        if (sph_json_check_keys(v, base, fkeys, err) ||
+            sph_json_get(v, base, "box", 1, &box, err) ||
+            sph_case_parse_box(box, bpath, c->dim, &c->fluid[i], err))
+            return SPH_ERR_INVALID;
+        for (int d = 0; d < c->dim; d++) {
+            const int below = c->fluid[i].min[d] < c->domain.min[d];
+            if (below || c->fluid[i].max[d] > c->domain.max[d]) {
+                snprintf(fpath, sizeof fpath, "%s/%s/%d", bpath, below ? "min" : "max", d);
+                return sph_error_set(err, SPH_ERR_INVALID, fpath,
+                                     "the fluid is outside the domain");
+            }
+        }
+        if (sph_geometry_box_count(&c->fluid[i], c->dim, c->dx) == 0)
+            return sph_error_set(err, SPH_ERR_INVALID, bpath,
+                                 "the box holds no particles at dx = %g m (it is thinner than dx)",
+                                 c->dx);
+    }
+    c->nfluid = (int)json_array_size(fluid);
+    return 0;
+}
+
+static int parse_tank(const json_t *v, const char *path, sph_config *c, sph_output_config *o,
+                      sph_error *err)
+{
+    (void)o;
+    if (sph_case_parse_box(v, path, c->dim, &c->tank, err))
+        return SPH_ERR_INVALID;
+    c->has_tank = 1;
+    return 0;
+}
+
+/* clang-format off */
+const sph_case_field sph_case_fields[] = {
+    {.path = "/name", .type = SPH_CF_TEXT, .methods = SPH_CF_SIMS,
+     .doc = "the case's name, 1-63 characters"},
+    {.path = "/description", .type = SPH_CF_TEXT, .methods = SPH_CF_SIMS, .doc = "free text"},
+    {.path = "/method", .type = SPH_CF_TEXT, .methods = SPH_CF_SIMS, .required = SPH_CF_SIMS,
+     .doc = "what to run"},
+    {.path = "/dim", .type = SPH_CF_INTEGER, .methods = SPH_CF_SIMS, .lo = 1, .hi = 3,
+     .has_def = 1, .def = 2, CFG(dim), .doc = "dimensions; only 2 in this version"},
+    {.path = "/kernel", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
+     .doc = "the kernel (section 1.1) and the smoothing length"},
+    {.path = "/kernel/type", .type = SPH_CF_ENUM, .methods = SPH_CF_SIMS,
+     .required = SPH_CF_SIMS, .names = kernel_names, .has_def = 1,
+     .def = SPH_KERNEL_WENDLAND_C2, CFG(kernel.type),
+     .doc = "kernel type; wcsph takes the SPH kernels, not koshizuka or sheu_quartic"},
+    {.path = "/kernel/kappa", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .when = "/kernel/type=double_cosine", .lo = SPH_KERNEL_KAPPA_MIN,
+     .hi = SPH_KERNEL_KAPPA_MAX, .has_def = 1, .def = SPH_KERNEL_KAPPA_DEFAULT,
+     CFG(kernel.kappa), .doc = "double_cosine: support radius in units of h"},
+    {.path = "/kernel/radius", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .when = "/kernel/type=gaussian", .lo = SPH_KERNEL_GAUSS_RADIUS_MIN,
+     .hi = SPH_KERNEL_GAUSS_RADIUS_MAX, .has_def = 1, .def = SPH_KERNEL_GAUSS_RADIUS,
+     CFG(kernel.radius), .doc = "gaussian: truncation radius in units of h"},
+    {.path = "/kernel/h_over_dx", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS, .lo = 0.5,
+     .hi = 4.0, .has_def = 1, .def = 1.414, CFG(h_over_dx),
+     .doc = "smoothing length h = h_over_dx dx"},
+    {.path = "/dx", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS, .required = SPH_CF_SIMS,
+     .lo = 0.0, .lo_open = 1, .hi = 1e3, CFG(dx), .doc = "initial particle spacing [m]"},
+    {.path = "/domain", .type = SPH_CF_BOX, .methods = SPH_CF_SIMS, .required = SPH_CF_SIMS,
+     .lo = -1e6, .hi = 1e6, CFG(domain),
+     .doc = "{\"min\": [x, y], \"max\": [x, y]} [m]: fluid that leaves it is lost"},
+    {.path = "/fluid", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS, .required = SPH_CF_SIMS,
+     .parse = parse_fluid, CFG(fluid),
+     .doc = "array of 1-16 {\"box\": {\"min\", \"max\"}}: blocks of water at spacing dx, inside "
+            "the domain"},
+    {.path = "/boundary", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
+     .doc = "the walls; absent: none"},
+    {.path = "/boundary/type", .type = SPH_CF_ENUM, .methods = SPH_CF_SIMS,
+     .names = boundary_names, .values = boundary_values, .has_def = 1, .def = 0, CFG(boundary),
+     .doc = "dynamic: fixed boundary particles, density by continuity (Yang et al. 2.3); none"},
+    {.path = "/boundary/layers", .type = SPH_CF_INTEGER, .methods = SPH_CF_SIMS, .lo = 1,
+     .hi = 8, .has_def = 1, .def = 3, CFG(layers),
+     .doc = "layers of wall particles outside the tank's faces"},
+    {.path = "/boundary/tank", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS,
+     .parse = parse_tank, CFG(tank),
+     .doc = "{\"min\", \"max\"}: inner faces of a tank with bottom, left and right walls (open "
+            "top) [m]"},
+    {.path = "/physics", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
+     .required = SPH_CF_SIMS, .doc = "the fluid and its models"},
+    {.path = "/physics/rho0", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS, .lo = 1e-3,
+     .hi = 1e6, .has_def = 1, .def = 1000.0, CFG(rho0), .doc = "reference density [kg/m^3]"},
+    {.path = "/physics/gravity", .type = SPH_CF_VECTOR, .methods = SPH_CF_SIMS, .lo = -1e3,
+     .hi = 1e3, CFG(gravity), .doc = "[gx, gy] [m/s^2], default [0, -9.81]"},
+    {.path = "/physics/eos", .type = SPH_CF_OBJECT, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .doc = "the equation of state"},
+    {.path = "/physics/eos/type", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .names = eos_names, .values = eos_values, .has_def = 1, .def = 0,
+     CFG(eos),
+     .doc = "linear: p = c0^2 (rho - rho0) (eq. 16); tait: p = c0^2 rho0/7 ((rho/rho0)^7 - 1)"},
+    {.path = "/physics/eos/c0", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .lo = 1e-3, .hi = 1e5, CFG(c0),
+     .doc = "numerical speed of sound [m/s]; >= 10 x the largest expected speed"},
+    {.path = "/physics/viscosity", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
+     .doc = "the viscous term"},
+    {.path = "/physics/viscosity/type", .type = SPH_CF_ENUM, .methods = SPH_CF_SIMS,
+     .required = SPH_CF_SIMS, .names = visc_names, .values = visc_values, .has_def = 1,
+     .def = 0, CFG(visc),
+     .doc = "artificial: Monaghan's (Macia et al.); laminar: eq. (14) with mu = rho0 nu"},
+    {.path = "/physics/viscosity/alpha", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .when = "/physics/viscosity/type=artificial", .lo = 0.0, .hi = 10.0, .has_def = 1,
+     .def = 0.01, CFG(alpha), .doc = "artificial viscosity coefficient"},
+    {.path = "/physics/viscosity/nu", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .required = SPH_CF_SIMS, .when = "/physics/viscosity/type=laminar", .lo = 0.0, .hi = 1e3,
+     CFG(nu), .doc = "kinematic viscosity [m^2/s]"},
+    {.path = "/physics/turbulence", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
+     .names = turb_names, .values = turb_values, .has_def = 1, .def = 0, CFG(turb),
+     .doc = "sps: Smagorinsky, eqs. (7)-(9) and (15), Cs = 0.12, mixing length dx"},
+    {.path = "/physics/delta_sph", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH, .lo = 0.0,
+     .hi = 1.0, .has_def = 1, .def = 0.0, CFG(delta_sph),
+     .doc = "delta-SPH density diffusion coefficient (Molteni & Colagrossi 2009); 0 = off"},
+    {.path = "/time", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS, .required = SPH_CF_SIMS,
+     .doc = "the run's time"},
+    {.path = "/time/end", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .required = SPH_CF_SIMS, .lo = 1e-9, .hi = 1e6, CFG(t_end), .doc = "end time [s]"},
+    {.path = "/time/cfl", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS, .lo = 1e-3, .hi = 1.0,
+     .has_def = 1, .def = 0.2, CFG(cfl), .doc = "CFL number of the adaptive time step"},
+    {.path = "/time/dt", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS, .lo = 1e-12, .hi = 1.0,
+     CFG(dt_fixed), .doc = "a fixed time step [s]; absent: adaptive"},
+    {.path = "/output", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
+     .doc = "particle snapshots; absent: none"},
+    {.path = "/output/every", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .required = SPH_CF_SIMS, .lo = 1e-9, .hi = 1e6, OUT(every),
+     .doc = "simulated time between snapshots [s]"},
+    {.path = "/output/fields", .type = SPH_CF_NAMES, .methods = SPH_CF_SIMS,
+     .names = field_names, .values = field_bits,
+     .def_mask = SPH_FIELD_POS | SPH_FIELD_VEL | SPH_FIELD_RHO | SPH_FIELD_P | SPH_FIELD_TYPE,
+     OUT(fields), .doc = "fields of the snapshots; pos is always written"},
+    {.path = "/output/compress", .type = SPH_CF_INTEGER, .methods = SPH_CF_SIMS, .lo = 0,
+     .hi = 9, .has_def = 1, .def = 0, OUT(compress),
+     .doc = "deflate level with shuffle; 0: none"},
+    {.path = "/diagnostics", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
+     .doc = "diag events"},
+    {.path = "/diagnostics/every", .type = SPH_CF_INTEGER, .methods = SPH_CF_SIMS, .lo = 1,
+     .hi = 1e9, .has_def = 1, .def = 100, CFG(diag_every), .doc = "steps between diag events"},
+    {.path = "/diagnostics/probes", .type = SPH_CF_NAMES, .methods = SPH_CF_SIMS,
+     .names = probe_names, .values = probe_bits,
+     .def_mask = SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT, CFG(probes),
+     .doc = "probes added to diag (ekin, epot, vmax are always there)"},
+    {.path = NULL},
+};
+/* clang-format on */
