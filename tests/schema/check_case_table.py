@@ -6,25 +6,17 @@ the table lacks, and PROTOCOL.md section 1 names every field by its dotted path.
 Usage: check_case_table.py CASE_FIELDS_TOOL SOURCE_DIR"""
 import json
 import os
-import re
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from tally import expect, finish  # noqa: E402
 
 tool, src = sys.argv[1], sys.argv[2]
 rows = json.loads(subprocess.run([tool], check=True, capture_output=True, text=True).stdout)
 schema = json.load(open(os.path.join(src, "protocol", "schema", "case.schema.json")))
 protocol = open(os.path.join(src, "protocol", "PROTOCOL.md")).read()
 defs = schema["$defs"]
-fails = passed = 0
-
-
-def expect(ok, what):
-    global fails, passed
-    if ok:
-        passed += 1
-    else:
-        fails += 1
-        print("FAIL:", what)
 
 
 def resolve(node):
@@ -100,5 +92,4 @@ def walk(method, node, path):
 
 for m in methods:
     walk(m, defs.get(m, {}), "")
-print(f"case table: {passed} passed, {fails} failed")
-sys.exit(1 if fails else 0)
+finish("case table")

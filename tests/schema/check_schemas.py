@@ -7,6 +7,9 @@ import json
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from tally import expect, finish  # noqa: E402
+
 import jsonschema
 from jsonschema import Draft202012Validator
 
@@ -20,16 +23,6 @@ store = {s["$id"]: s for s in schemas.values()}
 resolver = jsonschema.RefResolver.from_schema(schemas["request.schema.json"], store=store)
 case_v = Draft202012Validator(schemas["case.schema.json"])
 req_v = Draft202012Validator(schemas["request.schema.json"], resolver=resolver)
-fails = passed = 0
-
-
-def expect(ok, what):
-    global fails, passed
-    if ok:
-        passed += 1
-    else:
-        fails += 1
-        print("FAIL:", what)
 
 
 for f in sorted(glob.glob(os.path.join(src, "cases", "*.json"))):
@@ -91,5 +84,4 @@ for r in good:
     expect(not errs, f"request validates: {r['op']}: {[e.message for e in errs][:3]}")
 for r in bad:
     expect(not req_v.is_valid(r), f"bad request refused by the schema: {json.dumps(r)[:80]}")
-print(f"check_schemas: {passed} passed, {fails} failed")
-sys.exit(1 if fails else 0)
+finish("check_schemas")
