@@ -188,7 +188,9 @@ static int get_object(const json_t *obj, const char *base, const char *key, int 
 {
     if (sph_json_get(obj, base, key, required, out, err))
         return SPH_ERR_INVALID;
-    snprintf(path, pathsize, "%s/%s", base, key);
+    int n = snprintf(path, pathsize, "%s/%s", base, key);
+    if (n < 0 || (size_t)n >= pathsize)
+        return sph_error_set(err, SPH_ERR_INVALID, base, "the path of '%s' is too long", key);
     if (*out && !json_is_object(*out))
         return sph_error_set(err, SPH_ERR_INVALID, path, "'%s' must be an object, not %s", key,
                              sph_json_type_name(*out));
