@@ -3,7 +3,7 @@
 # again with AddressSanitizer and UndefinedBehaviorSanitizer and run the unit, command-line and
 # integration tests under them; then build with clang and run the unit tests; then the build
 # types that are not built above (scripts/build-matrix.sh), so that gcc and clang each build
-# Release, RelWithDebInfo and Debug without a warning.
+# Release, RelWithDebInfo and Debug without a warning; last, each fuzz target runs for 30 s.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -23,3 +23,6 @@ ctest --test-dir build-clang --output-on-failure -j2 -L unit
 
 echo "== the other build types, warnings as errors =="
 scripts/build-matrix.sh gcc:Release gcc:Debug clang:RelWithDebInfo clang:Debug
+
+echo "== fuzzing: each libFuzzer target for 30 s (scripts/fuzz.sh) =="
+scripts/fuzz.sh --seconds "${SPH_FUZZ_SECONDS:-30}"
