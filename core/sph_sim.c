@@ -86,8 +86,9 @@ double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nbounda
     return (double)(nf + nb) * per + cells * sizeof(int) + bins + sizeof(sph_sim);
 }
 
-/* Configuration checks the case parser already makes; repeated here for direct API users. */
-static int check_config(const sph_config *c, sph_error *err)
+/* Configuration checks the case parser already makes; repeated here for direct API users and for
+ * the configuration read back from a saved state (sph_checkpoint.c). */
+int sph_sim_check_config(const sph_config *c, sph_error *err)
 {
     if (c->dim != 2)
         return sph_error_set(err, SPH_ERR_INVALID, "/dim", "only 2D simulations are available");
@@ -96,6 +97,17 @@ static int check_config(const sph_config *c, sph_error *err)
     if (!(c->h_over_dx > 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/kernel/h_over_dx",
                              "h_over_dx must be positive");
+    if ((unsigned)c->kernel.type >= SPH_KERNEL_COUNT)
+        return sph_error_set(err, SPH_ERR_INVALID, "/kernel/type", "unknown kernel");
+    if (c->nfluid < 0 || c->nfluid > SPH_CONFIG_MAX_BOXES)
+        return sph_error_set(err, SPH_ERR_INVALID, "/fluid", "at most %d fluid boxes",
+                             SPH_CONFIG_MAX_BOXES);
+    if ((unsigned)c->boundary > SPH_BOUNDARY_DYNAMIC || (unsigned)c->eos > SPH_EOS_TAIT ||
+        (unsigned)c->visc > SPH_VISC_LAMINAR || (unsigned)c->turb > SPH_TURB_SPS)
+        return sph_error_set(err, SPH_ERR_INVALID, "", "unknown boundary, EOS or viscosity type");
+    if (c->boundary == SPH_BOUNDARY_DYNAMIC && (c->layers < 1 || c->layers > 8))
+        return sph_error_set(err, SPH_ERR_INVALID, "/boundary/layers",
+                             "layers must be from 1 to 8");
     if (sph_kernel_is_mps(c->kernel.type))
         return sph_error_set(err, SPH_ERR_INVALID, "/kernel/type",
                              "'%s' is an MPS weight function, not an SPH kernel",
@@ -115,7 +127,7 @@ static int check_config(const sph_config *c, sph_error *err)
 
 sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
 {
-    if (check_config(cfg, err))
+    if (sph_sim_check_config(cfg, err))
         return NULL;
     long nf, nb;
     const double bytes = sph_sim_estimate_bytes(cfg, &nf, &nb);

@@ -47,6 +47,9 @@ static inline double sph_eos(const sph_config *c, double rho)
 
 /* sph_wcsph.c: sorts the particles by cell, computes p, then the accelerations (gravity
  * included, zero for boundary particles) and density rates into P.ax, P.ay, P.drho. */
+/* sph_sim.c: the checks sph_sim_create makes of a configuration. */
+int sph_sim_check_config(const sph_config *c, sph_error *err);
+
 void sph_wcsph_forces(sph_sim *s);
 
 /* sph_integrate.c: one time step of at most dt_cap; returns 0 or SPH_ERR_UNSTABLE. */
