@@ -65,11 +65,31 @@ def main():
         s.connect(endpoint)
         return s, mon
 
+    counter = [0]
+
     def request(s, op, args=None, timeout=5.0):
-        s.send(json.dumps({"v": 1, "id": op, "op": op, "args": args or {}}).encode())
-        if not s.poll(int(timeout * 1000)):
-            return None
-        return json.loads(s.recv())
+        """The reply to this request (replies to earlier ones that timed out are skipped)."""
+        counter[0] += 1
+        rid = f"{op}-{counter[0]}"
+        s.send(json.dumps({"v": 1, "id": rid, "op": op, "args": args or {}}).encode())
+        deadline = time.time() + timeout
+        while True:
+            left = deadline - time.time()
+            if left <= 0 or not s.poll(int(left * 1000)):
+                return None
+            r = json.loads(s.recv())
+            if r.get("id") == rid:
+                return r
+
+    def reloaded(count, timeout=20.0):
+        """Waits until sphd has logged its count-th reload of the keys (SIGHUP)."""
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            with open(f"{tmp}/sphd.log") as fh:
+                if fh.read().count("after reload") >= count:
+                    return True
+            time.sleep(0.05)
+        return False
 
     def refusal(mon, timeout=5.0):
         """The first handshake failure the monitor reports: its event, or None."""
@@ -126,7 +146,7 @@ def main():
         f.check(request(alice, "ping")["ok"], "alice's live connection works before the revocation")
         os.remove(f"{tmp}/srv/clients/alice.pub")
         proc.send_signal(signal.SIGHUP)
-        time.sleep(0.5)
+        f.check(reloaded(1), "sphd reloads the keys on SIGHUP")
         f.check(request(alice, "ping", timeout=1.5) is None,
                 "alice's live connection gets no reply after her key is revoked")
         f.check(refusal(sub2_mon) == zmq.EVENT_HANDSHAKE_FAILED_AUTH,
@@ -136,7 +156,7 @@ def main():
         with open(f"{tmp}/srv/clients/bob.pub", "wb") as fh:
             fh.write(bob_pub + b"\n")
         proc.send_signal(signal.SIGHUP)
-        time.sleep(0.3)
+        f.check(reloaded(2), "and again")
         bob2, _ = sock(zmq.DEALER, control, (bob_pub, bob_sec))
         r = request(bob2, "query", {"job": "db"})
         f.check(r and r["ok"] and r["result"]["state"] == "done", "bob, added, queries the job", r)
