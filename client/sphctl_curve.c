@@ -100,6 +100,10 @@ static int load_key(const char *what, const char *src, char z85[Z85_LEN + 1])
         }
         size_t n = fread(buf, 1, sizeof buf - 1, f);
         fclose(f);
+        if (n == sizeof buf - 1) {
+            fprintf(stderr, "sphctl: the %s file '%s' is too long for one key\n", what, src);
+            return -1;
+        }
         buf[n] = '\0';
         text = trim(buf);
         while (*text == '\n' || *text == '\r')

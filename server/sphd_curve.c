@@ -43,6 +43,10 @@ static int read_key_file(const char *path, char z85[KEY_Z85_LEN + 1], unsigned c
     char buf[128];
     size_t n = fread(buf, 1, sizeof buf - 1, f);
     fclose(f);
+    if (n == sizeof buf - 1) {
+        *why = "too long for one key";
+        return -1;
+    }
     buf[n] = '\0';
     char *p = buf;
     while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r')
