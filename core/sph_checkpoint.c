@@ -8,6 +8,7 @@
  */
 #include "sph_sim_impl.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -87,6 +88,15 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
         sph_error_set(err, SPH_ERR_IO, "", "not a simulation state of this version of sphd");
         return NULL;
     }
+    /* the configuration's particles are the state's: checked before they are allocated */
+    long nf = 0, nb = 0;
+    if (sph_sim_check(&h.cfg, err))
+        return NULL;
+    sph_sim_estimate_bytes(&h.cfg, &nf, &nb);
+    if (h.n != nf + nb || (size_t)h.n > (len - sizeof h) / (1 + sizeof(int))) {
+        sph_error_set(err, SPH_ERR_IO, "", "simulation state does not match its configuration");
+        return NULL;
+    }
     sph_sim *s = sph_sim_create(&h.cfg, err);
     if (!s)
         return NULL;
@@ -99,7 +109,30 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
         sph_error_set(err, SPH_ERR_IO, "", "simulation state does not match its configuration");
         return NULL;
     }
+    if (h.nactive < 0 || h.nactive > h.n || h.step < 0 || (h.failed != 0 && h.failed != 1) ||
+        !isfinite(h.t) || !(h.dt >= 0 && isfinite(h.dt))) {
+        sph_sim_destroy(s);
+        sph_error_set(err, SPH_ERR_IO, "", "simulation state has impossible counters or times");
+        return NULL;
+    }
     const unsigned char *p = (const unsigned char *)buf + sizeof h;
+    /* types are SPH_FLUID, SPH_BOUNDARY or SPH_LOST and the ids a permutation of 0..n-1 (the
+     * server indexes by id): checked before anything is taken */
+    const unsigned char *types = p + (size_t)na * n * sizeof(double);
+    const unsigned char *ids = types + n;
+    unsigned char *seen = calloc(n ? n : 1, 1);
+    int bad = !seen;
+    for (size_t i = 0; i < n && !bad; i++) {
+        int id;
+        memcpy(&id, ids + i * sizeof(int), sizeof id);
+        bad = types[i] > SPH_LOST || id < 0 || (size_t)id >= n || seen[id]++;
+    }
+    free(seen);
+    if (bad) {
+        sph_sim_destroy(s);
+        sph_error_set(err, SPH_ERR_IO, "", "simulation state has bad particle types or ids");
+        return NULL;
+    }
     for (int i = 0; i < na; i++) {
         memcpy(arrays[i], p, n * sizeof(double));
         p += n * sizeof(double);

@@ -47,11 +47,9 @@ static double probe(sph_sim *s, const double *u, const double *v, double lo, dou
     for (long i = 0; i < s->nactive; i++) {
         if (P->type[i] != SPH_FLUID || v[i] < vlo || v[i] >= vhi)
             continue;
-        long b = (long)floor((u[i] - lo) / dx);
-        if (b < 0)
-            b = 0;
-        if (b >= s->nbins)
-            b = s->nbins - 1;
+        /* clamped as a double: a position far away (or NaN) is no long */
+        const double fb = floor((u[i] - lo) / dx);
+        const long b = !(fb >= 0.0) ? 0 : fb >= (double)s->nbins ? s->nbins - 1 : (long)fb;
         s->bin_count[b]++;
         if (u[i] > s->bin_max[b])
             s->bin_max[b] = u[i];

@@ -88,7 +88,9 @@ double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nbounda
     return (double)(nf + nb) * per + cells * sizeof(int) + bins + sizeof(sph_sim);
 }
 
-/* The checks of a configuration that the table of the case parser cannot make. */
+/* The checks of a configuration that the table of the case parser cannot make, and the ones it
+ * makes repeated for direct API users and for a configuration read back from a saved state
+ * (sph_checkpoint.c), which no parser has seen. */
 int sph_sim_check(const sph_config *c, sph_error *err)
 {
     const sph_method_ops *ops = sph_method_ops_of(c->method);
@@ -102,6 +104,17 @@ int sph_sim_check(const sph_config *c, sph_error *err)
     if (!(c->h_over_dx > 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/kernel/h_over_dx",
                              "h_over_dx must be positive");
+    if ((unsigned)c->kernel.type >= SPH_KERNEL_COUNT)
+        return sph_error_set(err, SPH_ERR_INVALID, "/kernel/type", "unknown kernel");
+    if (c->nfluid < 0 || c->nfluid > SPH_CONFIG_MAX_BOXES)
+        return sph_error_set(err, SPH_ERR_INVALID, "/fluid", "at most %d fluid boxes",
+                             SPH_CONFIG_MAX_BOXES);
+    if ((unsigned)c->boundary > SPH_BOUNDARY_DYNAMIC || (unsigned)c->eos > SPH_EOS_TAIT ||
+        (unsigned)c->visc > SPH_VISC_LAMINAR || (unsigned)c->turb > SPH_TURB_SPS)
+        return sph_error_set(err, SPH_ERR_INVALID, "", "unknown boundary, EOS or viscosity type");
+    if (c->boundary == SPH_BOUNDARY_DYNAMIC && (c->layers < 1 || c->layers > 8))
+        return sph_error_set(err, SPH_ERR_INVALID, "/boundary/layers",
+                             "layers must be from 1 to 8");
     for (int d = 0; d < 2; d++)
         if (!(c->domain.max[d] > c->domain.min[d]))
             return sph_error_set(err, SPH_ERR_INVALID, "/domain/max",
