@@ -3,6 +3,7 @@
  */
 #include "sph_method.h"
 #include "sph_sim.h"
+#include "sph_mps.h"
 #include "sph_wcsph.h"
 
 const sph_method_ops *sph_method_ops_of(sph_method m)
@@ -10,6 +11,8 @@ const sph_method_ops *sph_method_ops_of(sph_method m)
     switch (m) {
     case SPH_METHOD_WCSPH:
         return &sph_wcsph_ops;
+    case SPH_METHOD_MPS:
+        return &sph_mps_ops;
     default:
         return NULL;
     }

@@ -150,8 +150,8 @@ void sph_mps_laplacian(const sph_mps_nbr *L, const double *x, const double *y,
 static inline __attribute__((always_inline)) void
 grad_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
              const double *restrict y, const unsigned char *restrict kind, const sph_kernel *k,
-             double coef, int local_min, const double *restrict phi, double *restrict gx,
-             double *restrict gy)
+             double coef, int local_min, int corrected, const double *restrict phi,
+             double *restrict gx, double *restrict gy)
 {
     const long np = L->n;
     const double re2 = k->support * k->support;
@@ -170,7 +170,7 @@ grad_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
                 if (kind[j] <= SPH_MPS_WALL && dx * dx + dy * dy < re2 && phi[j] < pmin)
                     pmin = phi[j];
             }
-        double sx = 0.0, sy = 0.0;
+        double sx = 0.0, sy = 0.0, mxx = 0.0, mxy = 0.0, myy = 0.0;
         for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
             const long j = L->j[e];
             if (kind[j] > SPH_MPS_WALL)
@@ -180,21 +180,74 @@ grad_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
             if (r2 >= re2)
                 continue;
             const double rmin = SPH_MPS_RMIN * k->support;
-            const double f =
-                (phi[j] - pmin) * weight(T, k, sqrt(r2)) / (r2 > rmin * rmin ? r2 : rmin * rmin);
+            const double wr = weight(T, k, sqrt(r2)) / (r2 > rmin * rmin ? r2 : rmin * rmin);
+            const double f = (phi[j] - pmin) * wr;
             sx += f * dx;
             sy += f * dy;
+            if (corrected) {
+                mxx += wr * dx * dx;
+                mxy += wr * dx * dy;
+                myy += wr * dy * dy;
+            }
+        }
+        if (corrected) {
+            /* sum w r r^T / r^2 = (n0 / d) I on a full lattice; its inverse replaces d / n0 */
+            const double det = mxx * myy - mxy * mxy, ref = 1.0 / (coef * coef);
+            if (det > 1e-2 * ref) {
+                gx[i] = (myy * sx - mxy * sy) / det;
+                gy[i] = (mxx * sy - mxy * sx) / det;
+                continue;
+            }
         }
         gx[i] = coef * sx;
         gy[i] = coef * sy;
     }
 }
 
+static inline __attribute__((always_inline)) void
+div_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
+            const double *restrict y, const unsigned char *restrict kind, const sph_kernel *k,
+            double coef, const double *restrict ux, const double *restrict uy, double *restrict div)
+{
+    const long np = L->n;
+    const double re2 = k->support * k->support;
+    const double rmin = SPH_MPS_RMIN * k->support, rmin2 = rmin * rmin;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (np >= SPH_OMP_MIN)
+    for (long i = 0; i < np; i++) {
+        if (kind[i] > SPH_MPS_WALL) {
+            div[i] = 0.0;
+            continue;
+        }
+        double s = 0.0;
+        for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
+            const long j = L->j[e];
+            if (kind[j] > SPH_MPS_DUMMY)
+                continue;
+            const double dx = x[j] - x[i], dy = y[j] - y[i];
+            const double r2 = dx * dx + dy * dy;
+            if (r2 >= re2)
+                continue;
+            const double du = (ux[j] - ux[i]) * dx + (uy[j] - uy[i]) * dy;
+            s += du * weight(T, k, sqrt(r2)) / (r2 > rmin2 ? r2 : rmin2);
+        }
+        div[i] = coef * s;
+    }
+}
+
+void sph_mps_divergence(const sph_mps_nbr *L, const double *x, const double *y,
+                        const unsigned char *kind, const sph_kernel *k, double coef,
+                        const double *ux, const double *uy, double *div)
+{
+#define DIV(T) div_generic(T, L, x, y, kind, k, coef, ux, uy, div)
+    SPH_KERNEL_DISPATCH(k->type, DIV);
+#undef DIV
+}
+
 void sph_mps_gradient(const sph_mps_nbr *L, const double *x, const double *y,
                       const unsigned char *kind, const sph_kernel *k, double coef, int local_min,
-                      const double *phi, double *gx, double *gy)
+                      int corrected, const double *phi, double *gx, double *gy)
 {
-#define GRAD(T) grad_generic(T, L, x, y, kind, k, coef, local_min, phi, gx, gy)
+#define GRAD(T) grad_generic(T, L, x, y, kind, k, coef, local_min, corrected, phi, gx, gy)
     SPH_KERNEL_DISPATCH(k->type, GRAD);
 #undef GRAD
 }

@@ -63,9 +63,20 @@ void sph_mps_laplacian(const sph_mps_nbr *L, const double *x, const double *y,
 
 /* (gx[i], gy[i]) = coef sum_j (phi_j - phi^_i) (r_j - r_i) / r_ij^2 w_ij over fluid and wall
  * neighbours, coef = d/n0; phi^_i = min(phi_i, phi_j over those neighbours within re) when
- * local_min, else phi_i. For fluid particles (others get 0). */
+ * local_min, else phi_i. For fluid particles (others get 0). corrected: d/n0 is replaced by the
+ * inverse of sum_j w_ij (r_j - r_i)(r_j - r_i)^T / r_ij^2 (the corrective matrix of Khayyer &
+ * Gotoh 2011; equal to d/n0 times the identity on a full lattice), which makes the model exact
+ * for a linear field with any neighbourhood, the one-sided one of a free-surface particle
+ * included; where that matrix is near-singular (fewer than two independent directions), d/n0. */
 void sph_mps_gradient(const sph_mps_nbr *L, const double *x, const double *y,
                       const unsigned char *kind, const sph_kernel *k, double coef, int local_min,
-                      const double *phi, double *gx, double *gy);
+                      int corrected, const double *phi, double *gx, double *gy);
+
+/* div[i] = coef sum_j (u_j - u_i) . (r_j - r_i) / r_ij^2 w_ij (the divergence counterpart of
+ * (3.4), coef = d/n0) over every neighbour except off ones (walls and dummies at rest count),
+ * for fluid and wall particles (others get 0). */
+void sph_mps_divergence(const sph_mps_nbr *L, const double *x, const double *y,
+                        const unsigned char *kind, const sph_kernel *k, double coef,
+                        const double *ux, const double *uy, double *div);
 
 #endif

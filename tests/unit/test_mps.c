@@ -218,8 +218,8 @@ static errs model_errors(sph_kernel_type type, double re_dx, int n, int smooth)
     double *nd = malloc(t.n * sizeof *nd);
     sph_mps_number_density(&t.L, t.P.x, t.P.y, &k, nd);
     sph_mps_laplacian(&t.L, t.P.x, t.P.y, t.kind, SPH_MPS_DUMMY, &k, 4.0 / (lam * n0), phi, lap);
-    sph_mps_gradient(&t.L, t.P.x, t.P.y, t.kind, &k, 2.0 / n0, 0, phi, gx, gy);
-    sph_mps_gradient(&t.L, t.P.x, t.P.y, t.kind, &k, 2.0 / n0, 1, phi, hx, hy);
+    sph_mps_gradient(&t.L, t.P.x, t.P.y, t.kind, &k, 2.0 / n0, 0, 0, phi, gx, gy);
+    sph_mps_gradient(&t.L, t.P.x, t.P.y, t.kind, &k, 2.0 / n0, 1, 0, phi, hx, hy);
     errs e = {0, 0, 0};
     const double m = re_dx * dx;
     long interior = 0;
@@ -291,7 +291,8 @@ static void test_models_order(void **state)
     }
 }
 
-/* A linear pressure with a minimum away from i: with the local minimum, still exact. */
+/* A linear pressure with a minimum away from i: with the local minimum, still exact in the
+ * interior; the corrected gradient exact everywhere. */
 static void test_gradient_linear_min(void **state)
 {
     (void)state;
@@ -305,7 +306,7 @@ static void test_gradient_linear_min(void **state)
            *gy = malloc(t.n * sizeof *gy);
     for (long i = 0; i < t.n; i++)
         phi[i] = 2 * t.P.x[i] - 3 * t.P.y[i] + 1;
-    sph_mps_gradient(&t.L, t.P.x, t.P.y, t.kind, &k, 2.0 / n0, 1, phi, gx, gy);
+    sph_mps_gradient(&t.L, t.P.x, t.P.y, t.kind, &k, 2.0 / n0, 1, 0, phi, gx, gy);
     const double m = 2.1 * dx;
     for (long i = 0; i < t.n; i++) {
         const double x = t.P.x[i], y = t.P.y[i];
@@ -314,6 +315,19 @@ static void test_gradient_linear_min(void **state)
         assert_double_equal(gx[i], 2.0, 1e-9);
         assert_double_equal(gy[i], -3.0, 1e-9);
     }
+    /* with the corrective matrix (no local minimum), exact at every particle of the block,
+     * edges and corners included (one-sided neighbourhoods, like a free surface's) */
+    sph_mps_gradient(&t.L, t.P.x, t.P.y, t.kind, &k, 2.0 / n0, 0, 1, phi, gx, gy);
+    for (long i = 0; i < t.n; i++) {
+        assert_double_equal(gx[i], 2.0, 1e-9);
+        assert_double_equal(gy[i], -3.0, 1e-9);
+    }
+    /* without it, an edge particle sees half the gradient */
+    sph_mps_gradient(&t.L, t.P.x, t.P.y, t.kind, &k, 2.0 / n0, 0, 0, phi, gx, gy);
+    double worst = 0.0;
+    for (long i = 0; i < t.n; i++)
+        worst = fmax(worst, fabs(gy[i] + 3.0));
+    assert_true(worst > 1.0);
     free(phi);
     free(gx);
     free(gy);
