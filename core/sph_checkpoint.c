@@ -14,7 +14,7 @@
 #include <string.h>
 
 #define SIM_MAGIC   "SPHSIM01"
-#define SIM_VERSION 2u /* 2: sph_config.method */
+#define SIM_VERSION 3u /* 2: sph_config.method; 3: sph_config.mps, sph_diag MPS fields */
 
 typedef struct {
     char magic[8];

@@ -33,6 +33,25 @@ typedef enum { SPH_TURB_NONE = 0, SPH_TURB_SPS } sph_turb_type;
 /* Probes a diag can carry besides the always-present fields (bit mask). */
 enum { SPH_PROBE_FRONT_X = 1 << 0, SPH_PROBE_HEIGHT_LEFT = 1 << 1 };
 
+/* The MPS method's fields (Koshizuka & Oka 1996; Sheu, Chiao & Huang 2011): defaults from
+ * sph_mps_config_default() (core/mps/sph_mps.c). */
+typedef struct sph_mps_config {
+    double re;      /* effective radius of the number density and the Laplacian, in dx [-] */
+    double re_grad; /* effective radius of the gradient, in dx [-] */
+    double beta;    /* free-surface particles: number density below beta n0 [-] */
+    double tol;     /* CG: relative residual ||b - A p|| / ||b|| to reach [-] */
+    long maxit;     /* CG: iterations after which the job fails as unstable [-] */
+    int precond;    /* CG preconditioner: 0 none, 1 jacobi, 2 ic0 (sph_mps_precond) */
+    int source;     /* PPE source: 0 number density (Koshizuka & Oka 1996), 1 mixed (Tanaka &
+                     * Masunaga 2010: velocity divergence plus relax times the density term) */
+    double relax;   /* coefficient of the number-density term relax rho (n* - n0) / (n0 dt^2) [-] */
+    int corrected;      /* 1: gradient with the corrective matrix (Khayyer & Gotoh 2011) [-] */
+    double collision;   /* collision distance in dx, 0 = no collision model [-] */
+    double restitution; /* coefficient of restitution of the collision model [-] */
+} sph_mps_config;
+
+sph_mps_config sph_mps_config_default(void);
+
 typedef struct sph_config {
     sph_method method;                   /* wcsph (mps later) */
     int dim;                             /* 2 (3D later) */
@@ -61,6 +80,7 @@ typedef struct sph_config {
     long diag_every;    /* steps between diagnostics events [-] */
     unsigned probes;    /* SPH_PROBE_* mask */
     double max_bytes;   /* memory a simulation may use [bytes] */
+    sph_mps_config mps; /* method mps only */
 } sph_config;
 
 #define SPH_CONFIG_DEFAULT_MAX_BYTES (4.0 * 1024 * 1024 * 1024)

@@ -32,6 +32,7 @@ sph_config sph_config_default(void)
     c.diag_every = 100;
     c.probes = SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT;
     c.max_bytes = SPH_CONFIG_DEFAULT_MAX_BYTES;
+    c.mps = sph_mps_config_default();
     return c;
 }
 
@@ -52,6 +53,8 @@ static void grid_bounds(const sph_config *c, double lo[2], double hi[2])
 static double support_of(const sph_config *c)
 {
     const sph_kernel_spec *k = &c->kernel;
+    if (sph_kernel_is_mps(k->type)) /* MPS weights: the larger of the two effective radii */
+        return (c->mps.re > c->mps.re_grad ? c->mps.re : c->mps.re_grad) * c->dx;
     double q = 2.0;
     if (k->type == SPH_KERNEL_DOUBLE_COSINE)
         q = k->kappa;
@@ -157,7 +160,8 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
     }
     s->cfg = *cfg;
     s->ops = sph_method_ops_of(cfg->method);
-    s->h = cfg->h_over_dx * cfg->dx;
+    /* MPS weights have support 2h = re (sph_kernel.h) */
+    s->h = sph_kernel_is_mps(cfg->kernel.type) ? 0.5 * support_of(cfg) : cfg->h_over_dx * cfg->dx;
     s->mass = cfg->rho0 * cfg->dx * cfg->dx;
     s->nfluid = nf;
     s->nboundary = nb;

@@ -40,6 +40,11 @@ typedef struct sph_diag {
     long lost;          /* fluid particles that left the domain [-] */
     long nfluid;        /* fluid particles (lost included) [-] */
     long nboundary;     /* boundary particles [-] */
+    double runup;       /* top of the fluid at the right wall (tank or domain) above its bottom [m] */
+    /* MPS only (0 for other methods): the pressure solve of the latest step */
+    long cg_iterations; /* conjugate-gradient iterations [-] */
+    double cg_residual; /* relative residual ||b - A p|| / ||b|| reached [-] */
+    long free_surface;  /* particles on the free surface (Dirichlet p = 0) [-] */
 } sph_diag;
 
 /* Read access to the particles. Arrays are in the sim's current (cell-sorted) order; `id` maps
@@ -60,6 +65,7 @@ typedef struct sph_timing {
     double neighbours;   /* cell list build and particle reordering [s] */
     double interactions; /* pair loops [s] */
     double integration;  /* time integration, checks, diagnostics [s] */
+    double solve;        /* MPS: the pressure equation's assembly and solve [s] */
     long pairs;          /* interacting pairs (r < support) in the latest force evaluation */
     long active;         /* particles in the latest force evaluation */
 } sph_timing;
