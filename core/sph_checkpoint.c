@@ -12,8 +12,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SIM_MAGIC   "SPHSIM01"
-#define SIM_VERSION 2u /* 2: sph_config.method */
+#define SIM_MAGIC "SPHSIM01"
+#define SIM_VERSION                                                                                \
+    3u /* 2: sph_config.method; 3: ghost walls, monaghan viscosity, initial fields */
 
 typedef struct {
     char magic[8];

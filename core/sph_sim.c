@@ -35,18 +35,9 @@ sph_config sph_config_default(void)
     return c;
 }
 
-/* The box the cell grid covers: the domain and the tank with its walls. */
-static void grid_bounds(const sph_config *c, double lo[2], double hi[2])
+double sph_config_monaghan_alpha(const sph_config *c)
 {
-    for (int d = 0; d < 2; d++) {
-        lo[d] = c->domain.min[d];
-        hi[d] = c->domain.max[d];
-        if (c->has_tank && c->boundary == SPH_BOUNDARY_DYNAMIC) {
-            const double w = (c->layers + 1) * c->dx;
-            lo[d] = fmin(lo[d], c->tank.min[d] - w);
-            hi[d] = fmax(hi[d], c->tank.max[d] + w);
-        }
-    }
+    return 2.0 * (c->dim + 2) * c->nu / (c->h_over_dx * c->dx * c->c0);
 }
 
 static double support_of(const sph_config *c)
@@ -58,6 +49,44 @@ static double support_of(const sph_config *c)
     else if (k->type == SPH_KERNEL_GAUSSIAN)
         q = k->radius;
     return q * c->h_over_dx * c->dx;
+}
+
+/* The box the cell grid covers: the domain and the tank with its walls (dynamic particles or
+ * the band of ghosts, one support plus a spacing wide). */
+static void grid_bounds(const sph_config *c, double lo[2], double hi[2])
+{
+    for (int d = 0; d < 2; d++) {
+        lo[d] = c->domain.min[d];
+        hi[d] = c->domain.max[d];
+        if (c->has_tank && c->boundary != SPH_BOUNDARY_NONE) {
+            const double w = c->boundary == SPH_BOUNDARY_DYNAMIC ? (c->layers + 1) * c->dx
+                                                                 : support_of(c) + c->dx;
+            lo[d] = fmin(lo[d], c->tank.min[d] - w);
+            hi[d] = fmax(hi[d], c->tank.max[d] + w);
+        }
+    }
+}
+
+/* Ghosts the walls need for the initial lattice, counted on its geometry: every fluid box's
+ * particles within a support of a wall, one ghost per wall and per corner. */
+static long ghosts_estimate(const sph_config *c)
+{
+    if (c->boundary != SPH_BOUNDARY_GHOST || !c->has_tank)
+        return 0;
+    const double band = support_of(c), dx = c->dx;
+    long n = 0;
+    for (int b = 0; b < c->nfluid; b++) {
+        const sph_box *f = &c->fluid[b];
+        const double nx = floor((f->max[0] - f->min[0]) / dx + 1e-6);
+        const double ny = floor((f->max[1] - f->min[1]) / dx + 1e-6);
+        const double kx = fmin(nx, ceil(band / dx)), ky = fmin(ny, ceil(band / dx));
+        const int left = f->min[0] < c->tank.min[0] + band;
+        const int right = f->max[0] > c->tank.max[0] - band;
+        const int bottom = f->min[1] < c->tank.min[1] + band;
+        n +=
+            (long)((left + right) * kx * ny + bottom * ky * nx + (left + right) * bottom * kx * ky);
+    }
+    return n;
 }
 
 static long nbins_of(const sph_config *c)
@@ -85,7 +114,8 @@ double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nbounda
     const sph_method_ops *ops = sph_method_ops_of(cfg->method);
     const double per = ops ? (double)ops->bytes_per_particle(cfg) : 0.0;
     const double bins = (fmax(hi[0] - lo[0], hi[1] - lo[1]) / cfg->dx + 2.0) * 12.0;
-    return (double)(nf + nb) * per + cells * sizeof(int) + bins + sizeof(sph_sim);
+    const double ghosts = 1.25 * (double)ghosts_estimate(cfg);
+    return (double)(nf + nb + ghosts) * per + cells * sizeof(int) + bins + sizeof(sph_sim);
 }
 
 /* The checks of a configuration that the table of the case parser cannot make. */
@@ -108,6 +138,13 @@ int sph_sim_check(const sph_config *c, sph_error *err)
                                  "the domain's max must exceed its min");
     if (!(c->rho0 > 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/physics/rho0", "rho0 must be positive");
+    if (c->boundary == SPH_BOUNDARY_GHOST) {
+        sph_wall_ghost w;
+        if (sph_wall_ghost_init(&w, c, support_of(c), err))
+            return err ? err->code : SPH_ERR_INVALID;
+    }
+    if (sph_initial_check(c, err))
+        return err ? err->code : SPH_ERR_INVALID;
     if (!(c->t_end > 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/time/end", "the end time must be positive");
     if (!(c->cfl > 0.0) && !(c->dt_fixed > 0.0))
@@ -160,6 +197,9 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
         free(s);
         return NULL;
     }
+    if (cfg->boundary == SPH_BOUNDARY_GHOST)
+        sph_wall_ghost_init(&s->ghost, cfg, s->kernel.support, NULL); /* checked above */
+    const long cap = nf + nb + (long)(1.25 * (double)ghosts_estimate(cfg));
     double lo[2], hi[2];
     grid_bounds(cfg, lo, hi);
     s->nbins = nbins_of(cfg);
@@ -167,12 +207,21 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
     s->bin_max = calloc((size_t)s->nbins, sizeof *s->bin_max);
     if (!s->bin_count || !s->bin_max ||
         sph_particles_alloc(&s->P, nf + nb, cfg->turb == SPH_TURB_SPS) ||
-        sph_cells_alloc(&s->cells, lo, hi, s->kernel.support, nf + nb)) {
+        sph_particles_reserve(&s->P, cap) ||
+        sph_cells_alloc(&s->cells, lo, hi, s->kernel.support, cap)) {
         sph_sim_destroy(s);
         sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for %ld particles", nf + nb);
         return NULL;
     }
     sph_geometry_fill(cfg, &s->P);
+    for (long i = 0; i < s->P.n; i++)
+        if (s->P.type[i] == SPH_FLUID) {
+            const double x[3] = {s->P.x[i], s->P.y[i], 0.0};
+            double v[3] = {0.0, 0.0, 0.0};
+            sph_initial_velocity(cfg, x, v);
+            s->P.vx[i] = v[0];
+            s->P.vy[i] = v[1];
+        }
     if (s->ops->init(s, err)) {
         sph_sim_destroy(s);
         return NULL;

@@ -7,10 +7,12 @@
 
 #include "sph_cells.h"
 #include "sph_config.h"
+#include "sph_eos.h"
 #include "sph_kernel.h"
 #include "sph_method.h"
 #include "sph_particles.h"
 #include "sph_sim.h"
+#include "sph_wall_ghost.h"
 
 struct sph_sim {
     sph_config cfg;            /* copy of the configuration */
@@ -24,6 +26,8 @@ struct sph_sim {
     long nactive;              /* particles in cells after the latest sort [-] */
     long nfluid;               /* fluid particles created [-] */
     long nboundary;            /* boundary particles [-] */
+    sph_wall_ghost ghost;      /* the free-slip walls, with boundary == SPH_BOUNDARY_GHOST */
+    long nghost;               /* ghosts of the latest force evaluation [-] */
     long max_lost;             /* more lost fluid particles than this is a blow-up [-] */
     double t;                  /* time [s] */
     long step;                 /* steps done [-] */
