@@ -13,8 +13,8 @@
 #include <string.h>
 
 #define SIM_MAGIC "SPHSIM01"
-#define SIM_VERSION                                                                                \
-    3u /* 2: sph_config.method; 3: ghost walls, monaghan viscosity, initial fields */
+/* 2: sph_config.method; 3: ghost walls, monaghan viscosity, initial fields, the envelope */
+#define SIM_VERSION 3u
 
 typedef struct {
     char magic[8];
@@ -25,6 +25,7 @@ typedef struct {
     double t, dt, amax, vmax;
     sph_config cfg;
     sph_diag diag;
+    sph_envelope wave; /* the kinetic-energy peaks so far (initial fields with a theory) */
 } sim_header;
 
 /* The per-particle arrays that persist across steps, in the method's fixed order. */
@@ -61,6 +62,7 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     h.vmax = s->vmax;
     h.cfg = s->cfg;
     h.diag = s->diag;
+    h.wave = s->wave;
     unsigned char *p = b;
     memcpy(p, &h, sizeof h);
     p += sizeof h;
@@ -116,5 +118,6 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
     s->amax = h.amax;
     s->vmax = h.vmax;
     s->diag = h.diag;
+    s->wave = h.wave;
     return s;
 }

@@ -3,6 +3,7 @@
  * method-specific call goes through the method's row of the table (sph_method.h).
  */
 #include "sph_geometry.h"
+#include "sph_rpdf.h"
 #include "sph_sim_impl.h"
 
 #include <math.h>
@@ -227,7 +228,58 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
         return NULL;
     }
     sph_diag_compute(s);
+    s->has_theory = sph_initial_theory_of(cfg, &s->theory) == 0;
+    if (s->has_theory) {
+        sph_envelope_init(&s->wave, s->theory.period);
+        sph_envelope_add(&s->wave, s->t, s->diag.ekin);
+    }
     return s;
+}
+
+int sph_sim_rpdf(const sph_sim *s, double qmax, int nbins, double *q, double *count,
+                 double *density, sph_error *err)
+{
+    const sph_rpdf_input in = {.dim = 2,
+                               .n = s->nactive,
+                               .pos = {s->P.x, s->P.y, NULL},
+                               .type = s->P.type,
+                               .h = s->h,
+                               .dx = s->cfg.dx};
+    return sph_rpdf_compute(&in, qmax, nbins, q, count, density, err);
+}
+
+/* Kinetic energy of the fluid [J]: a serial sum in the particles' order, as sph_diag's. */
+static double fluid_ekin(const sph_sim *s)
+{
+    const sph_particles *P = &s->P;
+    double e = 0.0;
+    for (long i = 0; i < s->nactive; i++)
+        if (P->type[i] == SPH_FLUID)
+            e += P->vx[i] * P->vx[i] + P->vy[i] * P->vy[i];
+    return 0.5 * s->mass * e;
+}
+
+int sph_sim_wave_fit(const sph_sim *s, double t_fit, sph_sim_wave *w)
+{
+    memset(w, 0, sizeof *w);
+    if (!s->has_theory)
+        return -1;
+    const sph_config *c = &s->cfg;
+    w->t_fit = fmin(t_fit, s->t);
+    w->decay_rate_theory = s->theory.decay_rate;
+    w->period_theory = s->theory.period;
+    w->ekin0_theory = s->theory.ekin0;
+    w->nu = c->visc == SPH_VISC_ARTIFICIAL ? c->alpha * s->h * c->c0 / (2.0 * (c->dim + 2)) : c->nu;
+    w->alpha = c->visc == SPH_VISC_MONAGHAN  ? sph_config_monaghan_alpha(c)
+               : c->visc == SPH_VISC_LAMINAR ? 0.0
+                                             : c->alpha;
+    sph_envelope_fit f;
+    if (sph_envelope_fit_peaks(&s->wave, w->t_fit, &f))
+        return -1;
+    w->peaks = f.npeaks;
+    w->decay_rate = f.decay_rate;
+    w->period = f.period;
+    return 0;
 }
 
 int sph_sim_advance(sph_sim *s, long max_steps, double t_until, sph_error *err)
@@ -245,6 +297,8 @@ int sph_sim_advance(sph_sim *s, long max_steps, double t_until, sph_error *err)
             s->failed = 1;
             break;
         }
+        if (s->has_theory)
+            sph_envelope_add(&s->wave, s->t, fluid_ekin(s));
         if (t_until - s->t < 1e-12 * (fabs(t_until) + 1.0))
             s->t = t_until;
     }

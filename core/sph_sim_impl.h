@@ -7,6 +7,7 @@
 
 #include "sph_cells.h"
 #include "sph_config.h"
+#include "sph_envelope.h"
 #include "sph_eos.h"
 #include "sph_kernel.h"
 #include "sph_method.h"
@@ -40,6 +41,9 @@ struct sph_sim {
     long nbins;                /* histogram bins of the front and height probes [-] */
     int *bin_count;            /* particles per bin [-] */
     double *bin_max;           /* largest coordinate in each bin [m] */
+    int has_theory;            /* 1 when the initial field has a theory to compare with */
+    sph_initial_theory theory; /* what it says (period, decay rate, initial energy) */
+    sph_envelope wave;         /* the kinetic-energy peaks, sampled every step */
 };
 
 /* sph_diag.c: fills s->diag from the current state. */

@@ -3,10 +3,12 @@
  * wide with free-slip ghost walls, Wendland C2 with h = 2 dx, H/dx = 40, for 2 s. Passes when,
  * at the end,
  *   - the largest fluid speed is below 1% of sqrt(g H), and
- *   - the pressure at the bottom is within 2% of rho0 g H. The pressure at the bottom is the
- *     value at y = 0 of the least-squares line p(y) through the fluid particles deeper than one
- *     kernel support below the surface (the layer nearest the surface is not hydrostatic in
- *     WCSPH); the mean pressure of the bottom layer of particles is printed beside it.
+ *   - the pressure at the bottom, the mean pressure of the layer of fluid particles nearest the
+ *     bottom (y < dx), is within 2% of rho0 g H.
+ * Printed beside it: the least-squares line p(y) through the particles deeper than a kernel
+ * support below the surface, its value at y = 0 and its slope (-rho0 g). The line is not the
+ * criterion: it hardly feels the wall (without the hydrostatic term in the ghosts' pressure the
+ * bottom layer is 5% too high, the line's value at y = 0 still within 1.1%).
  * Usage: test_ghost_still [END_TIME]
  */
 #include "sph_sim.h"
@@ -69,16 +71,18 @@ int main(int argc, char **argv)
         n++;
     }
     const double slope = (n * syp - sy * sp) / (n * syy - sy * sy);
-    const double p0 = (sp - slope * sy) / n, pref = c.rho0 * g * H;
-    const double speed = d->vmax / sqrt(g * H), perr = fabs(p0 - pref) / pref;
+    const double p0 = (sp - slope * sy) / n, pref = c.rho0 * g * H, pb = bsum / nb;
+    const double speed = d->vmax / sqrt(g * H), perr = fabs(pb - pref) / pref;
     printf("ghost still water: t = %g s, %ld steps, %ld particles, vmax = %.3g m/s = %.3g%% of "
            "sqrt(gH) (bound %g%%)\n",
            d->t, d->step, d->nfluid, d->vmax, 100.0 * speed, 100.0 * SPEED_BOUND);
-    printf("ghost still water: pressure at the bottom (fit over %ld particles) %.1f Pa, rho0 g H "
-           "= %.1f Pa, difference %.2f%% (bound %g%%); slope %.1f Pa/m (-rho0 g = %.1f); bottom "
-           "layer mean %.1f Pa\n",
-           n, p0, pref, 100.0 * perr, 100.0 * PRESSURE_BOUND, slope, -c.rho0 * g, bsum / nb);
-    const int ok = n > 0 && speed < SPEED_BOUND && perr < PRESSURE_BOUND && d->lost == 0;
+    printf("ghost still water: pressure at the bottom (mean of the %ld particles at y < dx) %.1f "
+           "Pa, rho0 g H = %.1f Pa, difference %.2f%% (bound %g%%)\n",
+           nb, pb, pref, 100.0 * perr, 100.0 * PRESSURE_BOUND);
+    printf("ghost still water: least-squares line over %ld particles: %.1f Pa at y = 0, slope %.1f "
+           "Pa/m (-rho0 g = %.1f)\n",
+           n, p0, slope, -c.rho0 * g);
+    const int ok = nb > 0 && speed < SPEED_BOUND && perr < PRESSURE_BOUND && d->lost == 0;
     printf("%s\n", ok ? "PASS" : "FAIL");
     sph_sim_destroy(s);
     return ok ? 0 : 1;
