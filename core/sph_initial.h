@@ -23,6 +23,14 @@ typedef enum {
 
 #define SPH_INITIAL_MAX_PARAMS 4
 
+/* The standing wave's parameters (the table's row and the case parser's rows share them). */
+#define SPH_SW_EPSILON_DEFAULT    0.1
+#define SPH_SW_EPSILON_MIN        1e-6
+#define SPH_SW_EPSILON_MAX        0.5
+#define SPH_SW_WAVELENGTH_DEFAULT 0.0 /* the tank's length */
+#define SPH_SW_WAVELENGTH_MIN     0.0
+#define SPH_SW_WAVELENGTH_MAX     1e6
+
 /* What a case says: the field and its parameters, in the order of the row's `params`. */
 typedef struct sph_initial_spec {
     sph_initial_type type;

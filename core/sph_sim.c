@@ -33,6 +33,10 @@ sph_config sph_config_default(void)
     c.diag_every = 100;
     c.probes = SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT;
     c.max_bytes = SPH_CONFIG_DEFAULT_MAX_BYTES;
+    /* at rest; the standing wave's parameters at the defaults the case table gives them */
+    c.initial.type = SPH_INITIAL_REST;
+    c.initial.param[0] = SPH_SW_EPSILON_DEFAULT;
+    c.initial.param[1] = SPH_SW_WAVELENGTH_DEFAULT;
     return c;
 }
 

@@ -25,8 +25,9 @@ int sph_wall_ghost_init(sph_wall_ghost *w, const sph_config *c, double support, 
     for (int a = 0; a < dim; a++)
         if (a != up && c->gravity[a] != 0.0)
             return sph_error_set(err, SPH_ERR_INVALID, "/physics/gravity",
-                                 "ghost walls need gravity along the vertical axis only (the "
-                                 "tank's walls are the bottom and the sides, its top is open)");
+                                 "ghost walls need gravity along the vertical axis only: their "
+                                 "tank is axis-aligned, with its bottom normal to gravity and its "
+                                 "top open (a tilted tank is not available)");
     const double tol = 1e-9 * (1.0 + fabs(c->dx));
     for (int b = 0; b < c->nfluid; b++)
         for (int a = 0; a < dim; a++)
