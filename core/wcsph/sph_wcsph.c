@@ -175,33 +175,36 @@ typedef long (*strip_fn)(const fctx *c, int strip);
     {                                                                                              \
         return strip_generic(T, FL, c, strip);                                                     \
     }
-#define SPH_STRIP_TABLE(T)                                                                         \
-    SPH_STRIP_FN(T, 0)                                                                             \
-    SPH_STRIP_FN(T, 1)                                                                             \
-    SPH_STRIP_FN(T, 2) SPH_STRIP_FN(T, 3) SPH_STRIP_FN(T, 4) SPH_STRIP_FN(T, 5) SPH_STRIP_FN(T, 6) \
-        SPH_STRIP_FN(T, 7) SPH_STRIP_FN(T, 8) SPH_STRIP_FN(T, 9) SPH_STRIP_FN(T, 10) SPH_STRIP_FN( \
-            T, 11) SPH_STRIP_FN(T, 12) SPH_STRIP_FN(T, 13) SPH_STRIP_FN(T, 14) SPH_STRIP_FN(T, 15) \
-            SPH_STRIP_FN(T, 16) SPH_STRIP_FN(T, 17) SPH_STRIP_FN(T, 18) SPH_STRIP_FN(T, 19)        \
-                SPH_STRIP_FN(T, 20) SPH_STRIP_FN(T, 21) SPH_STRIP_FN(T, 22) SPH_STRIP_FN(T, 23)    \
-                    SPH_STRIP_FN(T, 24) SPH_STRIP_FN(T, 25) SPH_STRIP_FN(T, 26) SPH_STRIP_FN(      \
-                        T, 27) SPH_STRIP_FN(T, 28) SPH_STRIP_FN(T, 29) SPH_STRIP_FN(T, 30)         \
-                        SPH_STRIP_FN(T, 31) static const strip_fn strips_##T[F_COUNT] = {          \
-                            strip_##T##_0,  strip_##T##_1,  strip_##T##_2,  strip_##T##_3,         \
-                            strip_##T##_4,  strip_##T##_5,  strip_##T##_6,  strip_##T##_7,         \
-                            strip_##T##_8,  strip_##T##_9,  strip_##T##_10, strip_##T##_11,        \
-                            strip_##T##_12, strip_##T##_13, strip_##T##_14, strip_##T##_15,        \
-                            strip_##T##_16, strip_##T##_17, strip_##T##_18, strip_##T##_19,        \
-                            strip_##T##_20, strip_##T##_21, strip_##T##_22, strip_##T##_23,        \
-                            strip_##T##_24, strip_##T##_25, strip_##T##_26, strip_##T##_27,        \
-                            strip_##T##_28, strip_##T##_29, strip_##T##_30, strip_##T##_31};
+/* clang-format off */
+#define SPH_STRIP_TABLE(T) \
+    SPH_STRIP_FN(T, 0) SPH_STRIP_FN(T, 1) SPH_STRIP_FN(T, 2) SPH_STRIP_FN(T, 3) \
+    SPH_STRIP_FN(T, 4) SPH_STRIP_FN(T, 5) SPH_STRIP_FN(T, 6) SPH_STRIP_FN(T, 7) \
+    SPH_STRIP_FN(T, 8) SPH_STRIP_FN(T, 9) SPH_STRIP_FN(T, 10) SPH_STRIP_FN(T, 11) \
+    SPH_STRIP_FN(T, 12) SPH_STRIP_FN(T, 13) SPH_STRIP_FN(T, 14) SPH_STRIP_FN(T, 15) \
+    SPH_STRIP_FN(T, 16) SPH_STRIP_FN(T, 17) SPH_STRIP_FN(T, 18) SPH_STRIP_FN(T, 19) \
+    SPH_STRIP_FN(T, 20) SPH_STRIP_FN(T, 21) SPH_STRIP_FN(T, 22) SPH_STRIP_FN(T, 23) \
+    SPH_STRIP_FN(T, 24) SPH_STRIP_FN(T, 25) SPH_STRIP_FN(T, 26) SPH_STRIP_FN(T, 27) \
+    SPH_STRIP_FN(T, 28) SPH_STRIP_FN(T, 29) SPH_STRIP_FN(T, 30) SPH_STRIP_FN(T, 31) \
+    static const strip_fn strips_##T[F_COUNT] = { \
+        strip_##T##_0, strip_##T##_1, strip_##T##_2, strip_##T##_3, \
+        strip_##T##_4, strip_##T##_5, strip_##T##_6, strip_##T##_7, \
+        strip_##T##_8, strip_##T##_9, strip_##T##_10, strip_##T##_11, \
+        strip_##T##_12, strip_##T##_13, strip_##T##_14, strip_##T##_15, \
+        strip_##T##_16, strip_##T##_17, strip_##T##_18, strip_##T##_19, \
+        strip_##T##_20, strip_##T##_21, strip_##T##_22, strip_##T##_23, \
+        strip_##T##_24, strip_##T##_25, strip_##T##_26, strip_##T##_27, \
+        strip_##T##_28, strip_##T##_29, strip_##T##_30, strip_##T##_31, \
+    };
+/* clang-format on */
 
 SPH_STRIP_TABLE(SPH_KERNEL_CUBIC_SPLINE)
 SPH_STRIP_TABLE(SPH_KERNEL_GAUSSIAN)
 SPH_STRIP_TABLE(SPH_KERNEL_DOUBLE_COSINE)
 SPH_STRIP_TABLE(SPH_KERNEL_WENDLAND_C2)
 SPH_STRIP_TABLE(SPH_KERNEL_RENORMALIZED_GAUSSIAN)
-SPH_STRIP_TABLE(SPH_KERNEL_KOSHIZUKA)
-SPH_STRIP_TABLE(SPH_KERNEL_SHEU_QUARTIC)
+/* the MPS weight functions are refused for WCSPH (wcsph_check): no instantiations */
+static const strip_fn strips_SPH_KERNEL_KOSHIZUKA[F_COUNT] = {0};
+static const strip_fn strips_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
 
 /* EOS, p / rho^2, SPS stresses from the previous velocity gradients; zeroes the accumulators. */
 static void prepare(sph_sim *s)
@@ -316,6 +319,8 @@ int sph_wcsph_forces(sph_sim *s)
 #define SPH_PICK(T) fn = strips_##T[flags]
     SPH_KERNEL_DISPATCH(s->kernel.type, SPH_PICK);
 #undef SPH_PICK
+    if (!fn) /* an MPS weight: wcsph_check refuses them before a sim is made */
+        return -1;
     const int nstrips = (s->cells.nx - 2 + 1) / 2;
     const long n = s->nactive;
     long pairs = 0;

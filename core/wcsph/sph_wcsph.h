@@ -17,7 +17,7 @@ static inline double sph_eos(const sph_config *c, double rho)
 /* sph_wcsph.c: builds the ghosts of free-slip walls, sorts the particles by cell, computes p,
  * then the accelerations (gravity included, zero for boundary particles) and density rates into
  * P.ax, P.ay, P.drho, and removes the ghosts again. Returns 0, or -1 when out of memory for the
- * ghosts. */
+ * ghosts (or for a kernel without a pair loop, the MPS weights, which wcsph_check refuses). */
 int sph_wcsph_forces(sph_sim *s);
 
 /* sph_wcsph_step.c: the method's row of the table. */

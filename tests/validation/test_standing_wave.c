@@ -5,9 +5,11 @@
  * envelope and the period, fitted over the first 8 periods (sph_sim_wave_fit), against Lighthill's
  * 4 nu k^2 (eq. 8) and 2 pi / omega.
  * Usage: test_standing_wave [--res H/DX] [--re RE] [--kernel NAME] [--periods N]
- *                           [--period-bound F] [--rate-bound F] [--csv FILE]
+ *                           [--period-bound F] [--rate-bound F] [--csv FILE] [--rpdf FILE]
  * Passes when |T - T_theory| <= period-bound T_theory and |beta - 4 nu k^2| <= rate-bound
- * 4 nu k^2 (defaults 0.02 and 0.15). Writes t, E_kin/E_kin(0) and eq. (8) to FILE.
+ * 4 nu k^2 (defaults 0.02 and 0.15). Writes t, E_kin/E_kin(0) and eq. (8) to the --csv FILE,
+ * and the radial particle density function (q = r/h, pairs, density) at the start and at the end
+ * to the --rpdf FILE (paper 001 figs. 8, 9, 15).
  */
 #include "sph_sim.h"
 
@@ -19,7 +21,7 @@
 int main(int argc, char **argv)
 {
     double res = 50, re = 500, periods = 10, period_bound = 0.02, rate_bound = 0.15;
-    const char *kernel = "wendland_c2", *csv = NULL;
+    const char *kernel = "wendland_c2", *csv = NULL, *rpdf = NULL;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!strcmp(argv[i], "--res"))
             res = atof(argv[i + 1]);
@@ -35,6 +37,8 @@ int main(int argc, char **argv)
             rate_bound = atof(argv[i + 1]);
         else if (!strcmp(argv[i], "--csv"))
             csv = argv[i + 1];
+        else if (!strcmp(argv[i], "--rpdf"))
+            rpdf = argv[i + 1];
         else {
             fprintf(stderr, "usage: see the file's header\n");
             return 64;
@@ -70,6 +74,12 @@ int main(int argc, char **argv)
     sph_sim_wave w;
     sph_sim_wave_fit(s, 0.0, &w); /* the theory only, for the end time */
     c.t_end = periods * w.period_theory;
+    enum { NB = 40 };
+    double q[NB], c0[NB], d0[NB], c1[NB], d1[NB];
+    if (sph_sim_rpdf(s, 2.0, NB, q, c0, d0, &err)) {
+        fprintf(stderr, "FAIL: %s\n", err.message);
+        return 1;
+    }
     FILE *f = csv ? fopen(csv, "w") : NULL;
     const double e0 = sph_sim_diag(s)->ekin;
     if (f)
@@ -88,6 +98,19 @@ int main(int argc, char **argv)
     }
     if (f)
         fclose(f);
+    if (rpdf && (f = fopen(rpdf, "w")) != NULL) {
+        if (sph_sim_rpdf(s, 2.0, NB, q, c1, d1, &err)) {
+            fprintf(stderr, "FAIL: %s\n", err.message);
+            return 1;
+        }
+        fprintf(f,
+                "# RPDF, %s, Re %g, H/dx %g, at t = 0 and t = %g s: q = r/h, pairs(0), "
+                "density(0), pairs(t), density(t)\n",
+                kernel, re, res, sph_sim_time(s));
+        for (int b = 0; b < NB; b++)
+            fprintf(f, "%.4f %g %.5f %g %.5f\n", q[b], c0[b], d0[b], c1[b], d1[b]);
+        fclose(f);
+    }
     if (sph_sim_wave_fit(s, 8.0 * w.period_theory, &w)) {
         fprintf(stderr, "FAIL: fewer than 3 kinetic-energy peaks\n");
         return 1;
