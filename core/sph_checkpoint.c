@@ -13,8 +13,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SIM_MAGIC   "SPHSIM01"
-#define SIM_VERSION 3u /* 2: sph_config.method; 3: sph_config.mps, sph_diag MPS fields */
+#define SIM_MAGIC "SPHSIM01"
+/* 2: sph_config.method; 3: sph_config.mps, sph_diag MPS fields; 4: ghost walls, monaghan
+ * viscosity, initial fields, the envelope */
+#define SIM_VERSION 4u
 
 typedef struct {
     char magic[8];
@@ -25,6 +27,7 @@ typedef struct {
     double t, dt, amax, vmax;
     sph_config cfg;
     sph_diag diag;
+    sph_envelope wave; /* the kinetic-energy peaks so far (initial fields with a theory) */
 } sim_header;
 
 /* The per-particle arrays that persist across steps, in the method's fixed order. */
@@ -61,6 +64,7 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     h.vmax = s->vmax;
     h.cfg = s->cfg;
     h.diag = s->diag;
+    h.wave = s->wave;
     unsigned char *p = b;
     memcpy(p, &h, sizeof h);
     p += sizeof h;
@@ -148,5 +152,6 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
     s->amax = h.amax;
     s->vmax = h.vmax;
     s->diag = h.diag;
+    s->wave = h.wave;
     return s;
 }
