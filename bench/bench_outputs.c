@@ -82,8 +82,8 @@ static void vtkhdf_cost(const char *dir, const sph_sim *s, int runs, double *t)
                "against %.1f ms (+%.1f%%)\n",
                compress ? "deflate 4" : "uncompressed", bytes[1] - bytes[0],
                (double)(bytes[1] - bytes[0]) / (double)n,
-               100.0 * (double)(bytes[1] - bytes[0]) / (double)bytes[0], 1e3 * med[1],
-               1e3 * med[0], 100.0 * (med[1] - med[0]) / med[0]);
+               100.0 * (double)(bytes[1] - bytes[0]) / (double)bytes[0], 1e3 * med[1], 1e3 * med[0],
+               100.0 * (med[1] - med[0]) / med[0]);
     }
     free(id);
 }
