@@ -1,8 +1,10 @@
 /*
  * bench_outputs: what a job's files cost. For the dam break at a given dx (default: about 100k
  * particles) prints the bytes per particle of a snapshot without and with compression (deflate
- * level 4 + shuffle) at t = 0 and after some steps, and the time to write a checkpoint (state
- * serialisation + file write + fsync), as medians of several runs. Never fails on time.
+ * level 4 + shuffle) at t = 0 and after some steps; what ParaView's VTKHDF layout adds to a
+ * snapshot (bytes and write time, the same fields written with and without it); and the time to
+ * write a checkpoint (state serialisation + file write + fsync), as medians of several runs.
+ * Never fails on time.
  * Usage: bench_outputs [DX] [RUNS]   (run from the source directory, or set SPH_SOURCE_DIR)
  */
 #include "sph_case.h"
@@ -10,8 +12,10 @@
 #include "sph_sim.h"
 #include "sphd.h"
 #include "sphd_ckpt.h"
+#include "sphd_h5.h"
 #include "sphd_outputs.h"
 
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -36,6 +40,52 @@ static long file_size(const char *path)
 {
     struct stat st;
     return stat(path, &st) == 0 ? (long)st.st_size : -1;
+}
+
+/* The same snapshot written with the VTKHDF group (fields pos and id) and without it (the id
+ * field renamed, so no group): bytes and median write times (fsync included). */
+static void vtkhdf_cost(const char *dir, const sph_sim *s, int runs, double *t)
+{
+    sph_particle_view v;
+    sph_sim_particles(s, &v);
+    const long n = v.n;
+    int32_t *id = malloc((size_t)n * sizeof *id);
+    for (long k = 0; k < n; k++)
+        id[k] = (int32_t)v.id[k];
+    for (int compress = 0; compress <= 4; compress += 4) {
+        double med[2];
+        long bytes[2];
+        for (int with = 1; with >= 0; with--) {
+            sphd_h5_field f[] = {{"pos", "m", SPHD_H5_F64, 2, {v.pos[0], v.pos[1]}},
+                                 {"vel", "m/s", SPHD_H5_F64, 2, {v.vel[0], v.vel[1]}},
+                                 {"rho", "kg/m^3", SPHD_H5_F64, 1, {v.rho}},
+                                 {"p", "Pa", SPHD_H5_F64, 1, {v.p}},
+                                 {"type", "", SPHD_H5_I8, 1, {v.type}},
+                                 {with ? "id" : "ident", "1", SPHD_H5_I32, 1, {id}}};
+            sphd_h5_header h = {.t = 0, .dim = 2, .n = n, .n_fluid = n};
+            char path[4200];
+            snprintf(path, sizeof path, "%s/vtkhdf_%d_%d.h5", dir, with, compress);
+            sph_error err;
+            for (int i = 0; i < runs; i++) {
+                const double t0 = now();
+                if (sphd_h5_write_snapshot(path, &h, f, 6, compress, &err)) {
+                    fprintf(stderr, "bench_outputs: %s\n", err.message);
+                    exit(1);
+                }
+                t[i] = now() - t0;
+            }
+            qsort(t, (size_t)runs, sizeof *t, cmp);
+            med[with] = t[runs / 2];
+            bytes[with] = file_size(path);
+        }
+        printf("VTKHDF layout, %s: +%ld bytes (%.2f bytes/particle, %.1f%%), write %.1f ms "
+               "against %.1f ms (+%.1f%%)\n",
+               compress ? "deflate 4" : "uncompressed", bytes[1] - bytes[0],
+               (double)(bytes[1] - bytes[0]) / (double)n,
+               100.0 * (double)(bytes[1] - bytes[0]) / (double)bytes[0], 1e3 * med[1], 1e3 * med[0],
+               100.0 * (med[1] - med[0]) / med[0]);
+    }
+    free(id);
 }
 
 int main(int argc, char **argv)
@@ -65,7 +115,7 @@ int main(int argc, char **argv)
     sph_particle_view v;
     sph_sim_particles(s, &v);
     printf("dam break, dx = %s m: %ld particles\n", dx, v.n);
-    printf("%-28s %12s %12s\n", "snapshot (pos,vel,rho,p,type)", "bytes", "bytes/part");
+    printf("%-28s %12s %12s\n", "snapshot (pos,vel,rho,p,type,id)", "bytes", "bytes/part");
     for (int phase = 0; phase < 2; phase++) {
         if (phase == 1 && sph_sim_step(s, 200, &err)) {
             fprintf(stderr, "bench_outputs: %s\n", err.message);
@@ -96,6 +146,7 @@ int main(int argc, char **argv)
         }
     }
     double *t = calloc((size_t)runs, sizeof *t);
+    vtkhdf_cost(dir, s, runs, t);
     size_t len = 0;
     for (int i = 0; i < runs; i++) {
         const double t0 = now();

@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Installs what sphd needs to build and test, from Debian's packages. Does nothing when all is
+# Installs what sphd needs to build and test (and the tools the tests read results with: meshio,
+# ParaView's pvbatch, matplotlib for the validation report), from Debian's packages. Does nothing when all is
 # there. Runs apt-get as root, or through sudo.
 set -euo pipefail
 pkgs=(gcc make cmake pkg-config libzmq3-dev libjansson-dev libhdf5-dev zlib1g-dev libcmocka-dev
-      python3 python3-zmq python3-h5py python3-numpy python3-jsonschema)
+      python3 python3-zmq python3-h5py python3-numpy python3-jsonschema
+      python3-meshio python3-matplotlib paraview python3-paraview xvfb xauth)
 # the second compiler of CI, its OpenMP and libFuzzer
 pkgs+=(clang libomp-dev libclang-rt-dev)
 # the CURVE test captures loopback traffic

@@ -170,9 +170,15 @@ int sphd_h5_write_snapshot(const char *path, const sphd_h5_header *hdr, const sp
     rc |= sphd_h5_attr_string(file, "kernel", hdr->kernel ? hdr->kernel : "");
     rc |= sphd_h5_attr_string(file, "job", hdr->job ? hdr->job : "");
     rc |= sphd_h5_attr_string(file, "code_version", "sphd " SPH_VERSION);
-    rc |= sphd_h5_attr_string(file, "units", "SI: m, s, kg; time in s, pressure in Pa");
+    rc |= sphd_h5_attr_string(file, "units", "SI: m, s, kg (mass per metre in 2D), Pa");
+    if (hdr->mass > 0)
+        rc |= sphd_h5_attr_number(file, "mass", H5T_NATIVE_DOUBLE, &hdr->mass);
+    if (hdr->h > 0)
+        rc |= sphd_h5_attr_number(file, "h", H5T_NATIVE_DOUBLE, &hdr->h);
     for (int i = 0; rc == 0 && i < nfields; i++)
         rc = write_field(file, &fields[i], hdr->n, compress);
+    if (rc == 0)
+        rc = sphd_vtkhdf_write(file, fields, nfields, hdr->n);
     if (rc != 0) {
         sphd_h5_fail(err, "writing snapshot", tmp);
         H5Fclose(file);

@@ -2,11 +2,15 @@
  * sphd_h5: the job's result files (DESIGN.md section 6).
  *   - particle snapshots: one HDF5 file per output time, header attributes on the root group, one
  *     chunked (optionally deflate+shuffle compressed) dataset per field; written to a temporary
- *     name, flushed to disk, then renamed, so the latest file is never a partial one;
- *   - an XDMF sidecar listing every snapshot as a temporal collection of polyvertex grids, so
- *     ParaView and VisIt open the whole run as a time series (rewritten atomically);
- *   - the diagnostics time series: extendible datasets in one HDF5 file per job, written in SWMR
- *     mode so that it can be read while the job runs.
+ *     name, flushed to disk, then renamed, so the latest file is never a partial one. With `pos`
+ *     and `id` among the fields the file also has ParaView's own layout (VTKHDF 1.0, an
+ *     unstructured grid of one vertex cell per particle) in the group /VTKHDF, whose arrays are
+ *     hard links to the same datasets: only the cell offsets and types are new data;
+ *   - an XDMF sidecar listing every snapshot as a temporal collection of polyvertex grids (the
+ *     `id` dataset as their connectivity), so ParaView, VisIt and meshio open the whole run as a
+ *     time series (rewritten atomically);
+ *   - the diagnostics time series: one extendible table in one HDF5 file per job, written in SWMR
+ *     mode so that it can be read while the job runs, with a row count written after each row.
  * The core knows nothing of this module: callers pass plain arrays.
  */
 #ifndef SPHD_H5_H
@@ -41,10 +45,13 @@ typedef struct sphd_h5_header {
     long n_fluid;       /* of which fluid */
     long n_boundary;    /* of which fixed boundary */
     long n_body;        /* of which rigid-body */
+    double mass;        /* particle mass [kg, or kg/m in 2D]; written when > 0 */
+    double h;           /* smoothing length [m]; written when > 0 */
 } sphd_h5_header;
 
 /* Writes a snapshot to `path` (via path.tmp + fsync + rename). compress: 0 none, 1-9 deflate level
- * (with shuffle). Returns 0, or SPH_ERR_IO with err saying which file and why (disk full...). */
+ * (with shuffle). With fields "pos" and "id" (an integer type) it adds the /VTKHDF group. Returns
+ * 0, or SPH_ERR_IO with err saying which file and why (disk full...). */
 int sphd_h5_write_snapshot(const char *path, const sphd_h5_header *hdr, const sphd_h5_field *fields,
                            int nfields, int compress, sph_error *err);
 
@@ -57,21 +64,28 @@ typedef struct sphd_xdmf_entry {
 } sphd_xdmf_entry;
 
 /* Rewrites `path` (atomically) describing every entry; fields as in the snapshots (names, types,
- * ncomp; the data pointers are not used). */
+ * ncomp; the data pointers are not used). A field "id" becomes the polyvertex connectivity. */
 int sphd_xdmf_write(const char *path, const sphd_xdmf_entry *entries, int nentries,
                     const sphd_h5_field *fields, int nfields, sph_error *err);
 
-/* Diagnostics time series, one extendible dataset per column, SWMR. */
+/* Diagnostics time series: one table, plus one dataset per column, SWMR (sphd_diagfile.c). */
 typedef struct sphd_diagfile sphd_diagfile;
 
-/* Creates `path` with the given columns ("step" is always the first, int64; the others float64),
- * or, if it exists and resume_step >= 0, reopens it and drops rows with step > resume_step (a
- * resumed job continues its series). Returns NULL with err on failure. */
-sphd_diagfile *sphd_diagfile_open(const char *path, const char *const *columns, int ncolumns,
+/* A series after "step": its name, units ("m", "1" for counts) and whether it holds integers. */
+typedef struct sphd_diag_column {
+    const char *name;
+    const char *units;
+    int integer;
+} sphd_diag_column;
+
+/* Creates `path` with the given columns ("step" is always the first, int64), or, if it exists
+ * and resume_step >= 0, rebuilds it with its rows up to step resume_step (a resumed job
+ * continues its series). Returns NULL with err on failure. */
+sphd_diagfile *sphd_diagfile_open(const char *path, const sphd_diag_column *columns, int ncolumns,
                                   long resume_step, sph_error *err);
 
-/* Appends one row: step and ncolumns values (in the order of the columns). Flushed at once so
- * SWMR readers see it. */
+/* Appends one row: step and ncolumns values (in the order of the columns; rounded in integer
+ * columns). Flushed at once so SWMR readers see it, the row count last. */
 int sphd_diagfile_append(sphd_diagfile *d, long step, const double *values, sph_error *err);
 
 /* Rows written so far. */
@@ -81,7 +95,8 @@ long sphd_diagfile_rows(const sphd_diagfile *d);
 void sphd_diagfile_close(sphd_diagfile *d);
 
 /* Writes the diagnostics file at `path` as CSV (header line, one row per step) to `out`. Works
- * while the file is being written (opens it SWMR read-only). */
+ * while the file is being written (opens it SWMR read-only; reads the rows `rows` counts) and on
+ * files of earlier versions (one dataset per column only). */
 int sphd_diagfile_export_csv(const char *path, FILE *out, sph_error *err);
 
 #endif

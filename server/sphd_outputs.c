@@ -9,10 +9,19 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The diagnostics series' columns, after "step" (units in PROTOCOL.md). */
-static const char *const diag_columns[] = {"t",       "dt",      "ekin",    "epot",        "vmax",
-                                           "rho_min", "rho_max", "front_x", "height_left", "lost"};
-#define NDIAG ((int)(sizeof diag_columns / sizeof diag_columns[0]))
+/* The diagnostics series' columns, after "step" (PROTOCOL.md section 4); the energies are per
+ * metre in 2D. */
+static const sphd_diag_column diag_columns_2d[] = {{"t", "s", 0},
+                                                   {"dt", "s", 0},
+                                                   {"ekin", "J/m", 0},
+                                                   {"epot", "J/m", 0},
+                                                   {"vmax", "m/s", 0},
+                                                   {"rho_min", "kg/m^3", 0},
+                                                   {"rho_max", "kg/m^3", 0},
+                                                   {"front_x", "m", 0},
+                                                   {"height_left", "m", 0},
+                                                   {"lost", "1", 1}};
+#define NDIAG ((int)(sizeof diag_columns_2d / sizeof diag_columns_2d[0]))
 
 struct sphd_outputs {
     char dir[4096];
@@ -21,6 +30,7 @@ struct sphd_outputs {
     int dim;
     double dx;   /* [m] */
     double mass; /* particle mass [kg] (per metre in 2D) */
+    double h;    /* smoothing length [m] */
     char kernel[32];
     sphd_diagfile *diag;
     sphd_xdmf_entry *entries; /* snapshots written */
@@ -42,10 +52,15 @@ sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case
     o->dim = c->sim.dim;
     o->dx = c->sim.dx;
     o->mass = c->sim.rho0 * pow(c->sim.dx, c->sim.dim);
+    o->h = c->sim.h_over_dx * c->sim.dx;
     sphd_remove_stale_temps(dir); /* left by a crashed run in this directory */
     char path[4200];
     snprintf(path, sizeof path, "%s/diag.h5", dir);
-    o->diag = sphd_diagfile_open(path, diag_columns, NDIAG, resume_step, err);
+    sphd_diag_column cols[NDIAG];
+    memcpy(cols, diag_columns_2d, sizeof cols);
+    if (c->sim.dim != 2) /* energies [J] in 3D */
+        cols[2].units = cols[3].units = "J";
+    o->diag = sphd_diagfile_open(path, cols, NDIAG, resume_step, err);
     if (!o->diag) {
         free(o);
         return NULL;
@@ -135,11 +150,10 @@ json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err)
         gather(type, v.type, where, n, 1);
         f[nf++] = (sphd_h5_field){"type", "0 fluid, 1 boundary, 2 lost", SPHD_H5_I8, 1, {type}};
     }
-    if (want & SPH_FIELD_ID) {
-        for (long k = 0; k < n; k++)
-            id[k] = (int32_t)k;
-        f[nf++] = (sphd_h5_field){"id", "", SPHD_H5_I32, 1, {id}};
-    }
+    /* always: the XDMF's and VTKHDF's connectivity (ids are creation order = file order) */
+    for (long k = 0; k < n; k++)
+        id[k] = (int32_t)k;
+    f[nf++] = (sphd_h5_field){"id", "1", SPHD_H5_I32, 1, {id}};
 
     if (o->nentries == o->capentries) {
         int cap = o->capentries ? 2 * o->capentries : 64;
@@ -166,7 +180,9 @@ json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err)
                         .n = n,
                         .n_fluid = nfluid,
                         .n_boundary = nboundary,
-                        .n_body = 0};
+                        .n_body = 0,
+                        .mass = o->mass,
+                        .h = o->h};
     char path[4400], xmf[4200];
     snprintf(path, sizeof path, "%s/%s", o->dir, e->file);
     snprintf(xmf, sizeof xmf, "%s/particles.xmf", o->dir);

@@ -1,4 +1,6 @@
-/* The XDMF sidecar: a temporal collection of polyvertex grids pointing into the snapshots. */
+/* The XDMF sidecar: a temporal collection of polyvertex grids pointing into the snapshots. The
+ * topology names its connectivity (the `id` dataset, 0..n-1 in file order): ParaView's default
+ * reader (Xdmf3ReaderS) and meshio build no cells from a polyvertex topology without one. */
 #include "sphd.h"
 #include "sphd_h5.h"
 
@@ -80,10 +82,13 @@ static void data_item(strbuf *b, const sphd_xdmf_entry *e, const sphd_h5_field *
 int sphd_xdmf_write(const char *path, const sphd_xdmf_entry *entries, int nentries,
                     const sphd_h5_field *fields, int nfields, sph_error *err)
 {
-    const sphd_h5_field *pos = NULL;
-    for (int i = 0; i < nfields; i++)
+    const sphd_h5_field *pos = NULL, *id = NULL;
+    for (int i = 0; i < nfields; i++) {
         if (strcmp(fields[i].name, "pos") == 0)
             pos = &fields[i];
+        else if (strcmp(fields[i].name, "id") == 0 && fields[i].ncomp == 1)
+            id = &fields[i];
+    }
     if (!pos)
         return sph_error_set(err, SPH_ERR_INTERNAL, "", "XDMF needs a 'pos' field");
     strbuf b = {0};
@@ -97,8 +102,15 @@ int sphd_xdmf_write(const char *path, const sphd_xdmf_entry *entries, int nentri
         sb_printf(&b, "    <Time Value=\"%.17g\"/>\n", e->t);
         sb_printf(&b,
                   "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%ld\" "
-                  "NodesPerElement=\"1\"/>\n",
+                  "NodesPerElement=\"1\"",
                   e->n);
+        if (id) {
+            sb_printf(&b, ">");
+            data_item(&b, e, id);
+            sb_printf(&b, "</Topology>\n");
+        } else {
+            sb_printf(&b, "/>\n");
+        }
         sb_printf(&b, "    <Geometry GeometryType=\"XYZ\">");
         data_item(&b, e, pos);
         sb_printf(&b, "</Geometry>\n");

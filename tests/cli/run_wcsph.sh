@@ -6,7 +6,7 @@ set -u
 sphd=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 fail=0
-"$sphd" --run "$src/cases/dambreak.json" --out "$tmp/out" --set time.end=0.02 >"$tmp/ev" 2>"$tmp/err"
+"$sphd" --run "$src/cases/dambreak.json" --out "$tmp/out" --set dx=0.005 --set time.end=0.02 >"$tmp/ev" 2>"$tmp/err"
 rc=$?
 [ $rc = 0 ] || { echo "FAIL: dam break exit $rc"; cat "$tmp/err"; fail=1; }
 /usr/bin/python3 - "$tmp/ev" <<'PY' || fail=1

@@ -9,7 +9,8 @@ sphd=$1; src=$2; seed=${3:-$RANDOM}
 tmp=$(mktemp -d); pid=
 trap '[ -n "$pid" ] && kill -9 $pid 2>/dev/null || true; rm -rf "$tmp"' EXIT
 PY=/usr/bin/python3
-args=(--run "$src/cases/dambreak.json" --threads 1 --set time.end=0.3 --set output.every=0.03)
+args=(--run "$src/cases/dambreak.json" --threads 1 --set dx=0.005 --set time.end=0.3
+      --set output.every=0.03)
 echo "seed $seed"; RANDOM=$seed
 
 "$sphd" "${args[@]}" --out "$tmp/ref/db" >/dev/null 2>&1
@@ -46,7 +47,7 @@ done
 tail -n1 "$tmp/last.jsonl" | grep -q '"state":"done"'
 "$PY" "$(dirname "$0")/h5check.py" same "$tmp/ref/db" "$tmp/crash/db"
 # between snapshots, checkpoints come from the wall clock (--checkpoint-interval)
-"$sphd" --run "$src/cases/dambreak.json" --threads 1 --set output.every=100 \
+"$sphd" --run "$src/cases/dambreak.json" --threads 1 --set dx=0.005 --set output.every=100 \
   --checkpoint-interval 0.2 --out "$tmp/interval/db" >/dev/null 2>&1 &
 pid=$!
 for _ in $(seq 1 600); do
@@ -54,7 +55,7 @@ for _ in $(seq 1 600); do
   sleep 0.01
 done
 kill -9 $pid 2>/dev/null || true; wait $pid 2>/dev/null || true; pid=
-"$sphd" --run "$src/cases/dambreak.json" --threads 1 --set output.every=100 --out "$tmp/interval/db" \
+"$sphd" --run "$src/cases/dambreak.json" --threads 1 --set dx=0.005 --set output.every=100 --out "$tmp/interval/db" \
   --resume > "$tmp/interval.jsonl" 2>"$tmp/interval.err"
 grep -q "resuming from its checkpoint" "$tmp/interval.err"
 "$PY" -c "import json,sys; d=json.loads(open(sys.argv[1]).readlines()[1]); sys.exit(0 if d['type']=='diag' and d['step']>0 else 1)" "$tmp/interval.jsonl"

@@ -8,7 +8,7 @@
 SPHD=$1; SPHCTL=$2; SRC=$3; seed=${4:-$RANDOM}
 . "$(dirname "$0")/lib.sh"
 echo "seed $seed"; RANDOM=$seed
-sets=(--set time.end=0.3 --set output.every=0.03)
+sets=(--set dx=0.005 --set time.end=0.3 --set output.every=0.03)
 
 # the uninterrupted reference, in batch mode
 "$SPHD" --run "$SRC/cases/dambreak.json" --threads 1 "${sets[@]}" --out "$tmp/ref/db" \

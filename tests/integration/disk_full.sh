@@ -13,9 +13,9 @@ fi
 trap 'umount "$mnt" 2>/dev/null; cleanup' EXIT
 start_sphd --threads 2
 expect_rc "submit a job that fills its disk" 0 "$SPHCTL" submit "$SRC/cases/dambreak.json" --id full \
-  --set output.every=0.01
+  --set dx=0.005 --set output.every=0.01
 expect_rc "submit another job" 0 "$SPHCTL" submit "$SRC/cases/dambreak.json" --id other \
-  --set time.end=0.2
+  --set dx=0.005 --set time.end=0.2
 expect_rc "watch the full one: it fails (exit 1)" 1 "$SPHCTL" --json watch full
 expect_rc "its status" 0 "$SPHCTL" --json status full
 check "failed, with a reason naming the full disk" jtrue "$tmp/out" \

@@ -30,7 +30,10 @@ for i, (name, ev) in enumerate(zip(snaps, outs)):
         n = f.attrs["n_particles"]; n0 = n0 or n
         assert n == n0 == f.attrs["n_fluid"] + f.attrs["n_boundary"]
         assert f.attrs["dim"] == 2 and f.attrs["dx"] == 0.01 and f.attrs["kernel"] in (b"wendland_c2", "wendland_c2")
-        assert set(f.keys()) == {"pos", "vel", "rho", "p", "type"}, list(f.keys())
+        assert set(f.keys()) == {"pos", "vel", "rho", "p", "type", "id", "VTKHDF"}, list(f.keys())
+        assert np.array_equal(f["id"][:], np.arange(f.attrs["n_particles"]))
+        assert f.attrs["mass"] == 1000 * 0.01 ** 2 and abs(f.attrs["h"] - 1.414 * 0.01) < 1e-15
+        assert f["VTKHDF/Points"].id == f["pos"].id      # a link, not a copy
         assert f["pos"].shape == (n, 3) and f["vel"].shape == (n, 3) and f["rho"].shape == (n,)
         pos, typ = f["pos"][:], f["type"][:]
         assert np.all(pos[:, 2] == 0) and np.all(np.isfinite(pos))
@@ -57,11 +60,16 @@ with h5py.File(os.path.join(d, "diag.h5"), "r", libver="latest", swmr=True) as f
     diags = [e for e in events if e["type"] == "diag"]
     assert list(f["step"][:]) == [e["step"] for e in diags]
     assert np.allclose(f["front_x"][:], [e["front_x"] for e in diags], rtol=1e-9)
+    n = f["rows"][0]
+    assert n == len(diags) and list(f["diag"]["step"]) == list(f["step"][:])
+    assert f["diag"].dtype["lost"].kind == "i" and f["lost"].dtype.kind == "i"
+    assert f["t"].attrs["units"] in (b"s", "s") and f["front_x"].attrs["units"] in (b"m", "m")
 print("finished job: %d snapshots, %d XDMF datasets checked" % (len(snaps), checked))
 PYEOF
 
 # 2. the diagnostics series read while the job runs
-"$sphd" --run "$src/cases/dambreak.json" --out "$tmp/run/db" --threads 1 >/dev/null 2>&1 &
+"$sphd" --run "$src/cases/dambreak.json" --out "$tmp/run/db" --threads 1 --set dx=0.005 \
+  >/dev/null 2>&1 &
 pid=$!
 "$PY" - "$tmp/run/db/diag.h5" "$pid" <<'PYEOF'
 import sys, os, time, h5py

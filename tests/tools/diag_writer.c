@@ -14,7 +14,7 @@ int main(int argc, char **argv)
         return 64;
     }
     const long rows = atol(argv[2]), ms = atol(argv[3]);
-    const char *cols[] = {"t", "ekin", "front_x"};
+    const sphd_diag_column cols[] = {{"t", "s", 0}, {"ekin", "J/m", 0}, {"lost", "1", 1}};
     sph_error err;
     sphd_diagfile *d = sphd_diagfile_open(argv[1], cols, 3, -1, &err);
     if (!d) {
@@ -22,7 +22,7 @@ int main(int argc, char **argv)
         return 1;
     }
     for (long i = 0; i < rows; i++) {
-        double v[3] = {0.001 * (double)i, 0.5 * (double)i, 0.1 + 0.001 * (double)i};
+        double v[3] = {0.001 * (double)i, 0.5 * (double)i, (double)(i / 10)};
         if (sphd_diagfile_append(d, i, v, &err)) {
             fprintf(stderr, "diag_writer: %s\n", err.message);
             sphd_diagfile_close(d);

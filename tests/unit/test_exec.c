@@ -56,8 +56,8 @@ static sph_case *load(const char *const *sets, int nsets)
 static void test_slices(void **state)
 {
     (void)state;
-    const char *sets[] = {"time.end=0.01", "diagnostics.every=10"};
-    sph_case *c = load(sets, 2);
+    const char *sets[] = {"dx=0.005", "time.end=0.01", "diagnostics.every=10"};
+    sph_case *c = load(sets, 3);
     sph_error err;
     sphd_exec *x = sphd_exec_new(c, NULL, &err);
     assert_non_null(x);
@@ -104,8 +104,8 @@ static void test_slices(void **state)
 static void test_unstable(void **state)
 {
     (void)state;
-    const char *sets[] = {"time.dt=0.001"};
-    sph_case *c = load(sets, 1);
+    const char *sets[] = {"dx=0.005", "time.dt=0.001"};
+    sph_case *c = load(sets, 2);
     sph_error err;
     sphd_exec *x = sphd_exec_new(c, NULL, &err);
     assert_non_null(x);

@@ -89,7 +89,9 @@ static void test_snapshot(void **state)
                         .n = N,
                         .n_fluid = 800,
                         .n_boundary = 200,
-                        .n_body = 0};
+                        .n_body = 0,
+                        .mass = 0.025,
+                        .h = 0.007};
     char path[512];
     snprintf(path, sizeof path, "%s/snap_000001.h5", dir);
     sph_error err;
@@ -138,6 +140,30 @@ static void test_snapshot(void **state)
     H5Dread(d, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, p);
     H5Dclose(d);
     assert_true(p[999] == P->p[999]);
+    /* mass and smoothing length as attributes */
+    double mass = 0, hh = 0;
+    a = H5Aopen(file, "mass", H5P_DEFAULT);
+    H5Aread(a, H5T_NATIVE_DOUBLE, &mass);
+    H5Aclose(a);
+    a = H5Aopen(file, "h", H5P_DEFAULT);
+    H5Aread(a, H5T_NATIVE_DOUBLE, &hh);
+    H5Aclose(a);
+    assert_true(mass == 0.025 && hh == 0.007);
+    /* ParaView's VTKHDF layout: the arrays are the same datasets (links), offsets 0..N */
+    H5O_info_t o1, o2; /* HDF5 1.10: objects by address */
+    assert_true(H5Oget_info_by_name2(file, "pos", &o1, H5O_INFO_BASIC, H5P_DEFAULT) >= 0);
+    assert_true(H5Oget_info_by_name2(file, "VTKHDF/Points", &o2, H5O_INFO_BASIC, H5P_DEFAULT) >= 0);
+    assert_true(o1.addr == o2.addr);
+    assert_int_equal(o1.rc, 2);
+    assert_true(
+        H5Oget_info_by_name2(file, "VTKHDF/PointData/rho", &o2, H5O_INFO_BASIC, H5P_DEFAULT) >= 0);
+    assert_int_equal(o2.rc, 2);
+    long long off[N + 1];
+    d = H5Dopen2(file, "VTKHDF/Offsets", H5P_DEFAULT);
+    H5Dread(d, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, off);
+    H5Dclose(d);
+    assert_int_equal(off[0], 0);
+    assert_int_equal(off[N], N);
     H5Fclose(file);
 
     /* nothing but the final file: no *.tmp.* left */
@@ -199,14 +225,15 @@ static void test_xdmf(void **state)
 static void test_diagfile(void **state)
 {
     (void)state;
-    const char *cols[] = {"t", "dt", "ekin", "front_x"};
+    const sphd_diag_column cols[] = {
+        {"t", "s", 0}, {"dt", "s", 0}, {"ekin", "J/m", 0}, {"lost", "1", 1}};
     char path[512];
     snprintf(path, sizeof path, "%s/diag.h5", dir);
     sph_error err;
     sphd_diagfile *d = sphd_diagfile_open(path, cols, 4, -1, &err);
     assert_non_null(d);
     for (long s = 0; s < 50; s++) {
-        double v[4] = {1e-3 * s, 1e-3, 0.5 * s, 0.1 + 0.01 * s};
+        double v[4] = {1e-3 * s, 1e-3, 0.5 * s, (double)(s / 7)};
         assert_int_equal(sphd_diagfile_append(d, s * 10, v, &err), 0);
     }
     assert_int_equal(sphd_diagfile_rows(d), 50);
@@ -228,7 +255,7 @@ static void test_diagfile(void **state)
     FILE *in = fopen(csv, "r");
     char line[512];
     assert_non_null(fgets(line, sizeof line, in));
-    assert_string_equal(line, "step,t,dt,ekin,front_x\n");
+    assert_string_equal(line, "step,t,dt,ekin,lost\n");
     int rows = 0;
     char last[512] = "";
     while (fgets(line, sizeof line, in)) {
@@ -238,6 +265,33 @@ static void test_diagfile(void **state)
     fclose(in);
     assert_int_equal(rows, 22);
     assert_string_equal(last, "210,9,9,9,9\n");
+
+    /* the table: 22 rows, counted by /rows; lost is an integer; units per member */
+    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    long long count = 0;
+    hid_t ds = H5Dopen2(f, "rows", H5P_DEFAULT);
+    H5Dread(ds, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, &count);
+    H5Dclose(ds);
+    assert_int_equal(count, 22);
+    ds = H5Dopen2(f, "diag", H5P_DEFAULT);
+    hid_t sp = H5Dget_space(ds);
+    hsize_t n = 0;
+    H5Sget_simple_extent_dims(sp, &n, NULL);
+    H5Sclose(sp);
+    assert_int_equal(n, 22);
+    hid_t t = H5Dget_type(ds);
+    assert_int_equal(H5Tget_nmembers(t), 5);
+    assert_int_equal(H5Tget_member_class(t, 4), H5T_INTEGER);
+    assert_int_equal(H5Tget_member_class(t, 1), H5T_FLOAT);
+    H5Tclose(t);
+    assert_true(H5Aexists(ds, "units") > 0);
+    H5Dclose(ds);
+    ds = H5Dopen2(f, "lost", H5P_DEFAULT);
+    t = H5Dget_type(ds);
+    assert_int_equal(H5Tget_class(t), H5T_INTEGER);
+    H5Tclose(t);
+    H5Dclose(ds);
+    H5Fclose(f);
 }
 
 static void test_unwritable(void **state)
@@ -251,7 +305,7 @@ static void test_unwritable(void **state)
     assert_int_equal(sphd_h5_write_snapshot("/nonexistent-dir/x.h5", &h, f, nf, 0, &err),
                      SPH_ERR_IO);
     assert_non_null(strstr(err.message, "/nonexistent-dir/x.h5"));
-    const char *cols[] = {"t"};
+    const sphd_diag_column cols[] = {{"t", "s", 0}};
     assert_null(sphd_diagfile_open("/nonexistent-dir/diag.h5", cols, 1, -1, &err));
     assert_int_equal(err.code, SPH_ERR_IO);
     free(P);

@@ -5,7 +5,7 @@
 set -u
 sphd=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-timeout 120 "$sphd" --run "$src/cases/dambreak.json" --out "$tmp/out" --set time.dt=0.001 \
+timeout 120 "$sphd" --run "$src/cases/dambreak.json" --out "$tmp/out" --set dx=0.005 --set time.dt=0.001 \
   >"$tmp/events.jsonl" 2>"$tmp/stderr"
 rc=$?
 last=$(tail -n 1 "$tmp/events.jsonl")

@@ -1,0 +1,88 @@
+"""Renders a job's particles at one time to a PNG with ParaView, the way a user would look at them:
+particles.xmf opened with ParaView's default reader, the fluid alone (Threshold on `type`),
+coloured by pressure, the tank walls in grey, seen from the front; prints the front position, the
+layer thickness and the pressure range at that time.
+
+Usage: scripts/render.sh JOB_DIR TIME OUT.png   (pvbatch under an X server: Xvfb when there is no
+       DISPLAY), or pvbatch scripts/render.py JOB_DIR TIME OUT.png on a desktop
+"""
+import os
+import sys
+
+import numpy as np
+from paraview import servermanager as sm
+from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFunction,
+                             GetScalarBar, OpenDataFile, Render, SaveScreenshot, Show, Threshold)
+from vtk.numpy_interface import dataset_adapter as dsa
+
+d, t, out = sys.argv[1], float(sys.argv[2]), sys.argv[3]
+r = OpenDataFile(os.path.join(d, "particles.xmf"))
+ts = list(r.TimestepValues)
+t = min(ts, key=lambda x: abs(x - t))
+view = GetActiveViewOrCreate("RenderView")
+view.ViewSize = [1400, 700]
+view.ViewTime = t
+view.OrientationAxesVisibility = 0
+view.Background = [1, 1, 1]
+try:
+    view.UseColorPaletteForBackground = 0
+except AttributeError:
+    pass
+
+fluid = Threshold(Input=r)
+fluid.Scalars = ["POINTS", "type"]
+fluid.LowerThreshold = 0
+fluid.UpperThreshold = 0
+walls = Threshold(Input=r)
+walls.Scalars = ["POINTS", "type"]
+walls.LowerThreshold = 1
+walls.UpperThreshold = 1
+for src in (fluid, walls):
+    src.UpdatePipeline(t)
+
+wd = Show(walls, view)
+wd.SetRepresentationType("Points")
+wd.PointSize = 2
+ColorBy(wd, None)
+wd.AmbientColor = wd.DiffuseColor = [0.6, 0.6, 0.6]
+fd = Show(fluid, view)
+fd.SetRepresentationType("Points")
+fd.PointSize = 3
+ColorBy(fd, ("POINTS", "p"))
+fd.SetScalarBarVisibility(view, True)
+
+data = dsa.WrapDataObject(sm.Fetch(fluid))
+pos, p = np.asarray(data.Points), np.asarray(data.PointData["p"])
+lut = GetColorTransferFunction("p")
+lo, hi = np.percentile(p, 1), np.percentile(p, 99)
+lut.RescaleTransferFunction(float(min(lo, 0.0)), float(hi))
+bar = GetScalarBar(lut, view)
+bar.Title = "p [Pa], t = %g s" % t
+bar.ComponentTitle = ""
+bar.TitleColor = bar.LabelColor = [0, 0, 0]
+bar.WindowLocation = "Any Location"
+bar.Position = [0.86, 0.35]
+bar.ScalarBarLength = 0.5
+
+# the tank (x from 0 to 1 m) filling the width, the bottom 0.5 m (after a first render, which
+# resets the camera)
+Render(view)
+view.CameraPosition = [0.5, 0.19, 3.0]
+view.CameraFocalPoint = [0.5, 0.19, 0.0]
+view.CameraViewUp = [0, 1, 0]
+view.CameraParallelProjection = 1
+view.CameraParallelScale = 0.28
+Render(view)
+SaveScreenshot(out, view, ImageResolution=[1400, 700])
+
+# the front and the layer: the leading fluid's x, the water depth along the bed
+x, y = pos[:, 0], pos[:, 1]
+front = np.sort(x)[-3]
+bins = np.arange(0.0, front, 0.05)
+depth = [(b, y[(x >= b) & (x < b + 0.05)].max()) for b in bins if ((x >= b) & (x < b + 0.05)).any()]
+print("t = %g s: %d fluid particles, front at x = %.3f m" % (t, len(x), front))
+print("water depth along the bed (max y per 5 cm): " +
+      ", ".join("%.2f-%.2f: %.3f" % (b, b + 0.05, h) for b, h in depth))
+print("fluid pressure: min %.0f Pa, 1st-99th percentile %.0f to %.0f Pa, max %.0f Pa"
+      % (p.min(), lo, hi, p.max()))
+print("wrote", out)
