@@ -19,6 +19,14 @@ static herr_t walk_cb(unsigned n, const H5E_error2_t *e, void *ud)
     return 0;
 }
 
+void sphd_h5_init(void)
+{
+    /* No cleanup of HDF5's own at exit: sphd closes what it opens, and a file whose close failed
+     * (a full disk) stays in HDF5's table in a state its exit-time close crashes on (HDF5 1.10). */
+    H5dont_atexit();
+    sphd_h5_quiet();
+}
+
 void sphd_h5_quiet(void)
 {
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL);

@@ -8,6 +8,8 @@
 
 /* Turns off HDF5's printing of error stacks (errors are reported through sph_error). */
 void sphd_h5_quiet(void);
+/* Once, before any other HDF5 call of the process: no HDF5 cleanup at exit, errors quiet. */
+void sphd_h5_init(void);
 /* Fills err (SPH_ERR_IO) from HDF5's error stack and errno; returns SPH_ERR_IO. */
 int sphd_h5_fail(sph_error *err, const char *what, const char *path);
 hid_t sphd_h5_type_id(sphd_h5_type t);

@@ -1,6 +1,7 @@
 /* sphd: the simulation daemon. This file parses the command line and picks the mode. */
 #include "sphd.h"
 #include "sphd_daemon.h"
+#include "sphd_h5_util.h"
 
 #include "sph_endpoint.h"
 
@@ -186,6 +187,7 @@ int main(int argc, char **argv)
         {"version", no_argument, NULL, OPT_VERSION},
         {NULL, 0, NULL, 0},
     };
+    sphd_h5_init();
     sphd_run_opts run = {0};
     sphd_opts dopts = {.max_jobs = 64,
                        .max_msg_size = 16L << 20,
