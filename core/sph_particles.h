@@ -12,7 +12,9 @@
 enum {
     SPH_FLUID = 0,    /* moves, feels forces */
     SPH_BOUNDARY = 1, /* dynamic boundary particle: fixed, density by continuity */
-    SPH_LOST = 2      /* fluid that left the domain: frozen, excluded from interactions */
+    SPH_LOST = 2,     /* fluid that left the domain: frozen, excluded from interactions */
+    SPH_BODY = 4      /* particle of a rigid body (boundary/sph_body.h): moves with its body,
+                         density by continuity (3 is taken by the ghosts of free-slip walls) */
 };
 
 /* Loops over fewer particles than this run on the calling thread alone: for small jobs the

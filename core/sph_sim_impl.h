@@ -5,6 +5,7 @@
 #ifndef SPH_SIM_IMPL_H
 #define SPH_SIM_IMPL_H
 
+#include "sph_body.h"
 #include "sph_cells.h"
 #include "sph_config.h"
 #include "sph_kernel.h"
@@ -24,12 +25,13 @@ struct sph_sim {
     long nactive;              /* particles in cells after the latest sort [-] */
     long nfluid;               /* fluid particles created [-] */
     long nboundary;            /* boundary particles [-] */
+    sph_bodies bodies;         /* rigid bodies (their particles follow the walls') */
     long max_lost;             /* more lost fluid particles than this is a blow-up [-] */
     double t;                  /* time [s] */
     long step;                 /* steps done [-] */
     double dt;                 /* latest time step [s] */
     double amax;               /* largest fluid acceleration of the latest evaluation [m/s^2] */
-    double vmax;               /* largest fluid speed at the end of the latest step [m/s] */
+    double vmax;               /* largest fluid or body speed at the end of the latest step [m/s] */
     int failed;                /* 1 after a blow-up */
     sph_diag diag;             /* latest diagnostics */
     sph_timing timing;         /* cumulative timers */

@@ -20,8 +20,9 @@
 #include <omp.h>
 #include <string.h>
 
-/* Option flags, instantiated as constants. */
-enum { F_LAMINAR = 1, F_SPS = 2, F_DELTA = 4, F_COUNT = 8 };
+/* Option flags, instantiated as constants. F_BODY: the case has rigid bodies
+ * (boundary/sph_body.h), whose particles interact with everything but their own body. */
+enum { F_LAMINAR = 1, F_SPS = 2, F_DELTA = 4, F_BODY = 8, F_COUNT = 16 };
 
 #define SPH_SPS_CS 0.12   /* Smagorinsky constant, Yang et al. after Lo & Shao */
 #define SPH_SPS_CI 0.0066 /* isotropic part, Dalrymple & Rogers 2006 */
@@ -29,6 +30,9 @@ enum { F_LAMINAR = 1, F_SPS = 2, F_DELTA = 4, F_COUNT = 8 };
 typedef struct fctx {
     const double *x, *y, *vx, *vy, *rho, *pr;
     const unsigned char *type;
+    const int *id;    /* creation index (F_BODY: which body a body particle belongs to) */
+    const int *owner; /* F_BODY: body of body particle id, at owner[id - body0] */
+    long body0;       /* F_BODY: id of the first body particle */
     double *ax, *ay, *drho;
     double *gxx, *gxy, *gyy;
     const double *txx, *txy, *tyy;
@@ -60,6 +64,9 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
     double *restrict ax = c->ax, *restrict ay = c->ay, *restrict drho = c->drho;
     const double xi = x[i], yi = y[i], vxi = vx[i], vyi = vy[i], rhoi = rho[i], pri = pr[i];
     const int bi = c->type[i] == SPH_BOUNDARY;
+    /* F_BODY: the body of particle i (-1: not a body particle), and whether i is fluid */
+    const int oi = (F & F_BODY) && c->type[i] == SPH_BODY ? c->owner[c->id[i] - c->body0] : -1;
+    const int fi = c->type[i] == SPH_FLUID;
     const double m = c->m, support2 = c->support2, eta2 = c->eta2;
     for (long j = jb; j < je; j++) {
         const double dx = xi - x[j], dy = yi - y[j];
@@ -68,6 +75,9 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
             continue;
         const int bj = c->type[j] == SPH_BOUNDARY;
         if (bi & bj) /* fixed walls: no relative motion, no force that matters */
+            continue;
+        if ((F & F_BODY) && oi >= 0 && c->type[j] == SPH_BODY &&
+            c->owner[c->id[j] - c->body0] == oi) /* one rigid body: no force within it */
             continue;
         ai->pairs++;
         const double r = sqrt(r2);
@@ -111,7 +121,7 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
             c->gxy[j] += vj * (dvx * gy + dvy * gx);
             c->gyy[j] += vj * dvy * gy;
         }
-        if ((F & F_DELTA) && !(bi | bj)) {
+        if ((F & F_DELTA) && ((F & F_BODY) ? fi && c->type[j] == SPH_FLUID : !(bi | bj))) {
             /* delta-SPH (Molteni & Colagrossi 2009): 2 delta h c0 sum (rho_b - rho_a)
              * (x_b - x_a).grad_a W / (r^2 + eta^2) V_b, fluid pairs only */
             const double w = c->dcoef * (rhoj - rhoi) * (-fw * r2) / (r2 + eta2);
@@ -176,9 +186,19 @@ typedef long (*strip_fn)(const fctx *c, int strip);
     SPH_STRIP_FN(T, 5)                                                                             \
     SPH_STRIP_FN(T, 6)                                                                             \
     SPH_STRIP_FN(T, 7)                                                                             \
-    static const strip_fn strips_##T[F_COUNT] = {strip_##T##_0, strip_##T##_1, strip_##T##_2,      \
-                                                 strip_##T##_3, strip_##T##_4, strip_##T##_5,      \
-                                                 strip_##T##_6, strip_##T##_7};
+    SPH_STRIP_FN(T, 8)                                                                             \
+    SPH_STRIP_FN(T, 9)                                                                             \
+    SPH_STRIP_FN(T, 10)                                                                            \
+    SPH_STRIP_FN(T, 11)                                                                            \
+    SPH_STRIP_FN(T, 12)                                                                            \
+    SPH_STRIP_FN(T, 13)                                                                            \
+    SPH_STRIP_FN(T, 14)                                                                            \
+    SPH_STRIP_FN(T, 15)                                                                            \
+    static const strip_fn strips_##T[F_COUNT] = {                                                  \
+        strip_##T##_0,  strip_##T##_1,  strip_##T##_2,  strip_##T##_3,                             \
+        strip_##T##_4,  strip_##T##_5,  strip_##T##_6,  strip_##T##_7,                             \
+        strip_##T##_8,  strip_##T##_9,  strip_##T##_10, strip_##T##_11,                            \
+        strip_##T##_12, strip_##T##_13, strip_##T##_14, strip_##T##_15};
 
 SPH_STRIP_TABLE(SPH_KERNEL_CUBIC_SPLINE)
 SPH_STRIP_TABLE(SPH_KERNEL_GAUSSIAN)
@@ -238,7 +258,7 @@ void sph_wcsph_forces(sph_sim *s)
     prepare(s);
     const unsigned flags = (cfg->visc == SPH_VISC_LAMINAR ? F_LAMINAR : 0) |
                            (cfg->turb == SPH_TURB_SPS ? F_SPS : 0) |
-                           (cfg->delta_sph > 0.0 ? F_DELTA : 0);
+                           (cfg->delta_sph > 0.0 ? F_DELTA : 0) | (s->bodies.n > 0 ? F_BODY : 0);
     const fctx c = {.x = P->x,
                     .y = P->y,
                     .vx = P->vx,
@@ -246,6 +266,9 @@ void sph_wcsph_forces(sph_sim *s)
                     .rho = P->rho,
                     .pr = P->pr,
                     .type = P->type,
+                    .id = P->id,
+                    .owner = s->bodies.owner,
+                    .body0 = s->bodies.first,
                     .ax = P->ax,
                     .ay = P->ay,
                     .drho = P->drho,
@@ -280,7 +303,12 @@ void sph_wcsph_forces(sph_sim *s)
             pairs += fn(&c, st);
     }
 
-    /* gravity on the fluid; walls and lost particles do not move */
+    /* the bodies take the force and torque their particles received */
+    double t2 = omp_get_wtime();
+    sph_bodies_gather(&s->bodies, P, n, s->mass);
+    s->timing.bodies += omp_get_wtime() - t2;
+
+    /* gravity on the fluid; walls, bodies' particles and lost particles do not move by it */
     const double gx = cfg->gravity[0], gy = cfg->gravity[1];
     double amax2 = 0.0;
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(max                            \
@@ -297,7 +325,7 @@ void sph_wcsph_forces(sph_sim *s)
     }
     for (long i = n; i < P->n; i++)
         P->ax[i] = P->ay[i] = P->drho[i] = 0.0;
-    s->amax = sqrt(amax2);
+    s->amax = fmax(sqrt(amax2), sph_bodies_amax(&s->bodies));
     s->timing.interactions += omp_get_wtime() - t1;
     s->timing.pairs = pairs;
     s->timing.active = n;
