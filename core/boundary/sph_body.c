@@ -187,6 +187,9 @@ int sph_body_check(const sph_config *c, sph_error *err)
     if (c->nbodies > 0 && c->method != SPH_METHOD_WCSPH)
         return sph_error_set(err, SPH_ERR_INVALID, "/bodies",
                              "rigid bodies are available with wcsph only in this version");
+    if ((c->probes & SPH_PROBE_PENETRATION) && c->nbodies == 0)
+        return sph_error_set(err, SPH_ERR_INVALID, "/diagnostics/probes",
+                             "the probe 'penetration' needs a body (the first in 'bodies')");
     const double dx = c->dx;
     for (int i = 0; i < c->nbodies; i++) {
         const sph_body_spec *b = &c->bodies[i];
