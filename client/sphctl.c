@@ -31,20 +31,28 @@ static const char usage_text[] =
     "                                DIR/JOB/, checksums verified (for another machine)\n"
     "  export JOB [--out FILE]       the diagnostics time series as CSV\n"
     "  shutdown                      pause every job and stop sphd\n"
+    "  keygen [--out PATH]           make a CURVE key pair for this client (or a server)\n"
     "\n"
     "Options:\n"
     "  --endpoint EP   sphd's control endpoint (default: $SPHD_ENDPOINT, else\n"
     "                  ipc://$XDG_RUNTIME_DIR/sphd/control)\n"
     "  --json          print exactly one JSON document on stdout (JSON Lines for watch)\n"
     "  --timeout S     seconds to wait for each reply (default 10)\n"
+    "  --server-key K  sphd's CURVE public key (Z85, or a file holding it; default:\n"
+    "                  $SPHD_SERVER_KEY, else server_key in the config file): talk CURVE\n"
+    "  --key FILE      this client's CURVE secret key file (default: $SPHCTL_KEY, else key\n"
+    "                  in the config file, else client.key in the config directory)\n"
+    "  The config file $XDG_CONFIG_HOME/sphctl/config (~/.config/sphctl/config) holds\n"
+    "  'name = value' lines: endpoint, server_key, key.\n"
     "  -h, --help      this text; 'sphctl COMMAND --help' for one command\n"
-    "  (--endpoint, --json and --timeout may also follow the command)\n"
+    "  (these options may also follow the command)\n"
     "  --version       print the version\n"
     "\n"
     "Exit codes: 0 ok, 1 the job failed or sphd refused the request (or a checksum\n"
     "mismatch in fetch), 64 usage, 65 invalid case file, 66 file not found, 69 sphd\n"
     "unreachable or timed out, 73 cannot write an output file, 75 busy (retry later),\n"
-    "77 not authorised.\n";
+    "77 not authorised (sphd refused this client's key, or requires CURVE), 78 bad keys or\n"
+    "config file.\n";
 
 typedef struct command {
     const char *name;
@@ -494,30 +502,35 @@ static const command commands[] = {
     {"results", sphctl_cmd_results, ""},
     {"fetch", sphctl_cmd_fetch, ""},
     {"export", sphctl_cmd_export, ""},
+    {"keygen", sphctl_cmd_keygen, ""},
 };
 
 int main(int argc, char **argv)
 {
     sphctl c = {.timeout = 10.0};
-    const char *env = getenv("SPHD_ENDPOINT");
-    if (env && *env)
-        snprintf(c.endpoint, sizeof c.endpoint, "%s", env);
-    else if (sph_default_control_endpoint(c.endpoint, sizeof c.endpoint)) {
-        fputs("sphctl: cannot work out the default endpoint; use --endpoint\n", stderr);
-        return SPHCTL_EX_USAGE;
-    }
-    enum { OPT_ENDPOINT = 256, OPT_JSON, OPT_TIMEOUT, OPT_VERSION };
-    static const struct option lo[] = {
-        {"endpoint", required_argument, NULL, OPT_ENDPOINT}, {"json", no_argument, NULL, OPT_JSON},
-        {"timeout", required_argument, NULL, OPT_TIMEOUT},   {"help", no_argument, NULL, 'h'},
-        {"version", no_argument, NULL, OPT_VERSION},         {NULL, 0, NULL, 0}};
+    const char *endpoint = NULL, *server_key = NULL, *key = NULL;
+    enum { OPT_ENDPOINT = 256, OPT_JSON, OPT_TIMEOUT, OPT_VERSION, OPT_SERVER_KEY, OPT_KEY };
+    static const struct option lo[] = {{"endpoint", required_argument, NULL, OPT_ENDPOINT},
+                                       {"json", no_argument, NULL, OPT_JSON},
+                                       {"timeout", required_argument, NULL, OPT_TIMEOUT},
+                                       {"server-key", required_argument, NULL, OPT_SERVER_KEY},
+                                       {"key", required_argument, NULL, OPT_KEY},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {"version", no_argument, NULL, OPT_VERSION},
+                                       {NULL, 0, NULL, 0}};
     int o;
     while ((o = getopt_long(argc, argv, "+h", lo, NULL)) != -1) {
         switch (o) {
         case OPT_ENDPOINT:
             if (strlen(optarg) >= sizeof c.endpoint)
                 return sphctl_usage(NULL, "endpoint too long: %s", optarg);
-            snprintf(c.endpoint, sizeof c.endpoint, "%s", optarg);
+            endpoint = optarg;
+            break;
+        case OPT_SERVER_KEY:
+            server_key = optarg;
+            break;
+        case OPT_KEY:
+            key = optarg;
             break;
         case OPT_JSON:
             c.json = 1;
@@ -563,7 +576,9 @@ int main(int argc, char **argv)
         const char *val = NULL;
         int is_ep = strncmp(a, "--endpoint", 10) == 0 && (a[10] == '\0' || a[10] == '=');
         int is_to = strncmp(a, "--timeout", 9) == 0 && (a[9] == '\0' || a[9] == '=');
-        if (is_ep || is_to) {
+        int is_sk = strncmp(a, "--server-key", 12) == 0 && (a[12] == '\0' || a[12] == '=');
+        int is_key = strncmp(a, "--key", 5) == 0 && (a[5] == '\0' || a[5] == '=');
+        if (is_ep || is_to || is_sk || is_key) {
             const char *eq = strchr(a, '=');
             if (eq)
                 val = eq + 1;
@@ -571,10 +586,14 @@ int main(int argc, char **argv)
                 val = argv[++i];
             else
                 return sphctl_usage(name, "%s needs a value", a);
-            if (is_ep) {
+            if (is_sk) {
+                server_key = val;
+            } else if (is_key) {
+                key = val;
+            } else if (is_ep) {
                 if (strlen(val) >= sizeof c.endpoint)
                     return sphctl_usage(name, "endpoint too long: %s", val);
-                snprintf(c.endpoint, sizeof c.endpoint, "%s", val);
+                endpoint = val;
             } else {
                 char *end;
                 c.timeout = strtod(val, &end);
@@ -595,7 +614,12 @@ int main(int argc, char **argv)
     argc = n;
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
         if (strcmp(commands[i].name, name) == 0) {
-            int rc = commands[i].run(&c, argc - optind, argv + optind);
+            /* keygen needs no server (nor the keys it is about to make) */
+            int rc =
+                strcmp(name, "keygen") == 0 ? 0 : sphctl_settings(&c, endpoint, server_key, key);
+            if (rc)
+                return rc;
+            rc = commands[i].run(&c, argc - optind, argv + optind);
             sphctl_close(&c);
             return rc;
         }

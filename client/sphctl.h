@@ -18,6 +18,7 @@
 #define SPHCTL_EX_CANTCREAT   73
 #define SPHCTL_EX_TEMPFAIL    75
 #define SPHCTL_EX_NOPERM      77
+#define SPHCTL_EX_CONFIG      78
 
 #define SPHCTL_MAX_REQUEST (16L << 20) /* sphd's default --max-msg-size */
 
@@ -27,6 +28,9 @@ typedef struct sphctl {
     double timeout; /* seconds per request */
     void *ctx;
     void *sock; /* DEALER to the control endpoint, NULL until the first request */
+    void *mon;  /* its socket monitor (handshake failures), or NULL */
+    int curve;  /* CURVE on: the three keys below are set (Z85) */
+    char server_key[41], public_key[41], secret_key[41];
     long next_id;
     const char *file; /* for messages about a case file */
 } sphctl;
@@ -39,6 +43,20 @@ int sphctl_request(sphctl *c, const char *op, json_t *args, json_t **result, cha
                    size_t errcode_len);
 
 void sphctl_close(sphctl *c);
+
+/* sphctl_curve.c: the endpoint and the CURVE keys from the options given (NULL: not given), the
+ * environment or the config file. Returns 0 or an exit code (said on stderr). */
+int sphctl_settings(sphctl *c, const char *endpoint, const char *server_key, const char *key);
+/* $XDG_CONFIG_HOME/sphctl or ~/.config/sphctl. Returns 0 or -1. */
+int sphctl_config_dir(char *out, size_t n);
+/* Sets the CURVE client keys on sock when CURVE is on. Returns 0 or -1 (said). */
+int sphctl_secure(sphctl *c, void *sock);
+/* A PAIR receiving sock's handshake failures (name: unique per socket), or NULL. */
+void *sphctl_monitor(sphctl *c, void *sock, const char *name);
+/* Reads what mon has; 1 when it reports that sphd refused the handshake (said on stderr, with
+ * why: key not authorised, CURVE required, ...), else 0. */
+int sphctl_refused(sphctl *c, void *mon, const char *endpoint);
+int sphctl_cmd_keygen(sphctl *c, int argc, char **argv);
 
 /* Prints a JSON value as one line (compact) or indented, to stdout. */
 void sphctl_print_json(const json_t *v, int compact);

@@ -28,6 +28,10 @@ static int connect_control(sphctl *c)
         fprintf(stderr, "sphctl: cannot create a socket: %s\n", zmq_strerror(errno));
         return SPHCTL_EX_SOFTWARE;
     }
+    if (sphctl_secure(c, c->sock) != 0)
+        return SPHCTL_EX_SOFTWARE;
+    /* a refused handshake is told apart from a server that does not answer */
+    c->mon = sphctl_monitor(c, c->sock, "control");
     if (zmq_connect(c->sock, c->endpoint) != 0) {
         fprintf(stderr, "sphctl: cannot connect to %s: %s\n", c->endpoint, zmq_strerror(errno));
         return errno == EINVAL || errno == EPROTONOSUPPORT ? SPHCTL_EX_USAGE
@@ -36,11 +40,19 @@ static int connect_control(sphctl *c)
     return 0;
 }
 
-void sphctl_close(sphctl *c)
+static void close_control(sphctl *c)
 {
+    if (c->mon)
+        zmq_close(c->mon);
+    c->mon = NULL;
     if (c->sock)
         zmq_close(c->sock);
     c->sock = NULL;
+}
+
+void sphctl_close(sphctl *c)
+{
+    close_control(c);
     if (c->ctx)
         zmq_ctx_term(c->ctx);
     c->ctx = NULL;
@@ -104,16 +116,23 @@ int sphctl_request(sphctl *c, const char *op, json_t *args, json_t **result, cha
     free(text);
     long wait_ms = (long)(c->timeout * 1000);
     for (;;) {
-        zmq_pollitem_t it = {.socket = c->sock, .events = ZMQ_POLLIN};
-        int n = zmq_poll(&it, 1, wait_ms);
+        zmq_pollitem_t it[2] = {{.socket = c->sock, .events = ZMQ_POLLIN},
+                                {.socket = c->mon, .events = ZMQ_POLLIN}};
+        int n = zmq_poll(it, c->mon ? 2 : 1, wait_ms);
         if (n < 0 && errno == EINTR)
             continue;
+        if (c->mon && (n == 0 || (it[1].revents & ZMQ_POLLIN)) &&
+            sphctl_refused(c, c->mon, c->endpoint)) {
+            close_control(c);
+            return SPHCTL_EX_NOPERM;
+        }
+        if (n > 0 && !(it[0].revents & ZMQ_POLLIN))
+            continue; /* a monitor event that is no refusal (the wait starts again) */
         if (n <= 0) {
             fprintf(stderr, "sphctl: no reply from sphd at %s within %g s (is it running?)\n",
                     c->endpoint, c->timeout);
             /* a late reply must not be taken for the next request's */
-            zmq_close(c->sock);
-            c->sock = NULL;
+            close_control(c);
             return SPHCTL_EX_UNAVAILABLE;
         }
         zmq_msg_t m;

@@ -255,9 +255,13 @@ int sphctl_watch(sphctl *c, const char *job)
         return rc;
     void *sub = zmq_socket(c->ctx, ZMQ_SUB);
     int zero = 0;
+    void *mon = NULL;
     if (!sub || zmq_setsockopt(sub, ZMQ_LINGER, &zero, sizeof zero) != 0 ||
+        sphctl_secure(c, sub) != 0 || !(mon = sphctl_monitor(c, sub, "stream")) ||
         zmq_setsockopt(sub, ZMQ_SUBSCRIBE, job, strlen(job)) != 0 || zmq_connect(sub, ep) != 0) {
         fprintf(stderr, "sphctl: cannot subscribe to %s: %s\n", ep, zmq_strerror(errno));
+        if (mon)
+            zmq_close(mon);
         if (sub)
             zmq_close(sub);
         return SPHCTL_EX_UNAVAILABLE;
@@ -268,14 +272,21 @@ int sphctl_watch(sphctl *c, const char *job)
     int first = 1;
     double last_heard = mono();
     while (!final_state(w.state)) {
-        zmq_pollitem_t it = {.socket = sub, .events = ZMQ_POLLIN};
-        int n = zmq_poll(&it, 1, 500);
+        zmq_pollitem_t it[2] = {{.socket = sub, .events = ZMQ_POLLIN},
+                                {.socket = mon, .events = ZMQ_POLLIN}};
+        int n = zmq_poll(it, 2, 500);
         if (n < 0) {
             if (errno == EINTR)
                 continue;
             rc = SPHCTL_EX_SOFTWARE;
             goto out;
         }
+        if ((it[1].revents & ZMQ_POLLIN) && sphctl_refused(c, mon, ep)) {
+            rc = SPHCTL_EX_NOPERM; /* the stream refused us (a key revoked meanwhile) */
+            goto out;
+        }
+        if (n > 0 && !(it[0].revents & ZMQ_POLLIN))
+            continue;
         if (n == 0) {
             /* quiet: is the server still there? (a query also refreshes the progress) */
             if (mono() - last_heard >= c->timeout) {
@@ -344,6 +355,7 @@ int sphctl_watch(sphctl *c, const char *job)
     rc = finish(&w);
 out:
     json_decref(w.diag);
+    zmq_close(mon);
     zmq_close(sub);
     return rc;
 }

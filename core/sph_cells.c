@@ -28,6 +28,7 @@ int sph_cells_alloc(sph_cells *g, const double lo[2], const double hi[2], double
     g->start = g->counts ? g->counts + 2 : NULL;
     g->key = calloc((size_t)(n > 0 ? n : 1), sizeof *g->key);
     g->perm = calloc((size_t)(n > 0 ? n : 1), sizeof *g->perm);
+    g->cap = n > 0 ? n : 1;
     if (!g->start || !g->key || !g->perm) {
         sph_cells_free(g);
         return -1;
@@ -41,6 +42,22 @@ void sph_cells_free(sph_cells *g)
     free(g->key);
     free(g->perm);
     memset(g, 0, sizeof *g);
+}
+
+int sph_cells_reserve(sph_cells *g, long n)
+{
+    if (n <= g->cap)
+        return 0;
+    int *key = realloc(g->key, (size_t)n * sizeof *key);
+    if (!key)
+        return -1;
+    g->key = key;
+    long *perm = realloc(g->perm, (size_t)n * sizeof *perm);
+    if (!perm)
+        return -1;
+    g->perm = perm;
+    g->cap = n;
+    return 0;
 }
 
 long sph_cells_sort(sph_cells *g, sph_particles *P)

@@ -23,6 +23,7 @@ typedef struct sph_cells {
     int *counts;     /* ncells + 4: the counting sort's array, start = counts + 2 */
     int *key;        /* n: cell of each particle (ncells for lost particles) */
     long *perm;      /* n: sorting permutation, new index -> old index */
+    long cap;        /* particles key and perm can hold */
 } sph_cells;
 
 /* Number of cells of the grid covering [lo, hi] with cells of edge >= size (padding included);
@@ -32,6 +33,9 @@ double sph_cells_count(const double lo[2], const double hi[2], double size);
 /* Allocates the grid covering [lo, hi] for n particles. Returns 0 or -1 (out of memory). */
 int sph_cells_alloc(sph_cells *g, const double lo[2], const double hi[2], double size, long n);
 void sph_cells_free(sph_cells *g);
+
+/* Makes room for n particles. Returns 0 or -1 (out of memory; g unchanged). */
+int sph_cells_reserve(sph_cells *g, long n);
 
 /* Sorts P by cell. Particles of type SPH_LOST, or outside the grid (they become SPH_LOST), go
  * to the end. Returns the number of particles in cells (the active ones). */

@@ -8,12 +8,15 @@
  */
 #include "sph_sim_impl.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define SIM_MAGIC   "SPHSIM01"
-#define SIM_VERSION 4u /* 2: sph_config.method; 4: rigid bodies (config and state) */
+#define SIM_MAGIC "SPHSIM01"
+/* 2: sph_config.method; 3: sph_config.mps, sph_diag MPS fields; 4: ghost walls, monaghan
+ * viscosity, initial fields, the envelope; 5: rigid bodies (config, diag and state) */
+#define SIM_VERSION 5u
 
 typedef struct {
     char magic[8];
@@ -24,6 +27,7 @@ typedef struct {
     double t, dt, amax, vmax;
     sph_config cfg;
     sph_diag diag;
+    sph_envelope wave; /* the kinetic-energy peaks so far (initial fields with a theory) */
 } sim_header;
 
 /* The per-particle arrays that persist across steps, in the method's fixed order. */
@@ -62,6 +66,7 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     h.vmax = s->vmax;
     h.cfg = s->cfg;
     h.diag = s->diag;
+    h.wave = s->wave;
     unsigned char *p = b;
     memcpy(p, &h, sizeof h);
     p += sizeof h;
@@ -94,6 +99,15 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
         sph_error_set(err, SPH_ERR_IO, "", "not a simulation state of this version of sphd");
         return NULL;
     }
+    /* the configuration's particles are the state's: checked before they are allocated */
+    long nf = 0, nb = 0;
+    if (sph_sim_check(&h.cfg, err))
+        return NULL;
+    sph_sim_estimate_bytes(&h.cfg, &nf, &nb);
+    if (h.n != nf + nb || (size_t)h.n > (len - sizeof h) / (1 + sizeof(int))) {
+        sph_error_set(err, SPH_ERR_IO, "", "simulation state does not match its configuration");
+        return NULL;
+    }
     sph_sim *s = sph_sim_create(&h.cfg, err);
     if (!s)
         return NULL;
@@ -108,7 +122,34 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
         sph_error_set(err, SPH_ERR_IO, "", "simulation state does not match its configuration");
         return NULL;
     }
+    if (h.nactive < 0 || h.nactive > h.n || h.step < 0 || (h.failed != 0 && h.failed != 1) ||
+        !isfinite(h.t) || !(h.dt >= 0 && isfinite(h.dt))) {
+        sph_sim_destroy(s);
+        sph_error_set(err, SPH_ERR_IO, "", "simulation state has impossible counters or times");
+        return NULL;
+    }
     const unsigned char *p = (const unsigned char *)buf + sizeof h;
+    /* types are SPH_FLUID, SPH_BOUNDARY, SPH_LOST or SPH_BODY (ghosts live only inside a force
+     * evaluation), the ids a permutation of 0..n-1 (the server indexes by id), and a particle is
+     * a body's exactly when its id is one of the bodies' (the pair loop and the bodies index
+     * their tables by id - first): checked before anything is taken */
+    const unsigned char *types = p + (size_t)na * n * sizeof(double);
+    const unsigned char *ids = types + n;
+    unsigned char *seen = calloc(n ? n : 1, 1);
+    int bad = !seen;
+    for (size_t i = 0; i < n && !bad; i++) {
+        int id;
+        memcpy(&id, ids + i * sizeof(int), sizeof id);
+        const int body_id = s->bodies.n > 0 && (long)id >= s->bodies.first;
+        bad = (types[i] > SPH_LOST && types[i] != SPH_BODY) || id < 0 || (size_t)id >= n ||
+              seen[id]++ || (types[i] == SPH_BODY) != body_id;
+    }
+    free(seen);
+    if (bad) {
+        sph_sim_destroy(s);
+        sph_error_set(err, SPH_ERR_IO, "", "simulation state has bad particle types or ids");
+        return NULL;
+    }
     for (int i = 0; i < na; i++) {
         memcpy(arrays[i], p, n * sizeof(double));
         p += n * sizeof(double);
@@ -129,5 +170,6 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
     s->amax = h.amax;
     s->vmax = h.vmax;
     s->diag = h.diag;
+    s->wave = h.wave;
     return s;
 }

@@ -6,6 +6,7 @@
 #ifndef SPH_CONFIG_H
 #define SPH_CONFIG_H
 
+#include "sph_initial.h"
 #include "sph_kernel.h"
 
 #define SPH_CONFIG_MAX_BOXES  16
@@ -27,10 +28,23 @@ typedef enum {
     SPH_METHOD_COUNT
 } sph_method;
 
-typedef enum { SPH_BOUNDARY_NONE = 0, SPH_BOUNDARY_DYNAMIC } sph_boundary_type;
-typedef enum { SPH_EOS_LINEAR = 0, SPH_EOS_TAIT } sph_eos_type;
-typedef enum { SPH_VISC_ARTIFICIAL = 0, SPH_VISC_LAMINAR } sph_visc_type;
-typedef enum { SPH_TURB_NONE = 0, SPH_TURB_SPS } sph_turb_type;
+/* Each enum ends with its count, so that a configuration read back from bytes is checked against
+ * it (sph_sim_check) and a new member needs no other change there. */
+typedef enum {
+    SPH_BOUNDARY_NONE = 0,
+    SPH_BOUNDARY_DYNAMIC,
+    SPH_BOUNDARY_GHOST,
+    SPH_BOUNDARY_COUNT
+} sph_boundary_type;
+
+typedef enum { SPH_EOS_LINEAR = 0, SPH_EOS_TAIT, SPH_EOS_COUNT } sph_eos_type;
+typedef enum {
+    SPH_VISC_ARTIFICIAL = 0,
+    SPH_VISC_LAMINAR,
+    SPH_VISC_MONAGHAN,
+    SPH_VISC_COUNT
+} sph_visc_type;
+typedef enum { SPH_TURB_NONE = 0, SPH_TURB_SPS, SPH_TURB_COUNT } sph_turb_type;
 
 /* Probes a diag can carry besides the always-present fields (bit mask). */
 enum {
@@ -62,6 +76,25 @@ typedef struct sph_body_spec {
     unsigned free;                /* SPH_DOF_* mask of the free degrees of freedom */
 } sph_body_spec;
 
+/* The MPS method's fields (Koshizuka & Oka 1996; Sheu, Chiao & Huang 2011): defaults from
+ * sph_mps_config_default() (core/mps/sph_mps.c). */
+typedef struct sph_mps_config {
+    double re;      /* effective radius of the number density and the Laplacian, in dx [-] */
+    double re_grad; /* effective radius of the gradient, in dx [-] */
+    double beta;    /* free-surface particles: number density below beta n0 [-] */
+    double tol;     /* CG: relative residual ||b - A p|| / ||b|| to reach [-] */
+    long maxit;     /* CG: iterations after which the job fails as unstable [-] */
+    int precond;    /* CG preconditioner: 0 none, 1 jacobi, 2 ic0 (sph_mps_precond) */
+    int source;     /* PPE source: 0 number density (Koshizuka & Oka 1996), 1 mixed (Tanaka &
+                     * Masunaga 2010: velocity divergence plus relax times the density term) */
+    double relax;   /* coefficient of the number-density term relax rho (n* - n0) / (n0 dt^2) [-] */
+    int corrected;  /* 1: gradient with the corrective matrix (Khayyer & Gotoh 2011) [-] */
+    double collision;   /* collision distance in dx, 0 = no collision model [-] */
+    double restitution; /* coefficient of restitution of the collision model [-] */
+} sph_mps_config;
+
+sph_mps_config sph_mps_config_default(void);
+
 typedef struct sph_config {
     sph_method method;                   /* wcsph (mps later) */
     int dim;                             /* 2 (3D later) */
@@ -71,7 +104,7 @@ typedef struct sph_config {
     sph_box domain;                      /* fluid leaving this box is lost [m] */
     int nfluid;                          /* number of fluid boxes */
     sph_box fluid[SPH_CONFIG_MAX_BOXES]; /* fluid blocks, filled at spacing dx [m] */
-    sph_boundary_type boundary;          /* wall treatment */
+    sph_boundary_type boundary;          /* wall treatment: dynamic particles or ghosts */
     int layers;                          /* layers of dynamic boundary particles [-] */
     int has_tank;                        /* 1 if `tank` holds walls */
     sph_box tank;       /* inner faces of the tank walls (bottom, left, right; open top) [m] */
@@ -79,17 +112,20 @@ typedef struct sph_config {
     double gravity[3];  /* [m/s^2] */
     sph_eos_type eos;   /* linear (Yang et al. eq. 16) or Tait (gamma = 7) */
     double c0;          /* numerical speed of sound [m/s] */
-    sph_visc_type visc; /* artificial (Monaghan) or laminar (Yang et al. eq. 14) */
+    sph_visc_type visc; /* artificial (Monaghan, approaching pairs), laminar (Yang et al. eq.
+                           14) or monaghan (Monaghan's term on every pair, a physical viscosity) */
     double alpha;       /* artificial viscosity coefficient [-] */
-    double nu;          /* kinematic viscosity for laminar [m^2/s] */
+    double nu;          /* kinematic viscosity for laminar and monaghan [m^2/s] */
     sph_turb_type turb; /* none or SPS (Yang et al. eqs. 7-9, 15) */
     double delta_sph;   /* delta-SPH density diffusion coefficient, 0 = off [-] */
-    double t_end;       /* end time [s] */
-    double cfl;         /* CFL number for the adaptive time step [-] */
-    double dt_fixed;    /* fixed time step, 0 = adaptive [s] */
-    long diag_every;    /* steps between diagnostics events [-] */
-    unsigned probes;    /* SPH_PROBE_* mask */
-    double max_bytes;   /* memory a simulation may use [bytes] */
+    sph_initial_spec initial; /* initial velocity field of the fluid (rest by default) */
+    double t_end;             /* end time [s] */
+    double cfl;               /* CFL number for the adaptive time step [-] */
+    double dt_fixed;          /* fixed time step, 0 = adaptive [s] */
+    long diag_every;          /* steps between diagnostics events [-] */
+    unsigned probes;          /* SPH_PROBE_* mask */
+    double max_bytes;         /* memory a simulation may use [bytes] */
+    sph_mps_config mps;       /* method mps only */
 
     /* rigid bodies of boundary particles (boundary/sph_body.h) */
     int nbodies;
@@ -100,5 +136,9 @@ typedef struct sph_config {
 
 /* A config with every optional field at its default (no fluid, no tank). */
 sph_config sph_config_default(void);
+
+/* Monaghan's viscous term as a physical viscosity (Macia et al.): the alpha that models nu,
+ * from nu = alpha h c0 / (2 (d + 2)). */
+double sph_config_monaghan_alpha(const sph_config *c);
 
 #endif

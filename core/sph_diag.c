@@ -6,7 +6,8 @@
  * occupied bin, the walk continues to the right across gaps of at most (support / dx + 1) empty
  * bins. The front is the right edge (x + dx/2) of the last particle reached: droplets farther
  * ahead than a kernel support from the connected fluid do not count. The height at the left
- * wall is the same walk upwards over the fluid within 2 dx of the wall.
+ * wall is the same walk upwards over the fluid within 2 dx of the wall; the run-up, the same at
+ * the right wall.
  */
 #include "sph_sim_impl.h"
 
@@ -47,11 +48,9 @@ static double probe(sph_sim *s, const double *u, const double *v, double lo, dou
     for (long i = 0; i < s->nactive; i++) {
         if (P->type[i] != SPH_FLUID || v[i] < vlo || v[i] >= vhi)
             continue;
-        long b = (long)floor((u[i] - lo) / dx);
-        if (b < 0)
-            b = 0;
-        if (b >= s->nbins)
-            b = s->nbins - 1;
+        /* clamped as a double: a position far away (or NaN) is no long */
+        const double fb = floor((u[i] - lo) / dx);
+        const long b = !(fb >= 0.0) ? 0 : fb >= (double)s->nbins ? s->nbins - 1 : (long)fb;
         s->bin_count[b]++;
         if (u[i] > s->bin_max[b])
             s->bin_max[b] = u[i];
@@ -111,6 +110,8 @@ void sph_diag_compute(sph_sim *s)
     const double bottom = c->has_tank ? c->tank.min[1] : c->domain.min[1];
     d->front_x = probe(s, P->x, P->y, c->domain.min[0], -INFINITY, INFINITY);
     d->height_left = probe(s, P->y, P->x, bottom, wall, wall + 2.0 * c->dx) - bottom;
+    const double right = c->has_tank ? c->tank.max[0] : c->domain.max[0];
+    d->runup = probe(s, P->y, P->x, bottom, right - 2.0 * c->dx, right) - bottom;
     if (s->ops->diag)
         s->ops->diag(s);
 }

@@ -1,6 +1,7 @@
 #include "sph_geometry.h"
 
 #include "sph_body.h"
+#include "sph_eos.h"
 
 #include <math.h>
 
@@ -82,12 +83,7 @@ void sph_geometry_count(const sph_config *c, long *nfluid, long *nboundary)
 
 double sph_geometry_eos_density(const sph_config *c, double p)
 {
-    if (c->eos == SPH_EOS_TAIT) {
-        /* p = B ((rho/rho0)^7 - 1), B = c0^2 rho0 / 7 */
-        const double B = c->c0 * c->c0 * c->rho0 / 7.0;
-        return c->rho0 * pow(1.0 + p / B, 1.0 / 7.0);
-    }
-    return c->rho0 + p / (c->c0 * c->c0); /* Yang et al. 2014, eq. (16) */
+    return sph_eos_density(c, p);
 }
 
 /* Hydrostatic density at (x, y): the deepest fluid box above it (within `margin` in x). */

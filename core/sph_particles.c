@@ -17,6 +17,7 @@ int sph_particles_alloc(sph_particles *P, long n, int sps)
 {
     memset(P, 0, sizeof *P);
     P->n = n;
+    P->cap = n;
     const size_t nb = (size_t)(n > 0 ? n : 1) * sizeof(double);
     double **d[] = {&P->x,  &P->y,  &P->vx,   &P->vy,  &P->rho, &P->p,     &P->pr,
                     &P->ax, &P->ay, &P->drho, &P->ax0, &P->ay0, &P->drho0, &P->scratch};
@@ -49,6 +50,34 @@ void sph_particles_free(sph_particles *P)
     free(P->type);
     free(P->id);
     memset(P, 0, sizeof *P);
+}
+
+/* Grows *a from `old` to `cap` elements of `size` bytes, zeroing the new ones. */
+static int grow(void **a, size_t size, long old, long cap)
+{
+    void *b = realloc(*a, (size_t)cap * size);
+    if (!b)
+        return -1;
+    memset((char *)b + (size_t)old * size, 0, (size_t)(cap - old) * size);
+    *a = b;
+    return 0;
+}
+
+int sph_particles_reserve(sph_particles *P, long cap)
+{
+    const long old = P->cap > 0 ? P->cap : 1;
+    if (cap <= old)
+        return 0;
+    double **d[] = {&P->x,   &P->y,   &P->vx,   &P->vy,  &P->rho, &P->p,     &P->pr,
+                    &P->ax,  &P->ay,  &P->drho, &P->ax0, &P->ay0, &P->drho0, &P->scratch,
+                    &P->gxx, &P->gxy, &P->gyy,  &P->txx, &P->txy, &P->tyy};
+    for (size_t i = 0; i < sizeof d / sizeof d[0]; i++)
+        if (*d[i] && grow((void **)d[i], sizeof(double), old, cap))
+            return -1;
+    if (grow((void **)&P->type, 1, old, cap) || grow((void **)&P->id, sizeof(int), old, cap))
+        return -1;
+    P->cap = cap;
+    return 0;
 }
 
 /* *a = old[perm]: gathered into the scratch array, which then takes the field's place. */
@@ -84,4 +113,25 @@ void sph_particles_permute(sph_particles *P, const long *perm)
     }
     memcpy(P->type, t, (size_t)n);
     memcpy(P->id, id, (size_t)n * sizeof(int));
+}
+
+long sph_particles_remove(sph_particles *P, unsigned char type, long *perm)
+{
+    const long n = P->n;
+    long k = 0;
+    for (long i = 0; i < n; i++)
+        if (P->type[i] != type)
+            perm[k++] = i;
+    const long kept = k;
+    if (kept == n)
+        return n;
+    for (long i = 0; i < n; i++)
+        if (P->type[i] == type)
+            perm[k++] = i;
+    sph_particles_permute(P, perm);
+    double **r[] = {&P->ax, &P->ay, &P->drho};
+    for (int f = 0; f < 3; f++)
+        permute_doubles(r[f], &P->scratch, perm, n);
+    P->n = kept;
+    return kept;
 }

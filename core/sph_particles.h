@@ -13,8 +13,10 @@ enum {
     SPH_FLUID = 0,    /* moves, feels forces */
     SPH_BOUNDARY = 1, /* dynamic boundary particle: fixed, density by continuity */
     SPH_LOST = 2,     /* fluid that left the domain: frozen, excluded from interactions */
+    SPH_GHOST = 3,    /* mirror of a fluid particle behind a free-slip wall: rebuilt for every
+                         force evaluation, never integrated, never in outputs or diagnostics */
     SPH_BODY = 4      /* particle of a rigid body (boundary/sph_body.h): moves with its body,
-                         density by continuity (3 is taken by the ghosts of free-slip walls) */
+                         density by continuity */
 };
 
 /* Loops over fewer particles than this run on the calling thread alone: for small jobs the
@@ -26,7 +28,9 @@ enum {
 #define SPH_OMP_CHUNK 2048
 
 typedef struct sph_particles {
-    long n;                  /* particles stored (fluid + boundary, lost included) */
+    long n;                  /* particles stored (fluid + boundary, lost included; ghosts only
+                                inside a force evaluation) */
+    long cap;                /* particles the arrays can hold (>= n) */
     double *x, *y;           /* position [m] */
     double *vx, *vy;         /* velocity [m/s] */
     double *rho;             /* density [kg/m^3] */
@@ -49,6 +53,15 @@ size_t sph_particles_bytes_per_particle(int sps);
 /* Allocates n particles (zeroed). Returns 0 or -1 when out of memory (then frees what it got). */
 int sph_particles_alloc(sph_particles *P, long n, int sps);
 void sph_particles_free(sph_particles *P);
+
+/* Makes room for cap particles (n unchanged, the new room zeroed). Returns 0 or -1 when out of
+ * memory (then P is unchanged). */
+int sph_particles_reserve(sph_particles *P, long cap);
+
+/* Removes every particle of kind `type`, keeping the order of the others: the persistent fields
+ * and the rates of the latest evaluation (ax, ay, drho) follow their particles. perm: P->n
+ * longs of scratch. Returns the new P->n. */
+long sph_particles_remove(sph_particles *P, unsigned char type, long *perm);
 
 /* Reorders every persistent field by perm: new[i] = old[perm[i]]. The field arrays are swapped
  * with the scratch array, so their addresses change. */

@@ -3,6 +3,7 @@
  * method-specific call goes through the method's row of the table (sph_method.h).
  */
 #include "sph_geometry.h"
+#include "sph_rpdf.h"
 #include "sph_sim_impl.h"
 
 #include <math.h>
@@ -32,32 +33,68 @@ sph_config sph_config_default(void)
     c.diag_every = 100;
     c.probes = SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT;
     c.max_bytes = SPH_CONFIG_DEFAULT_MAX_BYTES;
+    c.mps = sph_mps_config_default();
+    /* at rest; the standing wave's parameters at the defaults the case table gives them */
+    c.initial.type = SPH_INITIAL_REST;
+    c.initial.param[0] = SPH_SW_EPSILON_DEFAULT;
+    c.initial.param[1] = SPH_SW_WAVELENGTH_DEFAULT;
     return c;
 }
 
-/* The box the cell grid covers: the domain and the tank with its walls. */
-static void grid_bounds(const sph_config *c, double lo[2], double hi[2])
+double sph_config_monaghan_alpha(const sph_config *c)
 {
-    for (int d = 0; d < 2; d++) {
-        lo[d] = c->domain.min[d];
-        hi[d] = c->domain.max[d];
-        if (c->has_tank && c->boundary == SPH_BOUNDARY_DYNAMIC) {
-            const double w = (c->layers + 1) * c->dx;
-            lo[d] = fmin(lo[d], c->tank.min[d] - w);
-            hi[d] = fmax(hi[d], c->tank.max[d] + w);
-        }
-    }
+    return 2.0 * (c->dim + 2) * c->nu / (c->h_over_dx * c->dx * c->c0);
 }
 
 static double support_of(const sph_config *c)
 {
     const sph_kernel_spec *k = &c->kernel;
+    if (sph_kernel_is_mps(k->type)) /* MPS weights: the larger of the two effective radii */
+        return (c->mps.re > c->mps.re_grad ? c->mps.re : c->mps.re_grad) * c->dx;
     double q = 2.0;
     if (k->type == SPH_KERNEL_DOUBLE_COSINE)
         q = k->kappa;
     else if (k->type == SPH_KERNEL_GAUSSIAN)
         q = k->radius;
     return q * c->h_over_dx * c->dx;
+}
+
+/* The box the cell grid covers: the domain and the tank with its walls (dynamic particles or
+ * the band of ghosts, one support plus a spacing wide). */
+static void grid_bounds(const sph_config *c, double lo[2], double hi[2])
+{
+    for (int d = 0; d < 2; d++) {
+        lo[d] = c->domain.min[d];
+        hi[d] = c->domain.max[d];
+        if (c->has_tank && c->boundary != SPH_BOUNDARY_NONE) {
+            const double w = c->boundary == SPH_BOUNDARY_DYNAMIC ? (c->layers + 1) * c->dx
+                                                                 : support_of(c) + c->dx;
+            lo[d] = fmin(lo[d], c->tank.min[d] - w);
+            hi[d] = fmax(hi[d], c->tank.max[d] + w);
+        }
+    }
+}
+
+/* Ghosts the walls need for the initial lattice, counted on its geometry: every fluid box's
+ * particles within a support of a wall, one ghost per wall and per corner. */
+static long ghosts_estimate(const sph_config *c)
+{
+    if (c->boundary != SPH_BOUNDARY_GHOST || !c->has_tank)
+        return 0;
+    const double band = support_of(c), dx = c->dx;
+    long n = 0;
+    for (int b = 0; b < c->nfluid; b++) {
+        const sph_box *f = &c->fluid[b];
+        const double nx = floor((f->max[0] - f->min[0]) / dx + 1e-6);
+        const double ny = floor((f->max[1] - f->min[1]) / dx + 1e-6);
+        const double kx = fmin(nx, ceil(band / dx)), ky = fmin(ny, ceil(band / dx));
+        const int left = f->min[0] < c->tank.min[0] + band;
+        const int right = f->max[0] > c->tank.max[0] - band;
+        const int bottom = f->min[1] < c->tank.min[1] + band;
+        n +=
+            (long)((left + right) * kx * ny + bottom * ky * nx + (left + right) * bottom * kx * ky);
+    }
+    return n;
 }
 
 static long nbins_of(const sph_config *c)
@@ -87,10 +124,13 @@ double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nbounda
     const sph_method_ops *ops = sph_method_ops_of(cfg->method);
     const double per = ops ? (double)ops->bytes_per_particle(cfg) : 0.0;
     const double bins = (fmax(hi[0] - lo[0], hi[1] - lo[1]) / cfg->dx + 2.0) * 12.0;
-    return (double)(nf + nb) * per + cells * sizeof(int) + bins + sizeof(sph_sim);
+    const double ghosts = 1.25 * (double)ghosts_estimate(cfg);
+    return (double)(nf + nb + ghosts) * per + cells * sizeof(int) + bins + sizeof(sph_sim);
 }
 
-/* The checks of a configuration that the table of the case parser cannot make. */
+/* The checks of a configuration that the table of the case parser cannot make, and the ones it
+ * makes repeated for direct API users and for a configuration read back from a saved state
+ * (sph_checkpoint.c), which no parser has seen. */
 int sph_sim_check(const sph_config *c, sph_error *err)
 {
     const sph_method_ops *ops = sph_method_ops_of(c->method);
@@ -104,12 +144,30 @@ int sph_sim_check(const sph_config *c, sph_error *err)
     if (!(c->h_over_dx > 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/kernel/h_over_dx",
                              "h_over_dx must be positive");
+    if ((unsigned)c->kernel.type >= SPH_KERNEL_COUNT)
+        return sph_error_set(err, SPH_ERR_INVALID, "/kernel/type", "unknown kernel");
+    if (c->nfluid < 0 || c->nfluid > SPH_CONFIG_MAX_BOXES)
+        return sph_error_set(err, SPH_ERR_INVALID, "/fluid", "at most %d fluid boxes",
+                             SPH_CONFIG_MAX_BOXES);
+    if ((unsigned)c->boundary >= SPH_BOUNDARY_COUNT || (unsigned)c->eos >= SPH_EOS_COUNT ||
+        (unsigned)c->visc >= SPH_VISC_COUNT || (unsigned)c->turb >= SPH_TURB_COUNT)
+        return sph_error_set(err, SPH_ERR_INVALID, "", "unknown boundary, EOS or viscosity type");
+    if (c->boundary == SPH_BOUNDARY_DYNAMIC && (c->layers < 1 || c->layers > 8))
+        return sph_error_set(err, SPH_ERR_INVALID, "/boundary/layers",
+                             "layers must be from 1 to 8");
     for (int d = 0; d < 2; d++)
         if (!(c->domain.max[d] > c->domain.min[d]))
             return sph_error_set(err, SPH_ERR_INVALID, "/domain/max",
                                  "the domain's max must exceed its min");
     if (!(c->rho0 > 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/physics/rho0", "rho0 must be positive");
+    if (c->boundary == SPH_BOUNDARY_GHOST) {
+        sph_wall_ghost w;
+        if (sph_wall_ghost_init(&w, c, support_of(c), err))
+            return err ? err->code : SPH_ERR_INVALID;
+    }
+    if (sph_initial_check(c, err))
+        return err ? err->code : SPH_ERR_INVALID;
     if (!(c->t_end > 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/time/end", "the end time must be positive");
     if (!(c->cfl > 0.0) && !(c->dt_fixed > 0.0))
@@ -148,7 +206,8 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
     }
     s->cfg = *cfg;
     s->ops = sph_method_ops_of(cfg->method);
-    s->h = cfg->h_over_dx * cfg->dx;
+    /* MPS weights have support 2h = re (sph_kernel.h) */
+    s->h = sph_kernel_is_mps(cfg->kernel.type) ? 0.5 * support_of(cfg) : cfg->h_over_dx * cfg->dx;
     s->mass = cfg->rho0 * cfg->dx * cfg->dx;
     const long nbody = sph_body_count(cfg);
     s->nfluid = nf;
@@ -165,6 +224,9 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
         free(s);
         return NULL;
     }
+    if (cfg->boundary == SPH_BOUNDARY_GHOST)
+        sph_wall_ghost_init(&s->ghost, cfg, s->kernel.support, NULL); /* checked above */
+    const long cap = nf + nb + (long)(1.25 * (double)ghosts_estimate(cfg));
     double lo[2], hi[2];
     grid_bounds(cfg, lo, hi);
     s->nbins = nbins_of(cfg);
@@ -172,13 +234,22 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
     s->bin_max = calloc((size_t)s->nbins, sizeof *s->bin_max);
     if (!s->bin_count || !s->bin_max ||
         sph_particles_alloc(&s->P, nf + nb, cfg->turb == SPH_TURB_SPS) ||
-        sph_cells_alloc(&s->cells, lo, hi, s->kernel.support, nf + nb) ||
+        sph_particles_reserve(&s->P, cap) ||
+        sph_cells_alloc(&s->cells, lo, hi, s->kernel.support, cap) ||
         sph_bodies_init(&s->bodies, cfg, nf + nb - nbody)) {
         sph_sim_destroy(s);
         sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for %ld particles", nf + nb);
         return NULL;
     }
     sph_geometry_fill(cfg, &s->P);
+    for (long i = 0; i < s->P.n; i++)
+        if (s->P.type[i] == SPH_FLUID) {
+            const double x[3] = {s->P.x[i], s->P.y[i], 0.0};
+            double v[3] = {0.0, 0.0, 0.0};
+            sph_initial_velocity(cfg, x, v);
+            s->P.vx[i] = v[0];
+            s->P.vy[i] = v[1];
+        }
     sph_bodies_fill(&s->bodies, cfg, &s->P);
     s->vmax = sph_bodies_vmax(&s->bodies); /* the first step respects the bodies' speed */
     if (s->ops->init(s, err)) {
@@ -186,7 +257,58 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
         return NULL;
     }
     sph_diag_compute(s);
+    s->has_theory = sph_initial_theory_of(cfg, &s->theory) == 0;
+    if (s->has_theory) {
+        sph_envelope_init(&s->wave, s->theory.period);
+        sph_envelope_add(&s->wave, s->t, s->diag.ekin);
+    }
     return s;
+}
+
+int sph_sim_rpdf(const sph_sim *s, double qmax, int nbins, double *q, double *count,
+                 double *density, sph_error *err)
+{
+    const sph_rpdf_input in = {.dim = 2,
+                               .n = s->nactive,
+                               .pos = {s->P.x, s->P.y, NULL},
+                               .type = s->P.type,
+                               .h = s->h,
+                               .dx = s->cfg.dx};
+    return sph_rpdf_compute(&in, qmax, nbins, q, count, density, err);
+}
+
+/* Kinetic energy of the fluid [J]: a serial sum in the particles' order, as sph_diag's. */
+static double fluid_ekin(const sph_sim *s)
+{
+    const sph_particles *P = &s->P;
+    double e = 0.0;
+    for (long i = 0; i < s->nactive; i++)
+        if (P->type[i] == SPH_FLUID)
+            e += P->vx[i] * P->vx[i] + P->vy[i] * P->vy[i];
+    return 0.5 * s->mass * e;
+}
+
+int sph_sim_wave_fit(const sph_sim *s, double t_fit, sph_sim_wave *w)
+{
+    memset(w, 0, sizeof *w);
+    if (!s->has_theory)
+        return -1;
+    const sph_config *c = &s->cfg;
+    w->t_fit = fmin(t_fit, s->t);
+    w->decay_rate_theory = s->theory.decay_rate;
+    w->period_theory = s->theory.period;
+    w->ekin0_theory = s->theory.ekin0;
+    w->nu = c->visc == SPH_VISC_ARTIFICIAL ? c->alpha * s->h * c->c0 / (2.0 * (c->dim + 2)) : c->nu;
+    w->alpha = c->visc == SPH_VISC_MONAGHAN  ? sph_config_monaghan_alpha(c)
+               : c->visc == SPH_VISC_LAMINAR ? 0.0
+                                             : c->alpha;
+    sph_envelope_fit f;
+    if (sph_envelope_fit_peaks(&s->wave, w->t_fit, &f))
+        return -1;
+    w->peaks = f.npeaks;
+    w->decay_rate = f.decay_rate;
+    w->period = f.period;
+    return 0;
 }
 
 int sph_sim_advance(sph_sim *s, long max_steps, double t_until, sph_error *err)
@@ -204,6 +326,8 @@ int sph_sim_advance(sph_sim *s, long max_steps, double t_until, sph_error *err)
             s->failed = 1;
             break;
         }
+        if (s->has_theory)
+            sph_envelope_add(&s->wave, s->t, fluid_ekin(s));
         if (t_until - s->t < 1e-12 * (fabs(t_until) + 1.0))
             s->t = t_until;
     }

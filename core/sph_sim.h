@@ -51,6 +51,11 @@ typedef struct sph_diag {
     long lost;          /* fluid particles that left the domain [-] */
     long nfluid;        /* fluid particles (lost included) [-] */
     long nboundary;     /* boundary particles [-] */
+    double runup;       /* fluid top at the right wall (tank or domain) above its bottom [m] */
+    /* MPS only (0 for other methods): the pressure solve of the latest step */
+    long cg_iterations; /* conjugate-gradient iterations [-] */
+    double cg_residual; /* relative residual ||b - A p|| / ||b|| reached [-] */
+    long free_surface;  /* particles on the free surface (Dirichlet p = 0) [-] */
     long nbody;         /* particles of the rigid bodies [-] */
     double penetration; /* the first body's penetration (NAN without bodies) [m] */
     int nbodies;        /* rigid bodies, in the configuration's order (names there) */
@@ -77,6 +82,7 @@ typedef struct sph_timing {
     double integration;  /* time integration, checks, diagnostics [s] */
     double bodies;       /* rigid bodies: forces summed, bodies moved, particles placed [s]
                             (part of interactions and integration) */
+    double solve;        /* MPS: the pressure equation's assembly and solve [s] */
     long pairs;          /* interacting pairs (r < support) in the latest force evaluation */
     long active;         /* particles in the latest force evaluation */
 } sph_timing;
@@ -111,6 +117,32 @@ void sph_sim_particles(const sph_sim *s, sph_particle_view *view);
 void sph_sim_timing(const sph_sim *s, sph_timing *timing);
 /* Resident bytes of the sim's particle and cell storage. */
 double sph_sim_bytes(const sph_sim *s);
+
+/* An oscillating run against its theory (initial fields that have one, sph_initial.h): the
+ * kinetic-energy envelope's decay rate and the period fitted over the peaks up to
+ * min(t_fit, now), and what theory says. */
+typedef struct sph_sim_wave {
+    int peaks;                /* peaks fitted [-] */
+    double t_fit;             /* fitted up to this time [s] */
+    double decay_rate;        /* fitted decay rate of the envelope [1/s] */
+    double period;            /* fitted period [s] */
+    double decay_rate_theory; /* 4 nu k^2 for the standing wave [1/s] */
+    double period_theory;     /* 2 pi / omega [s] */
+    double ekin0_theory;      /* initial kinetic energy [J] (per metre in 2D) */
+    double nu;                /* the viscosity compared with [m^2/s] */
+    double alpha;             /* Monaghan's alpha of the run (0 for laminar viscosity) [-] */
+} sph_sim_wave;
+
+/* Fills *w for the peaks up to t_fit [s] (INFINITY: all). Returns 0, or -1 when the initial
+ * field has no theory or fewer than 3 peaks have been seen. */
+int sph_sim_wave_fit(const sph_sim *s, double t_fit, sph_sim_wave *w);
+
+/* The radial particle density function of the fluid now (sph_rpdf.h): nbins bins of q = r / h
+ * over [0, qmax); q (bin centres), count (pairs) and density (relative to a uniform fluid at the
+ * initial spacing) each get nbins values. Returns 0, SPH_ERR_INVALID (path /rpdf/bins or
+ * /rpdf/qmax) or SPH_ERR_NOMEM. */
+int sph_sim_rpdf(const sph_sim *s, double qmax, int nbins, double *q, double *count,
+                 double *density, sph_error *err);
 
 /* destroy(NULL) is a no-op. */
 void sph_sim_destroy(sph_sim *s);

@@ -8,10 +8,13 @@
 #include "sph_body.h"
 #include "sph_cells.h"
 #include "sph_config.h"
+#include "sph_envelope.h"
+#include "sph_eos.h"
 #include "sph_kernel.h"
 #include "sph_method.h"
 #include "sph_particles.h"
 #include "sph_sim.h"
+#include "sph_wall_ghost.h"
 
 struct sph_sim {
     sph_config cfg;            /* copy of the configuration */
@@ -26,6 +29,8 @@ struct sph_sim {
     long nfluid;               /* fluid particles created [-] */
     long nboundary;            /* boundary particles [-] */
     sph_bodies bodies;         /* rigid bodies (their particles follow the walls') */
+    sph_wall_ghost ghost;      /* the free-slip walls, with boundary == SPH_BOUNDARY_GHOST */
+    long nghost;               /* ghosts of the latest force evaluation [-] */
     long max_lost;             /* more lost fluid particles than this is a blow-up [-] */
     double t;                  /* time [s] */
     long step;                 /* steps done [-] */
@@ -38,6 +43,9 @@ struct sph_sim {
     long nbins;                /* histogram bins of the front and height probes [-] */
     int *bin_count;            /* particles per bin [-] */
     double *bin_max;           /* largest coordinate in each bin [m] */
+    int has_theory;            /* 1 when the initial field has a theory to compare with */
+    sph_initial_theory theory; /* what it says (period, decay rate, initial energy) */
+    sph_envelope wave;         /* the kinetic-energy peaks, sampled every step */
 };
 
 /* sph_diag.c: fills s->diag from the current state. */

@@ -24,12 +24,13 @@
 static const char *const kernel_names[] = {
     "cubic_spline",          "gaussian",  "double_cosine", "wendland_c2",
     "renormalized_gaussian", "koshizuka", "sheu_quartic",  NULL}; /* sph_kernel_type order */
-static const char *const boundary_names[] = {"dynamic", "none", NULL};
-static const int boundary_values[] = {SPH_BOUNDARY_DYNAMIC, SPH_BOUNDARY_NONE};
+static const char *const boundary_names[] = {"dynamic", "ghost", "none", NULL};
+static const int boundary_values[] = {SPH_BOUNDARY_DYNAMIC, SPH_BOUNDARY_GHOST, SPH_BOUNDARY_NONE};
 static const char *const eos_names[] = {"linear", "tait", NULL};
 static const int eos_values[] = {SPH_EOS_LINEAR, SPH_EOS_TAIT};
-static const char *const visc_names[] = {"artificial", "laminar", NULL};
-static const int visc_values[] = {SPH_VISC_ARTIFICIAL, SPH_VISC_LAMINAR};
+static const char *const visc_names[] = {"artificial", "laminar", "monaghan", NULL};
+static const int visc_values[] = {SPH_VISC_ARTIFICIAL, SPH_VISC_LAMINAR, SPH_VISC_MONAGHAN};
+static const char *const initial_names[] = {"rest", "standing_wave", NULL}; /* sph_initial_type */
 static const char *const turb_names[] = {"none", "sps", NULL};
 static const int turb_values[] = {SPH_TURB_NONE, SPH_TURB_SPS};
 static const char *const probe_names[] = {"front_x", "height_left", "ekin", "epot",
@@ -122,8 +123,8 @@ const sph_case_field sph_case_fields[] = {
      .hi = SPH_KERNEL_GAUSS_RADIUS_MAX, .has_def = 1, .def = SPH_KERNEL_GAUSS_RADIUS,
      CFG(kernel.radius), .doc = "gaussian: truncation radius in units of h"},
     {.path = "/kernel/h_over_dx", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS, .lo = 0.5,
-     .hi = 4.0, .has_def = 1, .def = 1.414, CFG(h_over_dx),
-     .doc = "smoothing length h = h_over_dx dx"},
+     .hi = 4.5, .has_def = 1, .def = 1.414, CFG(h_over_dx),
+     .doc = "smoothing length h = h_over_dx dx (paper 001: dx/h = 0.5 and 2/9, i.e. 2 and 4.5)"},
     {.path = "/dx", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS, .required = SPH_CF_SIMS,
      .lo = 0.0, .lo_open = 1, .hi = 1e3, CFG(dx), .doc = "initial particle spacing [m]"},
     {.path = "/domain", .type = SPH_CF_BOX, .methods = SPH_CF_SIMS, .required = SPH_CF_SIMS,
@@ -137,8 +138,10 @@ const sph_case_field sph_case_fields[] = {
      .doc = "the walls; absent: none"},
     {.path = "/boundary/type", .type = SPH_CF_ENUM, .methods = SPH_CF_SIMS,
      .names = boundary_names, .values = boundary_values, .has_def = 1, .def = 0, CFG(boundary),
-     .doc = "dynamic: fixed boundary particles, density by continuity (Yang et al. 2.3); none"},
-    {.path = "/boundary/layers", .type = SPH_CF_INTEGER, .methods = SPH_CF_SIMS, .lo = 1,
+     .doc = "dynamic: fixed boundary particles, density by continuity (Yang et al. 2.3); ghost: "
+            "free-slip walls of mirror particles (Colagrossi & Landrini 2003); none"},
+    {.path = "/boundary/layers", .type = SPH_CF_INTEGER, .methods = SPH_CF_SIMS,
+     .when = "/boundary/type=dynamic", .lo = 1,
      .hi = 8, .has_def = 1, .def = 3, CFG(layers),
      .doc = "layers of wall particles outside the tank's faces"},
     {.path = "/boundary/tank", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS,
@@ -206,12 +209,14 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/physics/viscosity/type", .type = SPH_CF_ENUM, .methods = SPH_CF_SIMS,
      .required = SPH_CF_SIMS, .names = visc_names, .values = visc_values, .has_def = 1,
      .def = 0, CFG(visc),
-     .doc = "artificial: Monaghan's (Macia et al.); laminar: eq. (14) with mu = rho0 nu"},
+     .doc = "artificial: Monaghan's (Macia et al.); laminar: eq. (14) with mu = rho0 nu; "
+            "monaghan: Monaghan's term on every pair, alpha = 2 (d + 2) nu / (h c0)"},
     {.path = "/physics/viscosity/alpha", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
      .when = "/physics/viscosity/type=artificial", .lo = 0.0, .hi = 10.0, .has_def = 1,
      .def = 0.01, CFG(alpha), .doc = "artificial viscosity coefficient"},
     {.path = "/physics/viscosity/nu", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
-     .required = SPH_CF_SIMS, .when = "/physics/viscosity/type=laminar", .lo = 0.0, .hi = 1e3,
+     .required = SPH_CF_SIMS, .when = "/physics/viscosity/type=laminar|monaghan", .lo = 0.0,
+     .hi = 1e3,
      CFG(nu), .doc = "kinematic viscosity [m^2/s]"},
     {.path = "/physics/turbulence", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
      .names = turb_names, .values = turb_values, .has_def = 1, .def = 0, CFG(turb),
@@ -219,6 +224,23 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/physics/delta_sph", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH, .lo = 0.0,
      .hi = 1.0, .has_def = 1, .def = 0.0, CFG(delta_sph),
      .doc = "delta-SPH density diffusion coefficient (Molteni & Colagrossi 2009); 0 = off"},
+    {.path = "/initial", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
+     .doc = "an analytic initial velocity field of the fluid (the pressure stays hydrostatic); "
+            "absent: rest"},
+    {.path = "/initial/type", .type = SPH_CF_ENUM, .methods = SPH_CF_SIMS,
+     .required = SPH_CF_SIMS, .names = initial_names, .has_def = 1, .def = 0,
+     CFG(initial.type),
+     .doc = "rest; standing_wave: u = grad phi0 of paper 001 eqs. (6)-(7) in a tank filled "
+            "from wall to wall"},
+    {.path = "/initial/epsilon", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .when = "/initial/type=standing_wave", .lo = SPH_SW_EPSILON_MIN, .hi = SPH_SW_EPSILON_MAX,
+     .has_def = 1, .def = SPH_SW_EPSILON_DEFAULT, CFG(initial.param[0]),
+     .doc = "standing_wave: 2A/H, twice the amplitude over the still depth"},
+    {.path = "/initial/wavelength", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .when = "/initial/type=standing_wave", .lo = SPH_SW_WAVELENGTH_MIN,
+     .hi = SPH_SW_WAVELENGTH_MAX, .has_def = 1, .def = SPH_SW_WAVELENGTH_DEFAULT,
+     CFG(initial.param[1]),
+     .doc = "standing_wave: lambda [m], 2 L / n for a tank of length L; 0: L"},
     {.path = "/time", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS, .required = SPH_CF_SIMS,
      .doc = "the run's time"},
     {.path = "/time/end", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,

@@ -208,13 +208,20 @@ int sph_json_apply_set(json_t *root, const char *assignment, sph_error *err)
         snprintf(pointer + used, sizeof pointer - used, "/%s", tok);
         if (json_is_object(cur)) {
             if (!next) {
-                json_object_set_new(cur, tok, value);
+                /* set_new takes value even when it fails (a key that is not UTF-8) */
+                if (json_object_set_new(cur, tok, value) != 0)
+                    return sph_error_set(err, SPH_ERR_INVALID, pointer,
+                                         "--set: '%s' is not a valid key", tok);
                 return 0;
             }
             json_t *child = json_object_get(cur, tok);
             if (!child) {
                 child = json_object();
-                json_object_set_new(cur, tok, child);
+                if (json_object_set_new(cur, tok, child) != 0) {
+                    json_decref(value);
+                    return sph_error_set(err, SPH_ERR_INVALID, pointer,
+                                         "--set: '%s' is not a valid key", tok);
+                }
             }
             cur = child;
         } else if (json_is_array(cur)) {

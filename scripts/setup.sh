@@ -4,6 +4,10 @@
 set -euo pipefail
 pkgs=(gcc make cmake pkg-config libzmq3-dev libjansson-dev libhdf5-dev zlib1g-dev libcmocka-dev
       python3 python3-zmq python3-h5py python3-numpy python3-jsonschema)
+# the second compiler of CI, its OpenMP and libFuzzer
+pkgs+=(clang libomp-dev libclang-rt-dev)
+# the CURVE test captures loopback traffic
+pkgs+=(tcpdump)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,14 +1,28 @@
 #!/usr/bin/env bash
-# The README's test command: set up, build, run every test; then build again with AddressSanitizer
-# and UndefinedBehaviorSanitizer and run the unit, command-line and integration tests under them.
+# The README's test command: set up, build (warnings are errors here), run every test; then build
+# again with AddressSanitizer and UndefinedBehaviorSanitizer and run the unit, command-line and
+# integration tests under them; then build with clang and run the unit tests; then the build
+# types that are not built above (scripts/build-matrix.sh), so that gcc and clang each build
+# Release, RelWithDebInfo and Debug without a warning; last, each fuzz target runs for 30 s.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
-scripts/build.sh
+scripts/build.sh -DSPH_WERROR=ON
 ctest --test-dir build --output-on-failure -j2
 
 echo "== sanitizers (ASan + UBSan) =="
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DSPH_SANITIZE=ON >/dev/null
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DSPH_SANITIZE=ON -DSPH_WERROR=ON >/dev/null
 cmake --build build-asan -j"$(nproc)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure -j2 -L 'unit|cli|integration'
+
+echo "== clang (Release): build, unit tests =="
+CC=clang cmake -S . -B build-clang -DCMAKE_BUILD_TYPE=Release -DSPH_WERROR=ON >/dev/null
+cmake --build build-clang -j"$(nproc)"
+ctest --test-dir build-clang --output-on-failure -j2 -L unit
+
+echo "== the other build types, warnings as errors =="
+scripts/build-matrix.sh gcc:Release gcc:Debug clang:RelWithDebInfo clang:Debug
+
+echo "== fuzzing: each libFuzzer target for 30 s (scripts/fuzz.sh) =="
+scripts/fuzz.sh --seconds "${SPH_FUZZ_SECONDS:-30}"

@@ -14,6 +14,8 @@
 #define SPHD_EX_SOFTWARE    70
 #define SPHD_EX_CANTCREAT   73
 #define SPHD_EX_TEMPFAIL    75
+#define SPHD_EX_NOPERM      77
+#define SPHD_EX_CONFIG      78
 
 #define SPHD_MAX_SETS 64
 

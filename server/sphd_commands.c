@@ -424,6 +424,13 @@ static int op_hello(sphd_request *r, json_t **result, sphd_err *e)
         ops, "methods", methods, "limits", "max_msg_size", (json_int_t)d->opts.max_msg_size,
         "threads", d->opts.threads, "max_jobs", d->opts.max_jobs, "diag_rate", d->opts.diag_rate,
         "pid", (json_int_t)getpid(), "uptime", sphd_now() - d->started_at);
+    /* what the physics options mean where a job's figures depend on them */
+    json_object_set_new(
+        *result, "physics",
+        json_pack("{s:[s,s,s], s:[s,s,s], s:[s,s], s:s}", "viscosity", "artificial", "laminar",
+                  "monaghan", "boundary", "dynamic", "ghost", "none", "initial", "rest",
+                  "standing_wave", "monaghan_alpha",
+                  "alpha = 2 (dim + 2) nu / (h c0), reported per job in result.viscosity.alpha"));
     return 0;
 }
 

@@ -7,6 +7,7 @@
 #include "sphd_daemon.h"
 
 #include "sph_events.h"
+#include "sphd_curve.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -206,6 +207,16 @@ static void handle_request(sphd_daemon *d)
     }
     if (n == 0)
         return;
+    if (d->curve) {
+        /* a connection authenticated before its key was revoked (SIGHUP) gets nothing more */
+        const char *user = zmq_msg_gets(&parts[n - 1], "User-Id");
+        if (!sphd_curve_authorised(d->curve, user)) {
+            sphd_log("CURVE: dropped a request from revoked key %s", user ? user : "?");
+            for (int i = 0; i < n; i++)
+                zmq_msg_close(&parts[i]);
+            return;
+        }
+    }
     /* Envelope: the identity, and up to an empty delimiter (REQ) when there is one. */
     int env = 1;
     for (int i = 1; i < n - 1 && i < SPHD_MAX_ENVELOPE; i++) {
@@ -291,7 +302,8 @@ static int install_signals(int *rfd)
     sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
     sa.sa_flags = SA_RESTART;
-    if (sigaction(SIGINT, &sa, NULL) != 0 || sigaction(SIGTERM, &sa, NULL) != 0)
+    if (sigaction(SIGINT, &sa, NULL) != 0 || sigaction(SIGTERM, &sa, NULL) != 0 ||
+        sigaction(SIGHUP, &sa, NULL) != 0)
         return -1;
     signal(SIGPIPE, SIG_IGN);
     return 0;
@@ -392,6 +404,52 @@ static int setup_socket_opts(void *s, const char *name, int hwm_opt, int hwm)
     return 0;
 }
 
+/* The stream PUB: options, CURVE, bound. Returns it or NULL (logged). */
+static void *open_stream(sphd_daemon *d)
+{
+    void *pub = zmq_socket(d->ctx, ZMQ_PUB);
+    if (!pub || setup_socket_opts(pub, "stream", ZMQ_SNDHWM, PUB_HWM) ||
+        (d->curve && sphd_curve_server(d->curve, pub) != 0)) {
+        sphd_log("cannot create the stream socket: %s", zmq_strerror(errno));
+        if (pub)
+            zmq_close(pub);
+        return NULL;
+    }
+    return pub;
+}
+
+/* SIGHUP: the authorised keys are read again. When some were revoked, the stream socket is made
+ * anew, so that every subscriber connects and authenticates again (a PUB cannot drop one of
+ * them); subscribers see the events they missed meanwhile as a gap. */
+static void reload_keys(sphd_daemon *d)
+{
+    if (!d->curve) {
+        sphd_log("SIGHUP: nothing to reload (no --curve)");
+        return;
+    }
+    if (sphd_curve_reload(d->curve) <= 0)
+        return;
+    void *pub = open_stream(d);
+    if (!pub)
+        return;
+    zmq_unbind(d->pub, d->opts.publish);
+    zmq_close(d->pub);
+    for (int tries = 0;; tries++) {
+        if (zmq_bind(pub, d->opts.publish) == 0)
+            break;
+        if (errno != EADDRINUSE || tries >= 200) {
+            sphd_log("cannot bind the stream endpoint %s again: %s; events are not published "
+                     "until a restart",
+                     d->opts.publish, zmq_strerror(errno));
+            break;
+        }
+        struct timespec ts = {0, 10 * 1000 * 1000};
+        nanosleep(&ts, NULL);
+    }
+    d->pub = pub;
+    sphd_log("CURVE: the stream's subscribers reconnect and authenticate again");
+}
+
 static int bind_or_explain(void *s, const char *ep, const char *what)
 {
     if (zmq_bind(s, ep) == 0)
@@ -437,7 +495,8 @@ static void begin_stopping(sphd_daemon *d)
 
 static int loop(sphd_daemon *d)
 {
-    const int nitems = 3 + d->nworkers; /* control, signals, each worker, the files thread */
+    /* control, signals, each worker, the files thread, the ZAP handler (--curve) */
+    const int nitems = 3 + d->nworkers + (d->curve != NULL);
     zmq_pollitem_t *items = calloc((size_t)nitems, sizeof *items);
     if (!items)
         return -1;
@@ -447,6 +506,10 @@ static int loop(sphd_daemon *d)
         items[2 + i] = (zmq_pollitem_t){.socket = d->workers[i].pair, .events = ZMQ_POLLIN};
     zmq_pollitem_t *files_item = &items[2 + d->nworkers];
     *files_item = (zmq_pollitem_t){.socket = d->files, .events = ZMQ_POLLIN};
+    zmq_pollitem_t *zap_item = d->curve ? &items[3 + d->nworkers] : NULL;
+    if (zap_item)
+        *zap_item =
+            (zmq_pollitem_t){.socket = sphd_curve_zap_socket(d->curve), .events = ZMQ_POLLIN};
     int stop_begun = 0;
     for (;;) {
         if (d->stopping && !stop_begun) {
@@ -466,6 +529,10 @@ static int loop(sphd_daemon *d)
         if (items[1].revents & ZMQ_POLLIN) {
             unsigned char sig;
             while (read(d->sigfd, &sig, 1) == 1) {
+                if (sig == SIGHUP) {
+                    reload_keys(d);
+                    continue;
+                }
                 if (!d->stopping)
                     sphd_log("%s: pausing the jobs and exiting",
                              sig == SIGINT ? "SIGINT" : "SIGTERM");
@@ -477,6 +544,8 @@ static int loop(sphd_daemon *d)
                 handle_worker(d, &d->workers[i]);
         if (files_item->revents & ZMQ_POLLIN)
             sphd_files_on_answer(d);
+        if (zap_item && (zap_item->revents & ZMQ_POLLIN))
+            sphd_curve_on_zap(d->curve);
         if (items[0].revents & ZMQ_POLLIN) {
             /* a bounded batch, so the workers' events are never starved */
             for (int k = 0; k < 256; k++) {
@@ -551,14 +620,23 @@ int sphd_daemon_main(const sphd_opts *opts)
                  zmq_strerror(errno));
         request_cpu = SPHD_CPU_ANY;
     }
+    if (d->opts.curve_dir[0]) {
+        /* the ZAP handler is there before the sockets bind: no client is let in unchecked */
+        if (!(d->curve = sphd_curve_load(d->opts.curve_dir))) {
+            rc = SPHD_EX_CONFIG;
+            goto out;
+        }
+        if (sphd_curve_start(d->curve, d->ctx) != 0)
+            goto out;
+    }
     d->router = zmq_socket(d->ctx, ZMQ_ROUTER);
-    d->pub = zmq_socket(d->ctx, ZMQ_PUB);
+    d->pub = open_stream(d);
     int one = 1;
     /* the transport drops (and disconnects) only far larger messages: those just over the limit
      * are read and answered with too_large */
     int64_t maxmsg = (int64_t)d->opts.max_msg_size * SPHD_TRANSPORT_FACTOR;
     if (!d->router || !d->pub || setup_socket_opts(d->router, "control", ZMQ_SNDHWM, ROUTER_HWM) ||
-        setup_socket_opts(d->pub, "stream", ZMQ_SNDHWM, PUB_HWM) ||
+        (d->curve && sphd_curve_server(d->curve, d->router) != 0) ||
         zmq_setsockopt(d->router, ZMQ_ROUTER_MANDATORY, &one, sizeof one) != 0 ||
         zmq_setsockopt(d->router, ZMQ_MAXMSGSIZE, &maxmsg, sizeof maxmsg) != 0) {
         sphd_log("cannot create the sockets: %s", zmq_strerror(errno));
@@ -607,6 +685,7 @@ out:
     }
     if (d->pub)
         zmq_close(d->pub);
+    sphd_curve_free(d->curve);
     /* our sockets' files go with us (we hold their locks, so they are ours) */
     for (int i = 0; i < 2; i++) {
         const char *path = sph_ipc_path(i ? d->opts.publish : d->opts.listen);

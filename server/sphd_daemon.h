@@ -38,6 +38,7 @@ typedef struct sphd_opts {
     double ckpt_interval; /* wall-clock seconds between checkpoints; 0: the default */
     int request_cpu;      /* the CPU of the loop and ZeroMQ threads, or SPHD_CPU_ANY, _AUTO */
     int worker_nice;      /* the solver threads' nice value above sphd's own */
+    char curve_dir[SPHD_PATH_MAX]; /* --curve: server.key and clients/ ("": no CURVE) */
 } sphd_opts;
 
 typedef enum {
@@ -194,9 +195,10 @@ typedef struct sphd_fev {
 typedef struct sphd_daemon {
     sphd_opts opts;
     void *ctx;
-    void *router; /* control */
-    void *pub;    /* stream */
-    int sigfd;    /* read end of the signal self-pipe */
+    void *router;             /* control */
+    void *pub;                /* stream */
+    struct sphd_curve *curve; /* --curve: keys and the ZAP handler, or NULL */
+    int sigfd;                /* read end of the signal self-pipe */
     int lockfd;
     char lockpath[SPHD_PATH_MAX];
     sphd_worker *workers;

@@ -140,6 +140,31 @@ static json_t *diag_json(const sph_diag *d, const sph_config *c)
     return b;
 }
 
+/* What a simulation's result adds for the physics its case asked for: the viscous term (with
+ * the alpha Monaghan's term used), and for an initial field with a theory the kinetic-energy
+ * envelope's decay rate and the period fitted over the first 8 periods beside the theory's. */
+static void result_physics(json_t *res, const sph_sim *s)
+{
+    const sph_config *c = sph_sim_config(s);
+    static const char *const visc[] = {"artificial", "laminar", "monaghan"};
+    json_t *v = json_pack("{s:s}", "type", visc[c->visc]);
+    if (c->visc != SPH_VISC_LAMINAR)
+        json_object_set_new(
+            v, "alpha",
+            num(c->visc == SPH_VISC_MONAGHAN ? sph_config_monaghan_alpha(c) : c->alpha));
+    if (c->visc != SPH_VISC_ARTIFICIAL)
+        json_object_set_new(v, "nu", num(c->nu));
+    json_object_set_new(res, "viscosity", v);
+    sph_sim_wave w;
+    sph_sim_wave_fit(s, INFINITY, &w); /* the theory's period, for the fit's span */
+    if (w.period_theory > 0.0 && sph_sim_wave_fit(s, 8.0 * w.period_theory, &w) == 0)
+        json_object_set_new(res, "wave",
+                            json_pack("{s:o, s:i, s:o, s:o, s:o, s:o}", "fit_until", num(w.t_fit),
+                                      "peaks", w.peaks, "period", num(w.period), "period_theory",
+                                      num(w.period_theory), "decay_rate", num(w.decay_rate),
+                                      "decay_rate_theory", num(w.decay_rate_theory)));
+}
+
 static int emit_diag(sphd_exec *x, sphd_emit_fn emit, void *ud, sph_error *err)
 {
     const sph_diag *d = sph_sim_diag(x->sim);
@@ -219,6 +244,7 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
                             (json_int_t)d->nboundary, "lost", (json_int_t)d->lost, "diag", x->diag);
     if (res && d->nbody > 0) /* the bodies' particles, when there are bodies */
         json_object_set_new(json_object_get(res, "particles"), "body", json_integer(d->nbody));
+    result_physics(res, x->sim);
     emit(ud, "result", res);
     x->finished = 1;
     return SPHD_EXEC_DONE;
@@ -244,10 +270,27 @@ json_t *sphd_exec_progress(const sphd_exec *x)
                      "step", (json_int_t)d->step, "finished", x->finished, "diag", diag);
 }
 
+/* The radial particle density function of the fluid now (sph_rpdf.h): 40 bins of q = r/h over
+ * [0, 2). New reference, or NULL with err. */
+static json_t *rpdf_json(const sph_sim *s, sph_error *err)
+{
+    enum { NB = 40 };
+    double q[NB], count[NB], dens[NB];
+    if (sph_sim_rpdf(s, 2.0, NB, q, count, dens, err))
+        return NULL;
+    json_t *jq = json_array(), *jc = json_array(), *jd = json_array();
+    for (int b = 0; b < NB; b++) {
+        json_array_append_new(jq, num(q[b]));
+        json_array_append_new(jc, json_integer((json_int_t)count[b]));
+        json_array_append_new(jd, num(dens[b]));
+    }
+    return json_pack("{s:o, s:o, s:o}", "q", jq, "count", jc, "density", jd);
+}
+
 json_t *sphd_exec_particles(const sphd_exec *x, const char *const *fields, int nfields,
                             long max_particles, sph_error *err)
 {
-    static const char *const known[] = {"pos", "vel", "rho", "p", "type", "id", NULL};
+    static const char *const known[] = {"pos", "vel", "rho", "p", "type", "id", "rpdf", NULL};
     if (!x->sim) {
         sph_error_set(err, SPH_ERR_INVALID, "", "this job has no particles (method '%s')",
                       sph_method_name(x->c.method));
@@ -259,7 +302,7 @@ json_t *sphd_exec_particles(const sphd_exec *x, const char *const *fields, int n
             ok |= strcmp(fields[f], known[k]) == 0;
         if (!ok) {
             sph_error_set(err, SPH_ERR_INVALID, "/fields",
-                          "unknown particle field '%s' (known: pos, vel, rho, p, type, id)",
+                          "unknown particle field '%s' (known: pos, vel, rho, p, type, id, rpdf)",
                           fields[f]);
             return NULL;
         }
@@ -286,6 +329,16 @@ json_t *sphd_exec_particles(const sphd_exec *x, const char *const *fields, int n
     json_t *out = json_object();
     json_t *arr[8] = {0};
     for (int f = 0; f < nfields; f++) {
+        if (strcmp(fields[f], "rpdf") == 0) { /* not per particle: the whole fluid's */
+            json_t *r = rpdf_json(x->sim, err);
+            if (!r) {
+                free(where);
+                json_decref(out);
+                return NULL;
+            }
+            json_object_set_new(out, "rpdf", r);
+            continue;
+        }
         arr[f] = json_array();
         json_object_set_new(out, fields[f], arr[f]);
     }
@@ -293,6 +346,8 @@ json_t *sphd_exec_particles(const sphd_exec *x, const char *const *fields, int n
         const long i = where[(long)((double)k * (double)v.n / (double)count)];
         for (int f = 0; f < nfields && f < 8; f++) {
             const char *name = fields[f];
+            if (!arr[f])
+                continue;
             json_t *val;
             if (strcmp(name, "pos") == 0)
                 val = json_pack("[o, o]", num(v.pos[0][i]), num(v.pos[1][i]));

@@ -43,6 +43,11 @@ static const char usage_text[] =
     "                     suffixes); a larger one is refused with too_large (one over 8 times\n"
     "                     the limit is dropped by the transport, unanswered)\n"
     "  --diag-rate N      at most N diag events per second per job on the stream (default 50)\n"
+    "  --curve DIR        CURVE authentication and encryption on both sockets: DIR/server.key\n"
+    "                     is the server's secret key (Z85, mode 600; 'sphctl keygen --out\n"
+    "                     DIR/server' makes it and DIR/server.pub, the key clients need), and\n"
+    "                     DIR/clients/ holds the authorised clients' public keys, one file\n"
+    "                     each; SIGHUP reads clients/ again (a removed key is refused at once)\n"
     "  --insecure         allow a non-loopback tcp:// endpoint without CURVE keys\n"
     "  --request-cpu CPU  the CPU that the socket loop and the ZeroMQ I/O thread share\n"
     "                     (default 'auto': the last CPU sphd may use; 'any': not pinned): a\n"
@@ -61,7 +66,7 @@ static const char usage_text[] =
     "66 case file not found, 73 cannot create the output directory.\n"
     "Exit codes (daemon): 0 stopped cleanly (SIGINT, SIGTERM or 'sphctl shutdown'), 64 usage,\n"
     "69 cannot bind an endpoint, 73 cannot create a directory, 75 another sphd already serves\n"
-    "the endpoints or the state directory.\n";
+    "the endpoints or the state directory, 78 the --curve keys are missing or unsafe.\n";
 
 /* Parses a positive count with an optional K, M or G suffix (powers of 1024). */
 static int parse_size(const char *s, long lo, long hi, long *out)
@@ -115,17 +120,17 @@ static int daemon_defaults(sphd_opts *o)
     return 0;
 }
 
-static int check_endpoint(const char *ep, const char *opt, int insecure)
+static int check_endpoint(const char *ep, const char *opt, int insecure, int curve)
 {
     if (strncmp(ep, "ipc://", 6) != 0 && strncmp(ep, "tcp://", 6) != 0) {
         fprintf(stderr, "sphd: %s takes an ipc:// or tcp:// endpoint, not '%s'\n", opt, ep);
         return -1;
     }
-    if (sph_tcp_is_loopback(ep) == 0) {
+    if (sph_tcp_is_loopback(ep) == 0 && !curve) {
         if (!insecure) {
             fprintf(stderr,
-                    "sphd: %s %s is reachable from other machines: that needs CURVE keys, which "
-                    "this version does not support yet; use a loopback address "
+                    "sphd: %s %s is reachable from other machines: that needs CURVE keys "
+                    "(--curve DIR, see the README's 'Remote use'); or use a loopback address "
                     "(tcp://127.0.0.1:PORT), an ipc:// endpoint, or --insecure on a trusted "
                     "network\n",
                     opt, ep);
@@ -155,6 +160,7 @@ int main(int argc, char **argv)
         OPT_MAXMSG,
         OPT_DIAGRATE,
         OPT_INSECURE,
+        OPT_CURVE,
         OPT_REQCPU,
         OPT_WNICE
     };
@@ -173,6 +179,7 @@ int main(int argc, char **argv)
         {"max-msg-size", required_argument, NULL, OPT_MAXMSG},
         {"diag-rate", required_argument, NULL, OPT_DIAGRATE},
         {"insecure", no_argument, NULL, OPT_INSECURE},
+        {"curve", required_argument, NULL, OPT_CURVE},
         {"request-cpu", required_argument, NULL, OPT_REQCPU},
         {"worker-nice", required_argument, NULL, OPT_WNICE},
         {"help", no_argument, NULL, 'h'},
@@ -306,6 +313,14 @@ int main(int argc, char **argv)
             daemon_only = 1;
             break;
         }
+        case OPT_CURVE:
+            if (!*optarg || strlen(optarg) >= sizeof dopts.curve_dir) {
+                fputs("sphd: the value of --curve is empty or too long\n", stderr);
+                return SPHD_EX_USAGE;
+            }
+            snprintf(dopts.curve_dir, sizeof dopts.curve_dir, "%s", optarg);
+            daemon_only = 1;
+            break;
         case OPT_INSECURE:
             dopts.insecure = 1;
             daemon_only = 1;
@@ -327,11 +342,12 @@ int main(int argc, char **argv)
     }
     if (run.case_file) {
         if (daemon_only) {
-            fputs(
-                "sphd: --listen, --publish, --state-dir, --max-jobs, --max-msg-size, "
-                "--diag-rate, --request-cpu, --worker-nice and --insecure are for the daemon, not "
-                "--run\n",
-                stderr);
+            fputs("sphd: --listen, --publish, --state-dir, --max-jobs, --max-msg-size, "
+                  "--diag-rate, --request-cpu, --worker-nice, --curve and --insecure are for the "
+                  "daemon, "
+                  "not "
+                  "--run\n",
+                  stderr);
             return SPHD_EX_USAGE;
         }
         return sphd_run(&run);
@@ -346,8 +362,8 @@ int main(int argc, char **argv)
               stderr);
         return SPHD_EX_USAGE;
     }
-    if (check_endpoint(dopts.listen, "--listen", dopts.insecure) ||
-        check_endpoint(dopts.publish, "--publish", dopts.insecure))
+    if (check_endpoint(dopts.listen, "--listen", dopts.insecure, dopts.curve_dir[0] != 0) ||
+        check_endpoint(dopts.publish, "--publish", dopts.insecure, dopts.curve_dir[0] != 0))
         return SPHD_EX_USAGE;
     if (strcmp(dopts.listen, dopts.publish) == 0) {
         fputs("sphd: --listen and --publish must differ\n", stderr);

@@ -187,6 +187,12 @@ int sph_body_check(const sph_config *c, sph_error *err)
     if (c->nbodies > 0 && c->method != SPH_METHOD_WCSPH)
         return sph_error_set(err, SPH_ERR_INVALID, "/bodies",
                              "rigid bodies are available with wcsph only in this version");
+    /* A body meets the tank through the dynamic wall particles (the wall's particles push it
+     * back); ghost walls mirror only the fluid and would let a body pass through a wall. */
+    if (c->nbodies > 0 && c->boundary == SPH_BOUNDARY_GHOST)
+        return sph_error_set(err, SPH_ERR_INVALID, "/bodies",
+                             "rigid bodies need dynamic boundary particles (boundary.type "
+                             "'dynamic'): with ghost walls a body would not meet the walls");
     if ((c->probes & SPH_PROBE_PENETRATION) && c->nbodies == 0)
         return sph_error_set(err, SPH_ERR_INVALID, "/diagnostics/probes",
                              "the probe 'penetration' needs a body (the first in 'bodies')");
@@ -200,6 +206,8 @@ int sph_body_check(const sph_config *c, sph_error *err)
         for (int j = 0; j < i; j++)
             if (strcmp(c->bodies[j].name, name) == 0)
                 return body_error(err, i, "name", "two bodies are named '%s'", name);
+        if ((unsigned)b->shape > SPH_SHAPE_BOX)
+            return body_error(err, i, "shape", "unknown shape");
         if (b->density > 0.0 && b->mass > 0.0)
             return body_error(err, i, "mass", "give the density or the mass of '%s', not both",
                               name);

@@ -20,9 +20,20 @@
 #include <omp.h>
 #include <string.h>
 
-/* Option flags, instantiated as constants. F_BODY: the case has rigid bodies
- * (boundary/sph_body.h), whose particles interact with everything but their own body. */
-enum { F_LAMINAR = 1, F_SPS = 2, F_DELTA = 4, F_BODY = 8, F_COUNT = 16 };
+/* Option flags, instantiated as constants. F_GHOST: the walls are ghost particles (free slip,
+ * boundary/sph_wall_ghost.c), which take part in every term like fluid neighbours, delta-SPH
+ * included; only ghost-ghost pairs are skipped. F_MONAGHAN: Monaghan's viscous term on every
+ * pair, approaching or not, as a physical viscosity (Macia et al.). F_BODY: the case has rigid
+ * bodies (boundary/sph_body.h), whose particles interact with everything but their own body. */
+enum {
+    F_LAMINAR = 1,
+    F_SPS = 2,
+    F_DELTA = 4,
+    F_GHOST = 8,
+    F_MONAGHAN = 16,
+    F_BODY = 32,
+    F_COUNT = 64
+};
 
 #define SPH_SPS_CS 0.12   /* Smagorinsky constant, Yang et al. after Lo & Shao */
 #define SPH_SPS_CI 0.0066 /* isotropic part, Dalrymple & Rogers 2006 */
@@ -44,7 +55,7 @@ typedef struct fctx {
     double eta2;     /* 0.01 h^2 [m^2] */
     double support2; /* support radius squared [m^2] */
     double tiny;     /* guards r = 0 [m] */
-    double alpha_c0; /* artificial viscosity alpha c0 [m/s] */
+    double alpha_c0; /* Monaghan's term (artificial or physical): alpha c0 [m/s] */
     double mu8;      /* laminar: 8 mu = 8 rho0 nu [Pa s] */
     double dcoef;    /* delta-SPH: 2 delta h c0 m [kg m^2/s] */
 } fctx;
@@ -63,7 +74,9 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
                            *restrict rho = c->rho, *restrict pr = c->pr;
     double *restrict ax = c->ax, *restrict ay = c->ay, *restrict drho = c->drho;
     const double xi = x[i], yi = y[i], vxi = vx[i], vyi = vy[i], rhoi = rho[i], pri = pr[i];
-    const int bi = c->type[i] == SPH_BOUNDARY;
+    /* the walls: dynamic boundary particles, or ghosts */
+    const unsigned char wall = (F & F_GHOST) ? SPH_GHOST : SPH_BOUNDARY;
+    const int bi = c->type[i] == wall;
     /* F_BODY: the body of particle i (-1: not a body particle), and whether i is fluid */
     const int oi = (F & F_BODY) && c->type[i] == SPH_BODY ? c->owner[c->id[i] - c->body0] : -1;
     const int fi = c->type[i] == SPH_FLUID;
@@ -73,8 +86,8 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
         const double r2 = dx * dx + dy * dy;
         if (r2 >= support2)
             continue;
-        const int bj = c->type[j] == SPH_BOUNDARY;
-        if (bi & bj) /* fixed walls: no relative motion, no force that matters */
+        const int bj = c->type[j] == wall;
+        if (bi & bj) /* wall-wall pairs: nothing a fluid particle feels */
             continue;
         if ((F & F_BODY) && oi >= 0 && c->type[j] == SPH_BODY &&
             c->owner[c->id[j] - c->body0] == oi) /* one rigid body: no force within it */
@@ -93,9 +106,10 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
         ai->drho += dd;
         drho[j] += dd;
 
-        /* eq. (13): pressure, with Monaghan's artificial viscosity Pi_ab (Macia et al.) */
+        /* eq. (13): pressure, with Monaghan's viscous term Pi_ab (Macia et al.): artificial
+         * (approaching pairs only) or physical (every pair, alpha from nu) */
         double pt = pri + pr[j];
-        if (!(F & F_LAMINAR) && vr < 0.0) {
+        if ((F & F_MONAGHAN) || (!(F & F_LAMINAR) && vr < 0.0)) {
             const double mu = c->h * vr / (r2 + eta2);
             pt -= c->alpha_c0 * mu * 2.0 / (rhoi + rhoj);
         }
@@ -121,9 +135,11 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
             c->gxy[j] += vj * (dvx * gy + dvy * gx);
             c->gyy[j] += vj * dvy * gy;
         }
-        if ((F & F_DELTA) && ((F & F_BODY) ? fi && c->type[j] == SPH_FLUID : !(bi | bj))) {
+        if ((F & F_DELTA) &&
+            ((F & F_GHOST) || ((F & F_BODY) ? fi && c->type[j] == SPH_FLUID : !(bi | bj)))) {
             /* delta-SPH (Molteni & Colagrossi 2009): 2 delta h c0 sum (rho_b - rho_a)
-             * (x_b - x_a).grad_a W / (r^2 + eta^2) V_b, fluid pairs only */
+             * (x_b - x_a).grad_a W / (r^2 + eta^2) V_b, fluid and ghost pairs only (a ghost's
+             * density is the hydrostatic one behind the wall, dynamic particles' is not) */
             const double w = c->dcoef * (rhoj - rhoi) * (-fw * r2) / (r2 + eta2);
             ai->drho += w / rhoj;
             drho[j] -= w / rhoi;
@@ -171,42 +187,47 @@ static inline __attribute__((always_inline)) long strip_generic(sph_kernel_type 
 
 typedef long (*strip_fn)(const fctx *c, int strip);
 
-/* One instantiation per kernel type and option set: strips_<TYPE>[flags]. */
+/* One instantiation per kernel type and option set a job can make: strips_<TYPE>[flags], the
+ * flags' value naming the instantiation. The combinations sph_sim_check refuses (laminar with
+ * monaghan: one viscosity; ghost walls with bodies: sph_body_check) have none, their entry is
+ * NULL: 36 of the 64 per kernel, 180 functions instead of 320. */
 #define SPH_STRIP_FN(T, FL)                                                                        \
     static long strip_##T##_##FL(const fctx *c, int strip)                                         \
     {                                                                                              \
         return strip_generic(T, FL, c, strip);                                                     \
     }
-#define SPH_STRIP_TABLE(T)                                                                         \
-    SPH_STRIP_FN(T, 0)                                                                             \
-    SPH_STRIP_FN(T, 1)                                                                             \
-    SPH_STRIP_FN(T, 2)                                                                             \
-    SPH_STRIP_FN(T, 3)                                                                             \
-    SPH_STRIP_FN(T, 4)                                                                             \
-    SPH_STRIP_FN(T, 5)                                                                             \
-    SPH_STRIP_FN(T, 6)                                                                             \
-    SPH_STRIP_FN(T, 7)                                                                             \
-    SPH_STRIP_FN(T, 8)                                                                             \
-    SPH_STRIP_FN(T, 9)                                                                             \
-    SPH_STRIP_FN(T, 10)                                                                            \
-    SPH_STRIP_FN(T, 11)                                                                            \
-    SPH_STRIP_FN(T, 12)                                                                            \
-    SPH_STRIP_FN(T, 13)                                                                            \
-    SPH_STRIP_FN(T, 14)                                                                            \
-    SPH_STRIP_FN(T, 15)                                                                            \
-    static const strip_fn strips_##T[F_COUNT] = {                                                  \
-        strip_##T##_0,  strip_##T##_1,  strip_##T##_2,  strip_##T##_3,                             \
-        strip_##T##_4,  strip_##T##_5,  strip_##T##_6,  strip_##T##_7,                             \
-        strip_##T##_8,  strip_##T##_9,  strip_##T##_10, strip_##T##_11,                            \
-        strip_##T##_12, strip_##T##_13, strip_##T##_14, strip_##T##_15};
+/* clang-format off */
+#define SPH_STRIP_TABLE(T) \
+    SPH_STRIP_FN(T, 0) SPH_STRIP_FN(T, 1) SPH_STRIP_FN(T, 2) SPH_STRIP_FN(T, 3) \
+    SPH_STRIP_FN(T, 4) SPH_STRIP_FN(T, 5) SPH_STRIP_FN(T, 6) SPH_STRIP_FN(T, 7) \
+    SPH_STRIP_FN(T, 8) SPH_STRIP_FN(T, 9) SPH_STRIP_FN(T, 10) SPH_STRIP_FN(T, 11) \
+    SPH_STRIP_FN(T, 12) SPH_STRIP_FN(T, 13) SPH_STRIP_FN(T, 14) SPH_STRIP_FN(T, 15) \
+    SPH_STRIP_FN(T, 16) SPH_STRIP_FN(T, 18) SPH_STRIP_FN(T, 20) SPH_STRIP_FN(T, 22) \
+    SPH_STRIP_FN(T, 24) SPH_STRIP_FN(T, 26) SPH_STRIP_FN(T, 28) SPH_STRIP_FN(T, 30) \
+    SPH_STRIP_FN(T, 32) SPH_STRIP_FN(T, 33) SPH_STRIP_FN(T, 34) SPH_STRIP_FN(T, 35) \
+    SPH_STRIP_FN(T, 36) SPH_STRIP_FN(T, 37) SPH_STRIP_FN(T, 38) SPH_STRIP_FN(T, 39) \
+    SPH_STRIP_FN(T, 48) SPH_STRIP_FN(T, 50) SPH_STRIP_FN(T, 52) SPH_STRIP_FN(T, 54) \
+    static const strip_fn strips_##T[F_COUNT] = { \
+        [0] = strip_##T##_0, [1] = strip_##T##_1, [2] = strip_##T##_2, [3] = strip_##T##_3, \
+        [4] = strip_##T##_4, [5] = strip_##T##_5, [6] = strip_##T##_6, [7] = strip_##T##_7, \
+        [8] = strip_##T##_8, [9] = strip_##T##_9, [10] = strip_##T##_10, [11] = strip_##T##_11, \
+        [12] = strip_##T##_12, [13] = strip_##T##_13, [14] = strip_##T##_14, [15] = strip_##T##_15, \
+        [16] = strip_##T##_16, [18] = strip_##T##_18, [20] = strip_##T##_20, [22] = strip_##T##_22, \
+        [24] = strip_##T##_24, [26] = strip_##T##_26, [28] = strip_##T##_28, [30] = strip_##T##_30, \
+        [32] = strip_##T##_32, [33] = strip_##T##_33, [34] = strip_##T##_34, [35] = strip_##T##_35, \
+        [36] = strip_##T##_36, [37] = strip_##T##_37, [38] = strip_##T##_38, [39] = strip_##T##_39, \
+        [48] = strip_##T##_48, [50] = strip_##T##_50, [52] = strip_##T##_52, [54] = strip_##T##_54, \
+    };
+/* clang-format on */
 
 SPH_STRIP_TABLE(SPH_KERNEL_CUBIC_SPLINE)
 SPH_STRIP_TABLE(SPH_KERNEL_GAUSSIAN)
 SPH_STRIP_TABLE(SPH_KERNEL_DOUBLE_COSINE)
 SPH_STRIP_TABLE(SPH_KERNEL_WENDLAND_C2)
 SPH_STRIP_TABLE(SPH_KERNEL_RENORMALIZED_GAUSSIAN)
-SPH_STRIP_TABLE(SPH_KERNEL_KOSHIZUKA)
-SPH_STRIP_TABLE(SPH_KERNEL_SHEU_QUARTIC)
+/* the MPS weight functions are refused for WCSPH (wcsph_check): no instantiations */
+static const strip_fn strips_SPH_KERNEL_KOSHIZUKA[F_COUNT] = {0};
+static const strip_fn strips_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
 
 /* EOS, p / rho^2, SPS stresses from the previous velocity gradients; zeroes the accumulators. */
 static void prepare(sph_sim *s)
@@ -246,19 +267,50 @@ static void prepare(sph_sim *s)
     }
 }
 
-void sph_wcsph_forces(sph_sim *s)
+/* Appends the ghosts of the free-slip walls after the real particles (room made as needed).
+ * Returns 0 or -1 when out of memory. */
+static int add_ghosts(sph_sim *s)
+{
+    sph_particles *P = &s->P;
+    const long n = P->n;
+    for (;;) {
+        const sph_ghost_arrays a = {.pos = {P->x, P->y, NULL},
+                                    .vel = {P->vx, P->vy, NULL},
+                                    .rho = P->rho,
+                                    .type = P->type,
+                                    .id = P->id};
+        const long need = sph_wall_ghost_build(&s->ghost, &s->cfg, &a, n, P->cap);
+        if (n + need <= P->cap) {
+            s->nghost = need;
+            P->n = n + need;
+            return 0;
+        }
+        const long cap = n + need + need / 4 + 16;
+        if (sph_particles_reserve(P, cap) || sph_cells_reserve(&s->cells, cap))
+            return -1;
+    }
+}
+
+int sph_wcsph_forces(sph_sim *s)
 {
     const sph_config *cfg = &s->cfg;
     sph_particles *P = &s->P;
+    const int ghosts = cfg->boundary == SPH_BOUNDARY_GHOST;
     double t0 = omp_get_wtime();
+    if (ghosts && add_ghosts(s))
+        return -1;
     s->nactive = sph_cells_sort(&s->cells, P);
     double t1 = omp_get_wtime();
     s->timing.neighbours += t1 - t0;
 
     prepare(s);
+    const double alpha =
+        cfg->visc == SPH_VISC_MONAGHAN ? sph_config_monaghan_alpha(cfg) : cfg->alpha;
     const unsigned flags = (cfg->visc == SPH_VISC_LAMINAR ? F_LAMINAR : 0) |
+                           (cfg->visc == SPH_VISC_MONAGHAN ? F_MONAGHAN : 0) |
                            (cfg->turb == SPH_TURB_SPS ? F_SPS : 0) |
-                           (cfg->delta_sph > 0.0 ? F_DELTA : 0) | (s->bodies.n > 0 ? F_BODY : 0);
+                           (cfg->delta_sph > 0.0 ? F_DELTA : 0) | (ghosts ? F_GHOST : 0) |
+                           (s->bodies.n > 0 ? F_BODY : 0);
     const fctx c = {.x = P->x,
                     .y = P->y,
                     .vx = P->vx,
@@ -287,13 +339,15 @@ void sph_wcsph_forces(sph_sim *s)
                     .eta2 = 0.01 * s->h * s->h,
                     .support2 = s->kernel.support * s->kernel.support,
                     .tiny = 1e-12 * s->h,
-                    .alpha_c0 = cfg->alpha * cfg->c0,
+                    .alpha_c0 = alpha * cfg->c0,
                     .mu8 = 8.0 * cfg->rho0 * cfg->nu,
                     .dcoef = 2.0 * cfg->delta_sph * s->h * cfg->c0 * s->mass};
     strip_fn fn = NULL;
 #define SPH_PICK(T) fn = strips_##T[flags]
     SPH_KERNEL_DISPATCH(s->kernel.type, SPH_PICK);
 #undef SPH_PICK
+    if (!fn) /* an MPS weight or a refused combination: sph_sim_check refuses them first */
+        return -1;
     const int nstrips = (s->cells.nx - 2 + 1) / 2;
     const long n = s->nactive;
     long pairs = 0;
@@ -326,7 +380,14 @@ void sph_wcsph_forces(sph_sim *s)
     for (long i = n; i < P->n; i++)
         P->ax[i] = P->ay[i] = P->drho[i] = 0.0;
     s->amax = fmax(sqrt(amax2), sph_bodies_amax(&s->bodies));
-    s->timing.interactions += omp_get_wtime() - t1;
+    double t3 = omp_get_wtime();
+    s->timing.interactions += t3 - t1;
     s->timing.pairs = pairs;
-    s->timing.active = n;
+    if (ghosts) { /* what the ghosts received is discarded with them */
+        sph_particles_remove(P, SPH_GHOST, s->cells.perm);
+        s->nactive -= s->nghost;
+        s->timing.neighbours += omp_get_wtime() - t3;
+    }
+    s->timing.active = s->nactive;
+    return 0;
 }

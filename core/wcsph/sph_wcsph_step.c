@@ -16,6 +16,8 @@
  * them, corrected with the fluid; dt also respects their particles' speed and acceleration.
  * After every step the state is checked: non-finite values, density outside [rho0/2, 2 rho0],
  * too many particles lost, a collapsing time step are blow-ups reported with the step.
+ * With ghost walls, a particle the predictor takes across a wall is reflected back into the
+ * tank (sph_wall_ghost_reflect).
  */
 #include "sph_wcsph.h"
 
@@ -86,6 +88,7 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
     const double xlo = c->domain.min[0], xhi = c->domain.max[0];
     const double ylo = c->domain.min[1], yhi = c->domain.max[1];
     const long n0 = s->nactive;
+    const int ghosts = c->boundary == SPH_BOUNDARY_GHOST;
     long bad = 0;
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(+ : bad) if (n0 >= SPH_OMP_MIN)
     for (long i = 0; i < n0; i++) {
@@ -95,10 +98,13 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
             const double y = P->y[i] + dt * (P->vy[i] + 0.5 * dt * ay);
             bad += !isfinite(x) || !isfinite(y);
             if (x >= xlo && x <= xhi && y >= ylo && y <= yhi) {
-                P->x[i] = x;
-                P->y[i] = y;
-                P->vx[i] += dt * ax;
-                P->vy[i] += dt * ay;
+                double xy[2] = {x, y}, v[2] = {P->vx[i] + dt * ax, P->vy[i] + dt * ay};
+                if (ghosts) /* a particle that crossed a free-slip wall comes back */
+                    sph_wall_ghost_reflect(&s->ghost, xy, v);
+                P->x[i] = xy[0];
+                P->y[i] = xy[1];
+                P->vx[i] = v[0];
+                P->vy[i] = v[1];
             } else {
                 P->type[i] = SPH_LOST; /* frozen where it left */
                 P->vx[i] = P->vy[i] = 0.0;
@@ -123,7 +129,10 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
     }
     s->timing.integration += omp_get_wtime() - t0;
 
-    sph_wcsph_forces(s); /* sorts by cell: the arrays are permuted, nactive updated */
+    /* sorts by cell: the arrays are permuted, nactive updated */
+    if (sph_wcsph_forces(s))
+        return sph_error_set(err, SPH_ERR_NOMEM, "",
+                             "out of memory for the ghost particles at step %ld", step);
 
     /* corrector and checks */
     const double t1 = omp_get_wtime();
@@ -194,6 +203,11 @@ static int wcsph_check(const sph_config *c, sph_error *err)
                              sph_kernel_type_name(c->kernel.type));
     if (!(c->c0 > 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/physics/eos/c0", "c0 must be positive");
+    if ((c->visc == SPH_VISC_LAMINAR || c->visc == SPH_VISC_MONAGHAN) &&
+        !(c->nu > 0.0 && isfinite(c->nu)))
+        return sph_error_set(err, SPH_ERR_INVALID, "/physics/viscosity/nu",
+                             "the %s viscosity needs a positive nu",
+                             c->visc == SPH_VISC_LAMINAR ? "laminar" : "monaghan");
     return 0;
 }
 
@@ -204,8 +218,8 @@ static size_t wcsph_bytes_per_particle(const sph_config *c)
 
 static int wcsph_init(sph_sim *s, sph_error *err)
 {
-    (void)err;
-    sph_wcsph_forces(s);
+    if (sph_wcsph_forces(s))
+        return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the ghost particles");
     return 0;
 }
 

@@ -164,7 +164,9 @@ for _ in range(4):
     s.send_multipart([env, json.dumps({"v": 1, "id": req["id"], "ok": True, "result": res}).encode()])
 PYEOF
 fake_pid=$!
-sleep 0.3
+# the fake is ready when its socket exists (python and pyzmq may take seconds to start on a busy
+# machine; a fixed sleep made this test fail under load)
+for _ in $(seq 1 200); do [ -S "$tmp/fake" ] && break; sleep 0.05; done
 expect_rc "whole-file CRC-32 mismatch: exit 1" 1 "$C" --endpoint "ipc://$tmp/fake" fetch a.bin --dest "$tmp/bad"
 check "says so" grep -q "CRC-32 mismatch" "$tmp/err"
 check "no file left behind" test -z "$(ls -A "$tmp/bad/a.bin")"

@@ -17,6 +17,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* cmocka 1.1 has no assert_double_equal */
+static void close_to(double got, double want, double tol, const char *what)
+{
+    if (!(fabs(got - want) <= tol))
+        fail_msg("%s: %.17g, expected %.17g within %g", what, got, want, tol);
+}
+#define assert_double_equal(a, b, tol) close_to((a), (b), (tol), #a)
+
 #define NCLOUD 400
 
 static double urand(unsigned *s)
@@ -102,8 +110,9 @@ static void all_pairs(const sph_sim *s, ref *R)
             const double vr = v[0] * rv[0] + v[1] * rv[1];
             R->drho[a] += m * (v[0] * g[0] + v[1] * g[1]);
             double pt = pa / (ra * ra) + pb / (rb * rb);
-            if (c->visc == SPH_VISC_ARTIFICIAL && vr < 0.0)
-                pt += -c->alpha * c->c0 * (h * vr / (r2 + eta2)) / (0.5 * (ra + rb));
+            if (c->visc == SPH_VISC_MONAGHAN || (c->visc == SPH_VISC_ARTIFICIAL && vr < 0.0))
+                pt += -(c->visc == SPH_VISC_MONAGHAN ? sph_config_monaghan_alpha(c) : c->alpha) *
+                      c->c0 * (h * vr / (r2 + eta2)) / (0.5 * (ra + rb));
             for (int d = 0; d < 2; d++) {
                 double acc = -m * pt * g[d];
                 if (c->visc == SPH_VISC_LAMINAR)
@@ -220,6 +229,18 @@ static void test_delta(void **state)
     (void)state;
     for (size_t k = 0; k < sizeof kernels / sizeof kernels[0]; k++)
         check(kernels[k], SPH_VISC_ARTIFICIAL, SPH_TURB_SPS, 0.1);
+}
+
+/* Monaghan's term as a physical viscosity: every pair, alpha = 2 (d + 2) nu / (h c0). */
+static void test_monaghan(void **state)
+{
+    (void)state;
+    for (size_t k = 0; k < sizeof kernels / sizeof kernels[0]; k++)
+        check(kernels[k], SPH_VISC_MONAGHAN, SPH_TURB_NONE, 0.1);
+    sph_sim *s = cloud(SPH_KERNEL_WENDLAND_C2, SPH_VISC_MONAGHAN, SPH_TURB_NONE, 0.0);
+    assert_double_equal(sph_config_monaghan_alpha(&s->cfg), 8.0 * 1e-3 / (1.3 * 0.01 * 20.0),
+                        1e-15);
+    sph_sim_destroy(s);
 }
 
 /* The counting sort: cells hold exactly the particles whose positions fall in them. */
@@ -340,6 +361,7 @@ int main(void)
         cmocka_unit_test(test_sort),         cmocka_unit_test(test_artificial),
         cmocka_unit_test(test_laminar_sps),  cmocka_unit_test(test_delta),
         cmocka_unit_test(test_reproducible), cmocka_unit_test(test_probes),
+        cmocka_unit_test(test_monaghan),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

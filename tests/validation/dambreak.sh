@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
 # Dam break (Yang et al. 2014, section 4.1) against Martin & Moyce (1952), Table 2: the RMS of the
 # relative difference of the front X = x/D over T = t sqrt(2g/D) in [0.4, 3.3] must be under 10%.
-# Usage: dambreak.sh SPHD SOURCE_DIR [--set PATH=VALUE ...]   (e.g. --set dx=0.0025: the fine run)
+# Usage: dambreak.sh SPHD SOURCE_DIR [CASE] [--set PATH=VALUE ...]   (e.g. --set dx=0.0025: the
+# fine run; CASE: a case file under cases/, default dambreak.json, dambreak_ghost.json the same
+# dam break with free-slip ghost walls)
 set -u
 sphd=$1; src=$2; shift 2
+case=dambreak.json
+if [ $# -gt 0 ] && [ "${1#--}" = "$1" ]; then case=$1; shift; fi
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-"$sphd" --run "$src/cases/dambreak.json" --out "$tmp/out" "$@" >"$tmp/events.jsonl" || {
+"$sphd" --run "$src/cases/$case" --out "$tmp/out" "$@" >"$tmp/events.jsonl" || {
   echo "FAIL: sphd --run exited $?"; tail -n 3 "$tmp/events.jsonl"; exit 1; }
 tail -n 2 "$tmp/events.jsonl" | head -n 1
 /usr/bin/python3 "$src/tests/validation/dambreak_front.py" "$tmp/events.jsonl" \

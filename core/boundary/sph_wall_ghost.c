@@ -1,0 +1,144 @@
+/*
+ * Ghost (mirror) particles for free-slip tank walls; see sph_wall_ghost.h.
+ */
+#include "sph_wall_ghost.h"
+
+#include "sph_eos.h"
+#include "sph_particles.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+int sph_wall_ghost_init(sph_wall_ghost *w, const sph_config *c, double support, sph_error *err)
+{
+    memset(w, 0, sizeof *w);
+    const int dim = c->dim, up = dim - 1;
+    if (!c->has_tank)
+        return sph_error_set(err, SPH_ERR_INVALID, "/boundary/tank",
+                             "ghost walls need a tank: give boundary.tank {min, max}, the inner "
+                             "faces of its walls");
+    for (int a = 0; a < dim; a++)
+        if (!(c->tank.max[a] > c->tank.min[a]))
+            return sph_error_set(err, SPH_ERR_INVALID, "/boundary/tank/max",
+                                 "the tank's max must exceed its min along every axis");
+    for (int a = 0; a < dim; a++)
+        if (a != up && c->gravity[a] != 0.0)
+            return sph_error_set(err, SPH_ERR_INVALID, "/physics/gravity",
+                                 "ghost walls need gravity along the vertical axis only: their "
+                                 "tank is axis-aligned, with its bottom normal to gravity and its "
+                                 "top open (a tilted tank is not available)");
+    const double tol = 1e-9 * (1.0 + fabs(c->dx));
+    for (int b = 0; b < c->nfluid; b++)
+        for (int a = 0; a < dim; a++)
+            if (c->fluid[b].min[a] < c->tank.min[a] - tol ||
+                (a != up && c->fluid[b].max[a] > c->tank.max[a] + tol)) {
+                char path[32];
+                snprintf(path, sizeof path, "/fluid/%d/box", b);
+                return sph_error_set(err, SPH_ERR_INVALID, path,
+                                     "fluid box %d reaches outside the ghost-walled tank", b);
+            }
+    w->dim = dim;
+    w->band = support;
+    for (int a = 0; a < dim; a++) {
+        w->wall[w->nwalls++] = (sph_ghost_plane){a, c->tank.min[a], +1};
+        if (a != up)
+            w->wall[w->nwalls++] = (sph_ghost_plane){a, c->tank.max[a], -1};
+        w->rho0g[a] = c->rho0 * c->gravity[a];
+    }
+    return 0;
+}
+
+void sph_wall_ghost_bounds(const sph_wall_ghost *w, double *lo, double *hi)
+{
+    for (int k = 0; k < w->nwalls; k++) {
+        const sph_ghost_plane *p = &w->wall[k];
+        if (p->dir > 0)
+            lo[p->axis] = fmin(lo[p->axis], p->pos - w->band);
+        else
+            hi[p->axis] = fmax(hi[p->axis], p->pos + w->band);
+    }
+}
+
+/* The walls particle i is near (bit k: wall k), 0 for particles that are not fluid. */
+static unsigned near_walls(const sph_wall_ghost *w, const sph_ghost_arrays *a, long i)
+{
+    if (a->type[i] != SPH_FLUID)
+        return 0;
+    unsigned m = 0;
+    for (int k = 0; k < w->nwalls; k++) {
+        const sph_ghost_plane *p = &w->wall[k];
+        const double d = (a->pos[p->axis][i] - p->pos) * p->dir;
+        if (d >= 0.0 && d < w->band)
+            m |= 1u << k;
+    }
+    return m;
+}
+
+/* True when the walls of mask `sub` have distinct normal axes (a mirror, or a corner's double
+ * or triple mirror; two parallel walls at once are no image of anything). */
+static int distinct_axes(const sph_wall_ghost *w, unsigned sub)
+{
+    unsigned axes = 0;
+    for (int k = 0; k < w->nwalls; k++)
+        if (sub & (1u << k)) {
+            const unsigned bit = 1u << w->wall[k].axis;
+            if (axes & bit)
+                return 0;
+            axes |= bit;
+        }
+    return 1;
+}
+
+long sph_wall_ghost_count(const sph_wall_ghost *w, const sph_ghost_arrays *a, long n)
+{
+    long count = 0;
+    for (long i = 0; i < n; i++) {
+        const unsigned m = near_walls(w, a, i);
+        for (unsigned sub = m; sub; sub = (sub - 1) & m)
+            count += distinct_axes(w, sub);
+    }
+    return count;
+}
+
+long sph_wall_ghost_build(const sph_wall_ghost *w, const sph_config *c, const sph_ghost_arrays *a,
+                          long n, long cap)
+{
+    const int dim = w->dim;
+    long g = n;
+    for (long i = 0; i < n; i++) {
+        const unsigned m = near_walls(w, a, i);
+        if (!m)
+            continue;
+        const double pf = sph_eos_pressure(c, a->rho[i]);
+        for (unsigned sub = m; sub; sub = (sub - 1) & m) {
+            if (!distinct_axes(w, sub))
+                continue;
+            if (g < cap) {
+                double x[3], v[3];
+                for (int d = 0; d < dim; d++) {
+                    x[d] = a->pos[d][i];
+                    v[d] = a->vel[d][i];
+                }
+                for (int k = 0; k < w->nwalls; k++)
+                    if (sub & (1u << k)) {
+                        const sph_ghost_plane *p = &w->wall[k];
+                        x[p->axis] = 2.0 * p->pos - x[p->axis];
+                        v[p->axis] = -v[p->axis]; /* free slip: normal reversed */
+                    }
+                /* Colagrossi & Landrini 2003: hydrostatic pressure across the wall */
+                double pg = pf;
+                for (int d = 0; d < dim; d++) {
+                    pg += w->rho0g[d] * (x[d] - a->pos[d][i]);
+                    a->pos[d][g] = x[d];
+                    a->vel[d][g] = v[d];
+                }
+                a->rho[g] = sph_eos_density(c, pg);
+                a->type[g] = SPH_GHOST;
+                a->id[g] = a->id[i];
+            }
+            g++;
+        }
+    }
+    return g - n;
+}

@@ -1,0 +1,497 @@
+/*
+ * sph_mps: the MPS method (Koshizuka & Oka 1996, as summarised by Sheu, Chiao & Huang 2011,
+ * section 3), 2D, behind the sim handle. One step of dt:
+ *
+ *   1. predictor: u* = u + dt (nu lap u + g), r* = r + dt u* (fluid particles; Laplacian model
+ *      (3.5) with the number-density weight, walls and dummies at rest count in it: no slip);
+ *   2. number density n* at r*; free-surface particles (fluid or wall, n* < beta n0) get p = 0;
+ *   3. the pressure Poisson equation lap p = -relax (rho / dt^2) (n* - n0) / n0 (sph_mps_ppe.h),
+ *      solved by preconditioned CG warm-started from the previous pressure; negative pressures
+ *      are set to 0 (as Koshizuka & Oka's code does: the fluid cannot pull);
+ *   4. correction: u' = -(dt / rho) grad p with the gradient model (3.4) and the local minimum
+ *      pressure; u = u* + u', r = r* + dt u';
+ *   5. optionally Koshizuka's collision model (pairs closer than `collision` dx that approach
+ *      each other exchange momentum with restitution e), a standard stabiliser of MPS codes.
+ *
+ * relax = 1 is the source of Koshizuka & Oka 1996; smaller values (0.2 in Koshizuka's later
+ * codes) damp the pressure noise of the number-density source term at the cost of a slightly
+ * larger density error; the case chooses, the default is 1 (the paper's).
+ *
+ * Walls: the tank's boundary particles, the inner floor(max(re, re_grad)) layers carry a
+ * pressure (they are unknowns of the PPE and take part in the gradient), the outer layers are
+ * dummies that only complete the number density of the wall particles; all are fixed.
+ *
+ * The handle's arrays: P.p the pressure (kept across steps for the warm start: permuted here
+ * when the particles are sorted), P.rho = rho0 n* / n0 (what a view shows as density); P.ax,
+ * P.ay, P.pr (n*) and P.drho (the source term) are scratch.
+ */
+#include "sph_mps.h"
+
+#include "sph_mps_nbr.h"
+#include "sph_mps_ops.h"
+#include "sph_mps_ppe.h"
+#include "sph_sim_impl.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { SPH_MPS_SOURCE_DENSITY = 0, SPH_MPS_SOURCE_MIXED = 1 };
+
+/* A time step below this fraction of cfl sqrt(dx / g) is a blow-up. */
+#define MPS_DT_COLLAPSE 1e-3
+
+sph_mps_config sph_mps_config_default(void)
+{
+    sph_mps_config m;
+    memset(&m, 0, sizeof m);
+    m.re = 2.1; /* Koshizuka & Oka 1996 */
+    m.re_grad = 2.1;
+    m.beta = 0.97;
+    m.tol = 1e-8;
+    m.maxit = 5000;
+    m.precond = SPH_MPS_PC_IC0;
+    m.relax = 1.0;
+    m.collision = 0.0;
+    m.restitution = 0.2;
+    return m;
+}
+
+typedef struct mps_state {
+    sph_kernel wn;             /* weight of the number density and the Laplacian (radius re) */
+    sph_kernel wg;             /* weight of the gradient (radius re_grad) */
+    double n0;                 /* lattice number density of wn [-] */
+    double n0g;                /* lattice number density of wg [-] */
+    double lambda;             /* lattice lambda of wn, eq. (3.6) [m^2] */
+    double lap_coef;           /* 2d / (lambda n0) [1/m^2] */
+    double grad_coef;          /* d / n0g [-] */
+    double rc;                 /* neighbour-list radius max(re, re_grad) [m] */
+    int wall_layers;           /* boundary layers that carry a pressure [-] */
+    unsigned char *kind_by_id; /* SPH_MPS_WALL or _DUMMY of each boundary particle, by id */
+    unsigned char *kind;       /* SPH_MPS_* in the current order */
+    unsigned char *surface;    /* free-surface flags of the latest step */
+    double *vx0, *vy0;         /* collision model: velocities before it */
+    sph_mps_nbr L;             /* neighbour lists */
+    sph_mps_ppe ppe;           /* the Poisson system */
+    sph_mps_cg_stats cg;       /* the latest solve */
+    long nsurface;             /* free-surface particles of the latest step */
+} mps_state;
+
+static int mps_check(const sph_config *c, sph_error *err)
+{
+    const sph_mps_config *m = &c->mps;
+    if (!sph_kernel_is_mps(c->kernel.type))
+        return sph_error_set(err, SPH_ERR_INVALID, "/kernel/type",
+                             "'%s' is an SPH kernel; the MPS method needs an MPS weight function: "
+                             "koshizuka or sheu_quartic",
+                             sph_kernel_type_name(c->kernel.type));
+    if (!(m->re > 1.0) || !(m->re <= 6.0))
+        return sph_error_set(err, SPH_ERR_INVALID, "/kernel/re",
+                             "re (in units of dx) must exceed the particle spacing and be at most "
+                             "6: got %g (Koshizuka & Oka use 2.1)",
+                             m->re);
+    if (!(m->re_grad > 1.0) || !(m->re_grad <= 6.0))
+        return sph_error_set(err, SPH_ERR_INVALID, "/kernel/re_grad",
+                             "re_grad (in units of dx) must exceed the particle spacing and be at "
+                             "most 6: got %g (Koshizuka & Oka use 2.1)",
+                             m->re_grad);
+    if (!(m->beta > 0.0 && m->beta < 1.0))
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/beta",
+                             "beta must be in (0, 1): got %g (0.97 is usual)", m->beta);
+    if (!(m->tol > 0.0 && m->tol < 1.0))
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/tol", "tol must be in (0, 1): got %g",
+                             m->tol);
+    if (m->maxit < 1)
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/max_iterations",
+                             "max_iterations must be at least 1");
+    if (m->precond < SPH_MPS_PC_NONE || m->precond > SPH_MPS_PC_IC0)
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/preconditioner",
+                             "unknown preconditioner %d", m->precond);
+    if (m->source != SPH_MPS_SOURCE_DENSITY && m->source != SPH_MPS_SOURCE_MIXED)
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/source", "unknown source term %d",
+                             m->source);
+    if (!(m->relax > 0.0 && m->relax <= 1.0))
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/relaxation",
+                             "relaxation must be in (0, 1]: got %g", m->relax);
+    if (!(m->collision >= 0.0 && m->collision < 1.0) ||
+        !(m->restitution >= 0.0 && m->restitution <= 1.0))
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/collision",
+                             "the collision distance must be in [0, 1) dx and the restitution in "
+                             "[0, 1]");
+    if (!c->has_tank || c->boundary != SPH_BOUNDARY_DYNAMIC)
+        return sph_error_set(
+            err, SPH_ERR_INVALID, "/boundary",
+            "the MPS method needs walls: a tank of wall particles "
+            "(\"boundary\": {\"type\": \"dynamic\", \"layers\": 4, \"tank\": ...})");
+    const double rmax = m->re > m->re_grad ? m->re : m->re_grad;
+    const int need = 2 * (int)floor(rmax);
+    if (c->layers < need)
+        return sph_error_set(err, SPH_ERR_INVALID, "/boundary/layers",
+                             "with re = %g dx the MPS walls need %d layers (%d that carry a "
+                             "pressure, %d dummies that complete their number density): got %d",
+                             rmax, need, need / 2, need / 2, c->layers);
+    if (c->visc == SPH_VISC_LAMINAR && !(c->nu >= 0.0))
+        return sph_error_set(err, SPH_ERR_INVALID, "/physics/viscosity/nu",
+                             "nu must not be negative");
+    return 0;
+}
+
+/* List entries and Poisson matrix entries per particle: about the lattice points within re. */
+static size_t mps_bytes_per_particle(const sph_config *c)
+{
+    const double rmax = c->mps.re > c->mps.re_grad ? c->mps.re : c->mps.re_grad;
+    const double nl = M_PI * rmax * rmax, np = M_PI * c->mps.re * c->mps.re;
+    return sph_particles_bytes_per_particle(0) + 5 + 2 * sizeof(double) +
+           (size_t)(1.25 * (nl * sizeof(int) + sizeof(long)) +
+                    1.25 * (np * (sizeof(int) + 2 * sizeof(double)) + 2 * sizeof(long) +
+                            8 * sizeof(double) + 3 * sizeof(int) + 1));
+}
+
+/* Sorts the particles by cell (P.p follows them), sets the kinds, builds the lists. */
+static int sort_and_list(sph_sim *s, mps_state *m, sph_error *err)
+{
+    sph_particles *P = &s->P;
+    const long n = P->n;
+    s->nactive = sph_cells_sort(&s->cells, P);
+    const long *perm = s->cells.perm;
+    double *p = P->scratch;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++)
+        p[i] = P->p[perm[i]];
+    P->scratch = P->p;
+    P->p = p;
+    const long na = s->nactive;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++)
+        m->kind[i] = i >= na                      ? SPH_MPS_OFF
+                     : P->type[i] == SPH_FLUID    ? SPH_MPS_FLUID
+                     : P->type[i] == SPH_BOUNDARY ? m->kind_by_id[P->id[i]]
+                                                  : SPH_MPS_OFF;
+    if (sph_mps_nbr_build(&m->L, &s->cells, P->x, P->y, na, m->rc))
+        return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the neighbour lists");
+    return 0;
+}
+
+static void mps_destroy(sph_sim *s)
+{
+    mps_state *m = s->mstate;
+    if (!m)
+        return;
+    free(m->kind_by_id);
+    free(m->kind);
+    free(m->surface);
+    free(m->vx0);
+    free(m->vy0);
+    sph_mps_nbr_free(&m->L);
+    sph_mps_ppe_free(&m->ppe);
+    free(m);
+    s->mstate = NULL;
+}
+
+/* n* and what follows from it: density for views, free-surface flags. */
+static void number_density(sph_sim *s, mps_state *m)
+{
+    sph_particles *P = &s->P;
+    const long na = s->nactive;
+    double *nd = P->pr;
+    sph_mps_number_density(&m->L, P->x, P->y, &m->wn, nd);
+    const double beta_n0 = s->cfg.mps.beta * m->n0, rho_n0 = s->cfg.rho0 / m->n0;
+    long nsurf = 0;
+    for (long i = 0; i < na; i++) {
+        const int k = m->kind[i];
+        m->surface[i] = k <= SPH_MPS_WALL && nd[i] < beta_n0;
+        nsurf += m->surface[i];
+        P->rho[i] = k == SPH_MPS_FLUID ? rho_n0 * nd[i] : s->cfg.rho0;
+    }
+    m->nsurface = nsurf;
+}
+
+static int mps_init(sph_sim *s, sph_error *err)
+{
+    const sph_config *c = &s->cfg;
+    mps_state *m = calloc(1, sizeof *m);
+    if (!m)
+        return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory");
+    s->mstate = m;
+    const double dx = c->dx;
+    if (sph_mps_weight_init(&m->wn, c->kernel.type, c->mps.re * dx, err) ||
+        sph_mps_weight_init(&m->wg, c->kernel.type, c->mps.re_grad * dx, err))
+        return SPH_ERR_INVALID;
+    m->n0 = sph_mps_lattice_n0(&m->wn, dx, 2);
+    m->n0g = sph_mps_lattice_n0(&m->wg, dx, 2);
+    m->lambda = sph_mps_lattice_lambda(&m->wn, dx, 2);
+    m->lap_coef = 4.0 / (m->lambda * m->n0); /* 2d / (lambda n0), d = 2 */
+    m->grad_coef = 2.0 / m->n0g;             /* d / n0 */
+    m->rc = fmax(m->wn.support, m->wg.support);
+    m->wall_layers = (int)floor(fmax(c->mps.re, c->mps.re_grad));
+    const long n = s->P.n;
+    m->kind_by_id = calloc((size_t)n, 1);
+    m->kind = calloc((size_t)n, 1);
+    m->surface = calloc((size_t)n, 1);
+    if (c->mps.collision > 0.0) {
+        m->vx0 = calloc((size_t)n, sizeof(double));
+        m->vy0 = calloc((size_t)n, sizeof(double));
+    }
+    if (!m->kind_by_id || !m->kind || !m->surface ||
+        (c->mps.collision > 0.0 && (!m->vx0 || !m->vy0)))
+        return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for %ld particles", n);
+    /* walls or dummies by depth outside the tank's inner faces (particles are in creation
+     * order here: id = index) */
+    const sph_particles *P = &s->P;
+    const sph_box *t = &c->tank;
+    for (long i = 0; i < n; i++) {
+        const double depth =
+            fmax(fmax(t->min[0] - P->x[i], P->x[i] - t->max[0]), t->min[1] - P->y[i]);
+        m->kind_by_id[P->id[i]] = depth < m->wall_layers * dx ? SPH_MPS_WALL : SPH_MPS_DUMMY;
+        s->P.p[i] = 0.0;
+    }
+    if (sort_and_list(s, m, err))
+        return SPH_ERR_NOMEM;
+    number_density(s, m);
+    return 0;
+}
+
+static double mps_dt(const sph_sim *s)
+{
+    const sph_config *c = &s->cfg;
+    if (c->dt_fixed > 0.0)
+        return c->dt_fixed;
+    const double dx = c->dx;
+    const double g = hypot(c->gravity[0], c->gravity[1]);
+    double dt = s->vmax > 0.0 ? dx / s->vmax : INFINITY;
+    if (g > 0.0)
+        dt = fmin(dt, sqrt(dx / g));
+    if (!isfinite(dt))
+        dt = dx; /* no gravity, at rest: 1 m/s */
+    dt *= c->cfl;
+    if (c->visc == SPH_VISC_LAMINAR && c->nu > 0.0)
+        dt = fmin(dt, 0.125 * dx * dx / c->nu);
+    return dt;
+}
+
+/* Koshizuka's collision model: fluid particle i closer than dcol to a particle j (fluid or wall)
+ * and approaching it loses (1 + e)/2 of the normal relative velocity (j's mass equal to i's;
+ * walls as fixed particles of the same mass, as in Koshizuka's codes). Reads the velocities
+ * before the model, writes only i's: parallel and order-independent. */
+static void collide(sph_sim *s, mps_state *m, double dt)
+{
+    sph_particles *P = &s->P;
+    const long na = s->nactive;
+    const double dcol = s->cfg.mps.collision * s->cfg.dx, d2 = dcol * dcol;
+    const double f = 0.5 * (1.0 + s->cfg.mps.restitution);
+    memcpy(m->vx0, P->vx, (size_t)na * sizeof(double));
+    memcpy(m->vy0, P->vy, (size_t)na * sizeof(double));
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (na >= SPH_OMP_MIN)
+    for (long i = 0; i < na; i++) {
+        if (m->kind[i] != SPH_MPS_FLUID)
+            continue;
+        double vx = m->vx0[i], vy = m->vy0[i];
+        for (long e = m->L.ptr[i]; e < m->L.ptr[i + 1]; e++) {
+            const long j = m->L.j[e];
+            if (m->kind[j] > SPH_MPS_WALL)
+                continue;
+            const double rx = P->x[j] - P->x[i], ry = P->y[j] - P->y[i];
+            const double r2 = rx * rx + ry * ry;
+            if (r2 >= d2 || r2 == 0.0)
+                continue;
+            const double r = sqrt(r2);
+            const double vn = ((m->vx0[i] - m->vx0[j]) * rx + (m->vy0[i] - m->vy0[j]) * ry) / r;
+            if (vn > 0.0) { /* approaching */
+                vx -= f * vn * rx / r;
+                vy -= f * vn * ry / r;
+            }
+        }
+        P->x[i] += dt * (vx - m->vx0[i]);
+        P->y[i] += dt * (vy - m->vy0[i]);
+        P->vx[i] = vx;
+        P->vy[i] = vy;
+    }
+}
+
+static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
+{
+    mps_state *m = s->mstate;
+    const sph_config *c = &s->cfg;
+    sph_particles *P = &s->P;
+    const long step = s->step + 1;
+    const double dt_free = mps_dt(s);
+    const double g = hypot(c->gravity[0], c->gravity[1]);
+    const double dt_min = MPS_DT_COLLAPSE * c->cfl * sqrt(c->dx / (g > 0.0 ? g : 1.0));
+    if (!(dt_free >= dt_min) && !(c->dt_fixed > 0.0))
+        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                             "time step collapsed to %g s at step %ld (t = %g s, max speed %g m/s)",
+                             dt_free, step, s->t, s->vmax);
+    const double dt = dt_cap < dt_free ? dt_cap : dt_free;
+    s->dt = dt;
+    double t0 = omp_get_wtime();
+
+    /* 1. predictor: viscosity at r^n, gravity */
+    const int visc = c->visc == SPH_VISC_LAMINAR && c->nu > 0.0;
+    if (visc) {
+        if (sort_and_list(s, m, err))
+            return SPH_ERR_NOMEM;
+        const double t1 = omp_get_wtime();
+        s->timing.neighbours += t1 - t0;
+        t0 = t1;
+        sph_mps_laplacian(&m->L, P->x, P->y, m->kind, SPH_MPS_DUMMY, &m->wn, m->lap_coef, P->vx,
+                          P->ax);
+        sph_mps_laplacian(&m->L, P->x, P->y, m->kind, SPH_MPS_DUMMY, &m->wn, m->lap_coef, P->vy,
+                          P->ay);
+    }
+    const double nu = visc ? c->nu : 0.0, gx = c->gravity[0], gy = c->gravity[1];
+    const double xlo = c->domain.min[0], xhi = c->domain.max[0];
+    const double ylo = c->domain.min[1], yhi = c->domain.max[1];
+    const long np = P->n; /* fluid only: lost particles are typed so (and sorted last) */
+    long bad = 0;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(+ : bad) if (np >= SPH_OMP_MIN)
+    for (long i = 0; i < np; i++) {
+        if (P->type[i] != SPH_FLUID)
+            continue;
+        const double vx = P->vx[i] + dt * (gx + (visc ? nu * P->ax[i] : 0.0));
+        const double vy = P->vy[i] + dt * (gy + (visc ? nu * P->ay[i] : 0.0));
+        const double x = P->x[i] + dt * vx, y = P->y[i] + dt * vy;
+        bad += !isfinite(x) || !isfinite(y);
+        if (x >= xlo && x <= xhi && y >= ylo && y <= yhi) {
+            P->x[i] = x;
+            P->y[i] = y;
+            P->vx[i] = vx;
+            P->vy[i] = vy;
+        } else {
+            P->type[i] = SPH_LOST; /* frozen where it left */
+            P->vx[i] = P->vy[i] = 0.0;
+        }
+    }
+    s->timing.integration += omp_get_wtime() - t0;
+    if (bad)
+        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                             "blow-up at step %ld (t = %g s, dt = %g s): non-finite position of "
+                             "%ld particles",
+                             step, s->t, dt, bad);
+
+    /* 2. number density at r*, free surface */
+    t0 = omp_get_wtime();
+    if (sort_and_list(s, m, err))
+        return SPH_ERR_NOMEM;
+    double t1 = omp_get_wtime();
+    s->timing.neighbours += t1 - t0;
+    number_density(s, m);
+    const long na = s->nactive;
+    double *rhs = P->drho;
+    const double src = c->mps.relax * c->rho0 / (dt * dt * m->n0);
+    if (c->mps.source == SPH_MPS_SOURCE_MIXED) {
+        /* Tanaka & Masunaga 2010: lap p = (rho / dt) div u* - relax (rho / dt^2) (n* - n0) / n0 */
+        double *div = P->ax;
+        sph_mps_divergence(&m->L, P->x, P->y, m->kind, &m->wg, m->grad_coef, P->vx, P->vy, div);
+        const double sd = c->rho0 / dt;
+        for (long i = 0; i < na; i++)
+            rhs[i] = src * (P->pr[i] - m->n0) - sd * div[i];
+    } else {
+        for (long i = 0; i < na; i++)
+            rhs[i] = src * (P->pr[i] - m->n0);
+    }
+    s->timing.active = na;
+    s->timing.pairs = m->L.entries / 2;
+
+    /* 3. the pressure Poisson equation */
+    double t2 = omp_get_wtime();
+    s->timing.interactions += t2 - t1;
+    if (sph_mps_ppe_assemble(&m->ppe, &m->L, P->x, P->y, m->kind, m->surface, &m->wn, m->lap_coef))
+        return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the pressure equation");
+    const int rc = sph_mps_ppe_solve(&m->ppe, rhs, P->p, (sph_mps_precond)c->mps.precond,
+                                     c->mps.tol, c->mps.maxit, &m->cg);
+    double t3 = omp_get_wtime();
+    s->timing.solve += t3 - t2;
+    if (rc < 0)
+        return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the pressure solve");
+    if (rc > 0)
+        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                             "the pressure solve did not converge at step %ld (t = %g s, dt = %g "
+                             "s): residual %.3g after %ld CG iterations (tolerance %g; "
+                             "mps.max_iterations caps them)",
+                             step, s->t, dt, m->cg.residual, m->cg.iterations, c->mps.tol);
+    for (long i = 0; i < na; i++)
+        if (P->p[i] < 0.0)
+            P->p[i] = 0.0;
+
+    /* 4. correction */
+    sph_mps_gradient(&m->L, P->x, P->y, m->kind, &m->wg, m->grad_coef, 1, c->mps.corrected, P->p,
+                     P->ax, P->ay);
+    const double k = -dt / c->rho0;
+    double vmax2 = 0.0;
+    bad = 0;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (na >= SPH_OMP_MIN)
+    for (long i = 0; i < na; i++) {
+        if (m->kind[i] != SPH_MPS_FLUID)
+            continue;
+        const double ux = k * P->ax[i], uy = k * P->ay[i];
+        P->vx[i] += ux;
+        P->vy[i] += uy;
+        P->x[i] += dt * ux;
+        P->y[i] += dt * uy;
+    }
+    if (c->mps.collision > 0.0)
+        collide(s, m, dt);
+    for (long i = 0; i < na; i++) {
+        if (m->kind[i] != SPH_MPS_FLUID)
+            continue;
+        const double v2 = P->vx[i] * P->vx[i] + P->vy[i] * P->vy[i];
+        bad += !isfinite(v2) || !isfinite(P->x[i]) || !isfinite(P->y[i]);
+        vmax2 = v2 > vmax2 ? v2 : vmax2;
+    }
+    s->vmax = sqrt(vmax2);
+    s->t += dt;
+    s->step = step;
+    s->timing.interactions += omp_get_wtime() - t3;
+    if (bad)
+        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                             "blow-up at step %ld (t = %g s, dt = %g s): non-finite velocity or "
+                             "position of %ld particles",
+                             step, s->t, dt, bad);
+    const long lost = P->n - na;
+    if (lost > s->max_lost)
+        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                             "blow-up at step %ld (t = %g s): %ld fluid particles left the domain "
+                             "(more than %ld allowed)",
+                             step, s->t, lost, s->max_lost);
+    return 0;
+}
+
+/* P.p is the solved pressure, kept up to date by the steps. */
+static void mps_pressure(const sph_sim *s)
+{
+    (void)s;
+}
+
+static void mps_diag(sph_sim *s)
+{
+    const mps_state *m = s->mstate;
+    s->diag.cg_iterations = m->cg.iterations;
+    s->diag.cg_residual = m->cg.residual;
+    s->diag.free_surface = m->nsurface;
+}
+
+/* What lives from one step to the next: positions, velocities, the pressure (the warm start of
+ * the next solve) and the density of the views. */
+static int mps_arrays(const sph_sim *s, double **d, int maxd)
+{
+    const sph_particles *P = &s->P;
+    double *all[] = {P->x, P->y, P->vx, P->vy, P->p, P->rho};
+    int n = 0;
+    for (size_t i = 0; i < sizeof all / sizeof all[0] && n < maxd; i++)
+        d[n++] = all[i];
+    return n;
+}
+
+const sph_method_ops sph_mps_ops = {
+    .name = "mps",
+    .check = mps_check,
+    .bytes_per_particle = mps_bytes_per_particle,
+    .init = mps_init,
+    .dt = mps_dt,
+    .step = mps_step,
+    .pressure = mps_pressure,
+    .diag = mps_diag,
+    .arrays = mps_arrays,
+    .destroy = mps_destroy,
+};

@@ -1,0 +1,253 @@
+#include "sph_mps_ops.h"
+
+#include "sph_particles.h"
+
+#include <math.h>
+
+int sph_mps_weight_init(sph_kernel *k, sph_kernel_type type, double re, sph_error *err)
+{
+    const sph_kernel_spec spec = sph_kernel_spec_default(type);
+    if (!sph_kernel_is_mps(type))
+        return sph_error_set(err, SPH_ERR_INVALID, "/type",
+                             "'%s' is an SPH kernel, not an MPS weight function: use koshizuka or "
+                             "sheu_quartic",
+                             sph_kernel_type_name(type) ? sph_kernel_type_name(type) : "?");
+    return sph_kernel_init(k, &spec, 2, 0.5 * re, err);
+}
+
+/* w(r) with the singular origin guarded (see SPH_MPS_RMIN). */
+static inline __attribute__((always_inline)) double weight(sph_kernel_type T, const sph_kernel *k,
+                                                           double r)
+{
+    const double rmin = SPH_MPS_RMIN * k->support;
+    double d;
+    return sph_kernel_eval_t(T, k, r > rmin ? r : rmin, &d);
+}
+
+/* sum of r^p w(r) over the lattice points other than the origin, p = 0 or 2. */
+static double lattice_sum(const sph_kernel *k, double dx, int dim, int p)
+{
+    const int m = (int)ceil(k->support / dx) + 1;
+    const int my = dim > 1 ? m : 0, mz = dim > 2 ? m : 0;
+    double s = 0.0;
+    for (int a = -m; a <= m; a++)
+        for (int b = -my; b <= my; b++)
+            for (int c = -mz; c <= mz; c++) {
+                if (a == 0 && b == 0 && c == 0)
+                    continue;
+                const double r2 = dx * dx * (double)(a * a + b * b + c * c);
+                const double r = sqrt(r2);
+                if (r >= k->support)
+                    continue;
+                s += (p ? r2 : 1.0) * sph_kernel_w(k, r);
+            }
+    return s;
+}
+
+double sph_mps_lattice_n0(const sph_kernel *k, double dx, int dim)
+{
+    return lattice_sum(k, dx, dim, 0);
+}
+
+double sph_mps_lattice_lambda(const sph_kernel *k, double dx, int dim)
+{
+    return lattice_sum(k, dx, dim, 2) / lattice_sum(k, dx, dim, 0);
+}
+
+double sph_mps_lambda_integral(const sph_kernel *k, int dim)
+{
+    if (k->type == SPH_KERNEL_KOSHIZUKA && dim == 1)
+        return NAN; /* int (re/r - 1) dr diverges at 0 */
+    /* lambda = int_0^re r^(d+1) w dr / int_0^re r^(d-1) w dr (the sphere's area cancels), by
+     * 3-point Gauss-Legendre on 4000 panels: exact for the quartic's polynomial pieces up to
+     * round-off, and it never evaluates the Koshizuka weight at r = 0. */
+    static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
+    static const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+    const int panels = 4000;
+    const double hpan = k->support / panels;
+    double num = 0.0, den = 0.0;
+    for (int p = 0; p < panels; p++)
+        for (int q = 0; q < 3; q++) {
+            const double r = hpan * (p + 0.5 + 0.5 * gx[q]);
+            const double f = gw[q] * pow(r, dim - 1) * sph_kernel_w(k, r);
+            den += f;
+            num += f * r * r;
+        }
+    return num / den;
+}
+
+/* ---- number density ---------------------------------------------------------------------- */
+
+static inline __attribute__((always_inline)) void
+nd_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
+           const double *restrict y, const sph_kernel *k, double *restrict n)
+{
+    const long np = L->n;
+    const double re2 = k->support * k->support;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (np >= SPH_OMP_MIN)
+    for (long i = 0; i < np; i++) {
+        double s = 0.0;
+        for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
+            const long j = L->j[e];
+            const double dx = x[j] - x[i], dy = y[j] - y[i];
+            const double r2 = dx * dx + dy * dy;
+            if (r2 < re2)
+                s += weight(T, k, sqrt(r2));
+        }
+        n[i] = s;
+    }
+}
+
+void sph_mps_number_density(const sph_mps_nbr *L, const double *x, const double *y,
+                            const sph_kernel *k, double *n)
+{
+#define ND(T) nd_generic(T, L, x, y, k, n)
+    SPH_KERNEL_DISPATCH(k->type, ND);
+#undef ND
+}
+
+/* ---- Laplacian (3.5) ----------------------------------------------------------------------- */
+
+static inline __attribute__((always_inline)) void
+lap_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
+            const double *restrict y, const unsigned char *restrict kind, int max_kind,
+            const sph_kernel *k, double coef, const double *restrict phi, double *restrict out)
+{
+    const long np = L->n;
+    const double re2 = k->support * k->support;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (np >= SPH_OMP_MIN)
+    for (long i = 0; i < np; i++) {
+        if (kind[i] != SPH_MPS_FLUID) {
+            out[i] = 0.0;
+            continue;
+        }
+        const double phii = phi[i];
+        double s = 0.0;
+        for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
+            const long j = L->j[e];
+            if (kind[j] > max_kind)
+                continue;
+            const double dx = x[j] - x[i], dy = y[j] - y[i];
+            const double r2 = dx * dx + dy * dy;
+            if (r2 < re2)
+                s += (phi[j] - phii) * weight(T, k, sqrt(r2));
+        }
+        out[i] = coef * s;
+    }
+}
+
+void sph_mps_laplacian(const sph_mps_nbr *L, const double *x, const double *y,
+                       const unsigned char *kind, int max_kind, const sph_kernel *k, double coef,
+                       const double *phi, double *out)
+{
+#define LAP(T) lap_generic(T, L, x, y, kind, max_kind, k, coef, phi, out)
+    SPH_KERNEL_DISPATCH(k->type, LAP);
+#undef LAP
+}
+
+/* ---- gradient (3.4) ------------------------------------------------------------------------ */
+
+static inline __attribute__((always_inline)) void
+grad_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
+             const double *restrict y, const unsigned char *restrict kind, const sph_kernel *k,
+             double coef, int local_min, int corrected, const double *restrict phi,
+             double *restrict gx, double *restrict gy)
+{
+    const long np = L->n;
+    const double re2 = k->support * k->support;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (np >= SPH_OMP_MIN)
+    for (long i = 0; i < np; i++) {
+        if (kind[i] != SPH_MPS_FLUID) {
+            gx[i] = gy[i] = 0.0;
+            continue;
+        }
+        const double xi = x[i], yi = y[i];
+        double pmin = phi[i];
+        if (local_min)
+            for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
+                const long j = L->j[e];
+                const double dx = x[j] - xi, dy = y[j] - yi;
+                if (kind[j] <= SPH_MPS_WALL && dx * dx + dy * dy < re2 && phi[j] < pmin)
+                    pmin = phi[j];
+            }
+        double sx = 0.0, sy = 0.0, mxx = 0.0, mxy = 0.0, myy = 0.0;
+        for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
+            const long j = L->j[e];
+            if (kind[j] > SPH_MPS_WALL)
+                continue;
+            const double dx = x[j] - xi, dy = y[j] - yi;
+            const double r2 = dx * dx + dy * dy;
+            if (r2 >= re2)
+                continue;
+            const double rmin = SPH_MPS_RMIN * k->support;
+            const double wr = weight(T, k, sqrt(r2)) / (r2 > rmin * rmin ? r2 : rmin * rmin);
+            const double f = (phi[j] - pmin) * wr;
+            sx += f * dx;
+            sy += f * dy;
+            if (corrected) {
+                mxx += wr * dx * dx;
+                mxy += wr * dx * dy;
+                myy += wr * dy * dy;
+            }
+        }
+        if (corrected) {
+            /* sum w r r^T / r^2 = (n0 / d) I on a full lattice; its inverse replaces d / n0 */
+            const double det = mxx * myy - mxy * mxy, ref = 1.0 / (coef * coef);
+            if (det > 1e-2 * ref) {
+                gx[i] = (myy * sx - mxy * sy) / det;
+                gy[i] = (mxx * sy - mxy * sx) / det;
+                continue;
+            }
+        }
+        gx[i] = coef * sx;
+        gy[i] = coef * sy;
+    }
+}
+
+static inline __attribute__((always_inline)) void
+div_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
+            const double *restrict y, const unsigned char *restrict kind, const sph_kernel *k,
+            double coef, const double *restrict ux, const double *restrict uy, double *restrict div)
+{
+    const long np = L->n;
+    const double re2 = k->support * k->support;
+    const double rmin = SPH_MPS_RMIN * k->support, rmin2 = rmin * rmin;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (np >= SPH_OMP_MIN)
+    for (long i = 0; i < np; i++) {
+        if (kind[i] > SPH_MPS_WALL) {
+            div[i] = 0.0;
+            continue;
+        }
+        double s = 0.0;
+        for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
+            const long j = L->j[e];
+            if (kind[j] > SPH_MPS_DUMMY)
+                continue;
+            const double dx = x[j] - x[i], dy = y[j] - y[i];
+            const double r2 = dx * dx + dy * dy;
+            if (r2 >= re2)
+                continue;
+            const double du = (ux[j] - ux[i]) * dx + (uy[j] - uy[i]) * dy;
+            s += du * weight(T, k, sqrt(r2)) / (r2 > rmin2 ? r2 : rmin2);
+        }
+        div[i] = coef * s;
+    }
+}
+
+void sph_mps_divergence(const sph_mps_nbr *L, const double *x, const double *y,
+                        const unsigned char *kind, const sph_kernel *k, double coef,
+                        const double *ux, const double *uy, double *div)
+{
+#define DIV(T) div_generic(T, L, x, y, kind, k, coef, ux, uy, div)
+    SPH_KERNEL_DISPATCH(k->type, DIV);
+#undef DIV
+}
+
+void sph_mps_gradient(const sph_mps_nbr *L, const double *x, const double *y,
+                      const unsigned char *kind, const sph_kernel *k, double coef, int local_min,
+                      int corrected, const double *phi, double *gx, double *gy)
+{
+#define GRAD(T) grad_generic(T, L, x, y, kind, k, coef, local_min, corrected, phi, gx, gy)
+    SPH_KERNEL_DISPATCH(k->type, GRAD);
+#undef GRAD
+}

@@ -1,0 +1,82 @@
+/*
+ * sph_mps_ops: the particle interaction models of the MPS method (Koshizuka & Oka 1996; equation
+ * numbers are Sheu, Chiao & Huang 2011, section 3), 2D, over neighbour lists (sph_mps_nbr.h):
+ *
+ *   number density   n_i = sum_{j != i} w(|r_j - r_i|)
+ *   gradient  (3.4)  <grad phi>_i = d/n0 sum_{j != i} (phi_j - phi^_i) (r_j - r_i) / |r_j - r_i|^2
+ *                    w(|r_j - r_i|), with phi^_i the smallest phi among i and its neighbours
+ *                    (Koshizuka & Oka's local minimum: the pairwise forces are then repulsive
+ *                    only, which keeps the particles from clustering). The extraction of (3.4)
+ *                    prints one |r_j - r_i| in the denominator; (3.3) and Koshizuka & Oka have
+ *                    its square, which is what reproduces a linear field (tested).
+ *   Laplacian (3.5)  <lap phi>_i = 2d/(lambda n0) sum_{j != i} (phi_j - phi_i) w(|r_j - r_i|),
+ *             (3.6)  lambda = int r^2 w dV / int w dV.
+ *
+ * Weights are the MPS kernels of sph_kernel.h, initialised with h = re / 2 (the library's
+ * convention: support 2h = re): koshizuka w = re/r - 1, sheu_quartic (4.8). Their constant factors
+ * (1 and 1/re) cancel in every operator, which divides by n0 of the same weight.
+ *
+ * n0 and lambda are lattice sums over the initial square lattice of spacing dx (what MPS codes
+ * use: with them a quadratic field's Laplacian is exact on the lattice, tested); the continuous
+ * lambda of (3.6) is available for comparison.
+ *
+ * Particle kinds: fluid and wall particles carry a pressure; dummy particles (the outer wall
+ * layers) only fill the number density of the particles near the wall; off particles (lost)
+ * take part in nothing. Every loop is parallel over particles, each writing only its own
+ * entries in a fixed order: results do not depend on the number of threads. Kernel types are
+ * compile-time constants inside the loops (SPH_KERNEL_DISPATCH), no call through a pointer.
+ */
+#ifndef SPH_MPS_OPS_H
+#define SPH_MPS_OPS_H
+
+#include "sph_kernel.h"
+#include "sph_mps_nbr.h"
+
+enum { SPH_MPS_FLUID = 0, SPH_MPS_WALL = 1, SPH_MPS_DUMMY = 2, SPH_MPS_OFF = 3 };
+
+/* Distances below this fraction of re count as this fraction of re (the Koshizuka weight is
+ * singular at r = 0; two particles that close have blown up anyway). */
+#define SPH_MPS_RMIN 1e-3
+
+/* Initialises an MPS weight of effective radius re (h = re / 2). Returns 0 or an SPH_ERR_*. */
+int sph_mps_weight_init(sph_kernel *k, sph_kernel_type type, double re, sph_error *err);
+
+/* sum over the points of the square lattice of spacing dx (dim 1..3) other than the origin of
+ * w(r) (n0), and the ratio of sum r^2 w to sum w (lambda [m^2]). */
+double sph_mps_lattice_n0(const sph_kernel *k, double dx, int dim);
+double sph_mps_lattice_lambda(const sph_kernel *k, double dx, int dim);
+/* lambda of eq. (3.6) by quadrature over the ball r < re in dim dimensions [m^2]; NAN where the
+ * integral diverges (the Koshizuka weight in 1D). */
+double sph_mps_lambda_integral(const sph_kernel *k, int dim);
+
+/* n[i] for i < L->n: every neighbour counts, dummy included (off particles have no list and are
+ * in nobody's, being sorted past L->n). Neighbours beyond the weight's re are skipped. */
+void sph_mps_number_density(const sph_mps_nbr *L, const double *x, const double *y,
+                            const sph_kernel *k, double *n);
+
+/* out[i] = coef sum_j (phi_j - phi_i) w_ij over the neighbours j whose kind is not above
+ * max_kind (SPH_MPS_WALL: fluid and walls; SPH_MPS_DUMMY: dummies too), coef = 2d/(lambda n0);
+ * for the particles of kind fluid (others get 0). */
+void sph_mps_laplacian(const sph_mps_nbr *L, const double *x, const double *y,
+                       const unsigned char *kind, int max_kind, const sph_kernel *k, double coef,
+                       const double *phi, double *out);
+
+/* (gx[i], gy[i]) = coef sum_j (phi_j - phi^_i) (r_j - r_i) / r_ij^2 w_ij over fluid and wall
+ * neighbours, coef = d/n0; phi^_i = min(phi_i, phi_j over those neighbours within re) when
+ * local_min, else phi_i. For fluid particles (others get 0). corrected: d/n0 is replaced by the
+ * inverse of sum_j w_ij (r_j - r_i)(r_j - r_i)^T / r_ij^2 (the corrective matrix of Khayyer &
+ * Gotoh 2011; equal to d/n0 times the identity on a full lattice), which makes the model exact
+ * for a linear field with any neighbourhood, the one-sided one of a free-surface particle
+ * included; where that matrix is near-singular (fewer than two independent directions), d/n0. */
+void sph_mps_gradient(const sph_mps_nbr *L, const double *x, const double *y,
+                      const unsigned char *kind, const sph_kernel *k, double coef, int local_min,
+                      int corrected, const double *phi, double *gx, double *gy);
+
+/* div[i] = coef sum_j (u_j - u_i) . (r_j - r_i) / r_ij^2 w_ij (the divergence counterpart of
+ * (3.4), coef = d/n0) over every neighbour except off ones (walls and dummies at rest count),
+ * for fluid and wall particles (others get 0). */
+void sph_mps_divergence(const sph_mps_nbr *L, const double *x, const double *y,
+                        const unsigned char *kind, const sph_kernel *k, double coef,
+                        const double *ux, const double *uy, double *div);
+
+#endif

@@ -1,0 +1,96 @@
+/*
+ * sph_mps_ppe: the pressure Poisson equation of MPS and its linear solve.
+ *
+ * The equation (Koshizuka & Oka 1996): lap p_i = -(rho / dt^2) (n*_i - n0) / n0, with the
+ * Laplacian model (3.5). Written as A p = b with
+ *
+ *     A_ii = c sum_j w_ij,   A_ij = -c w_ij (j an unknown),   c = 2d / (lambda n0),
+ *
+ * the sums over the fluid and wall neighbours j of i within re (dummy particles carry no
+ * pressure). The unknowns are the fluid and wall particles that are not on the free surface;
+ * free-surface particles (the caller's `surface` flags, n* < beta n0) are Dirichlet nodes with
+ * p = 0: they drop out of the system but stay in the diagonal sums. Unknowns with no path
+ * through the neighbour graph to any free-surface particle (a closed cluster) would make A
+ * singular: they are found by a breadth-first search from the unknowns next to the surface,
+ * get p = 0 and are counted in `isolated`.
+ *
+ * Symmetric: w_ij and w_ji are computed from the same r^2 = dx^2 + dy^2, whose terms only change
+ * sign between the two orders, so A_ij and A_ji are bitwise equal (tested). Positive definite:
+ * A is a weakly diagonally dominant M-matrix, strictly dominant in the rows next to a Dirichlet
+ * node, and every unknown is connected to one of those rows (the search above), so A is
+ * irreducibly diagonally dominant, hence nonsingular, and being symmetric with a positive
+ * diagonal, positive definite.
+ *
+ * The system is assembled as a sparse matrix in compressed rows (off-diagonals in ascending
+ * column order, the diagonal apart) and solved by preconditioned conjugate gradients: none,
+ * Jacobi (the diagonal) or IC(0) (incomplete Cholesky on A's own pattern; it exists for M-matrices,
+ * Meijerink & van der Vorst 1977). Warm start from the caller's p. Converged when
+ * ||b - A p||_2 <= tol ||b||_2. Parallel with OpenMP (matrix-vector product and vector updates
+ * by rows; dot products as partial sums over fixed blocks of 2048 entries added in block order,
+ * so the result is bitwise the same with any number of threads); the IC(0) factorisation and its
+ * triangular solves are serial.
+ */
+#ifndef SPH_MPS_PPE_H
+#define SPH_MPS_PPE_H
+
+#include "sph_mps_nbr.h"
+#include "sph_kernel.h"
+
+typedef enum { SPH_MPS_PC_NONE = 0, SPH_MPS_PC_JACOBI, SPH_MPS_PC_IC0 } sph_mps_precond;
+
+typedef struct sph_mps_cg_stats {
+    long iterations; /* CG iterations of the latest solve [-] */
+    double residual; /* ||b - A p|| / ||b|| at its end [-] */
+    int converged;   /* 1 if residual <= tol */
+} sph_mps_cg_stats;
+
+typedef struct sph_mps_ppe {
+    long np;             /* particles of the latest assembly [-] */
+    long n;              /* unknowns [-] */
+    long nnz;            /* off-diagonal entries [-] */
+    long *ptr;           /* n + 1 row offsets into col, val */
+    long *lend;          /* n: end of the entries of row u with col < u */
+    int *col;            /* off-diagonal columns (unknown indices), ascending per row */
+    double *val;         /* off-diagonal values [1/m^2] */
+    double *diag;        /* diagonal [1/m^2] */
+    int *row;            /* per particle: its unknown, or -1 */
+    int *part;           /* per unknown: its particle */
+    long surface;        /* Dirichlet (free-surface) particles of the latest assembly [-] */
+    long isolated;       /* pressure particles cut off from every free surface: p = 0 [-] */
+    int factored;        /* 1 when lval, ldiag hold the IC(0) factor of the current matrix */
+    double *lval;        /* IC(0): strictly lower factor entries, parallel to val */
+    double *ldiag;       /* IC(0): factor diagonal */
+    double *w[6];        /* CG vectors: b, x, r, z, d, q */
+    double *partial;     /* dot-product block sums */
+    unsigned char *flag; /* per particle scratch of the search */
+    int *queue;          /* per particle scratch of the search */
+    long cap_part, cap_n, cap_nnz; /* allocated sizes */
+} sph_mps_ppe;
+
+/* Assembles A for particles [0, L->n) from their neighbour lists: kind per particle
+ * (SPH_MPS_* of sph_mps_ops.h), surface[i] != 0 for Dirichlet particles, weight k with radius
+ * re, c = 2d/(lambda n0). Returns 0 or -1 when out of memory. */
+int sph_mps_ppe_assemble(sph_mps_ppe *S, const sph_mps_nbr *L, const double *x, const double *y,
+                         const unsigned char *kind, const unsigned char *surface,
+                         const sph_kernel *k, double c);
+
+/* Solves A p = b for the latest assembly; rhs and p are per particle. p holds the starting
+ * guess on entry (its unknowns' entries; warm start), the solution on return, and 0 for every
+ * particle that is not an unknown. Returns 0 when converged, 1 when maxit iterations did not
+ * reach tol (p then holds the last iterate), -1 when out of memory. */
+int sph_mps_ppe_solve(sph_mps_ppe *S, const double *rhs, double *p, sph_mps_precond pc, double tol,
+                      long maxit, sph_mps_cg_stats *st);
+
+/* y = A x over the unknowns (for tests). */
+void sph_mps_ppe_matvec(const sph_mps_ppe *S, const double *x, double *y);
+
+void sph_mps_ppe_free(sph_mps_ppe *S);
+
+/* Bytes held. */
+double sph_mps_ppe_bytes(const sph_mps_ppe *S);
+
+/* Case-file name of a preconditioner ("none", "jacobi", "ic0") and back (-1 if unknown). */
+const char *sph_mps_precond_name(sph_mps_precond pc);
+int sph_mps_precond_from_name(const char *name);
+
+#endif

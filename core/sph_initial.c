@@ -1,0 +1,215 @@
+/*
+ * The table of initial fields (see sph_initial.h).
+ *
+ * Standing wave (Macia et al., paper 001, section IV-B): a tank of length L holding water of
+ * depth H, the wave number k = 2 pi / lambda with lambda = 2 L / n so that the side walls are
+ * antinodes, omega^2 = g k tanh(k H). With the bottom at y = yb and the left wall at x = xl
+ * (the paper's y + H and x),
+ *     phi0 = -eps H g / (2 omega) cosh(k (y - yb)) / cosh(k H) cos(k (x - xl))       eq. (7)
+ *     u = grad phi0 at t = 0, when the free surface is flat and the pressure hydrostatic.
+ * Theory: period 2 pi / omega, kinetic-energy envelope decaying as exp(-4 nu k^2 t), and
+ * E_kin(0) = rho0 eps^2 g lambda H^2 / 16 (eq. (8) at t = 0, per unit density in the paper).
+ */
+#include "sph_initial.h"
+
+#include "sph_config.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+typedef struct field {
+    const char *name;
+    int nparams;
+    sph_initial_param params[SPH_INITIAL_MAX_PARAMS];
+    int (*check)(const sph_config *c, sph_error *err);
+    void (*velocity)(const sph_config *c, const double *x, double *v);
+    int (*theory)(const sph_config *c, sph_initial_theory *t);
+} field;
+
+/* ---- rest ---- */
+
+static int rest_check(const sph_config *c, sph_error *err)
+{
+    (void)c;
+    (void)err;
+    return 0;
+}
+
+static void rest_velocity(const sph_config *c, const double *x, double *v)
+{
+    (void)x;
+    for (int d = 0; d < c->dim; d++)
+        v[d] = 0.0;
+}
+
+/* ---- standing wave ---- */
+
+enum { SW_EPSILON = 0, SW_WAVELENGTH };
+
+typedef struct wave {
+    double eps, H, k, omega, g, xl, yb, lambda;
+} wave;
+
+static wave sw_of(const sph_config *c)
+{
+    wave w;
+    w.eps = c->initial.param[SW_EPSILON];
+    w.xl = c->tank.min[0];
+    w.yb = c->tank.min[1];
+    w.H = c->fluid[0].max[1] - w.yb;
+    const double L = c->tank.max[0] - c->tank.min[0];
+    w.lambda = c->initial.param[SW_WAVELENGTH] > 0.0 ? c->initial.param[SW_WAVELENGTH] : L;
+    w.k = 2.0 * M_PI / w.lambda;
+    w.g = -c->gravity[1];
+    w.omega = sqrt(w.g * w.k * tanh(w.k * w.H));
+    return w;
+}
+
+static int sw_check(const sph_config *c, sph_error *err)
+{
+    if (c->dim != 2)
+        return sph_error_set(err, SPH_ERR_INVALID, "/initial/type",
+                             "the standing wave is a 2D field (dim = 2)");
+    if (!c->has_tank)
+        return sph_error_set(err, SPH_ERR_INVALID, "/initial/type",
+                             "the standing wave needs a tank: its side walls are the wave's "
+                             "antinodes (boundary.tank)");
+    if (!(c->gravity[1] < 0.0) || c->gravity[0] != 0.0)
+        return sph_error_set(err, SPH_ERR_INVALID, "/physics/gravity",
+                             "the standing wave needs gravity along -y");
+    const double tol = 0.5 * c->dx;
+    const sph_box *f = &c->fluid[0], *t = &c->tank;
+    if (c->nfluid != 1 || fabs(f->min[0] - t->min[0]) > tol || fabs(f->max[0] - t->max[0]) > tol ||
+        fabs(f->min[1] - t->min[1]) > tol)
+        return sph_error_set(err, SPH_ERR_INVALID, "/fluid",
+                             "the standing wave needs one fluid box filling the tank from wall to "
+                             "wall and from its bottom up to the still depth");
+    const double L = t->max[0] - t->min[0];
+    const double lambda =
+        c->initial.param[SW_WAVELENGTH] > 0.0 ? c->initial.param[SW_WAVELENGTH] : L;
+    const double halves = 2.0 * L / lambda;
+    if (fabs(halves - nearbyint(halves)) > 1e-6 * halves || nearbyint(halves) < 1.0)
+        return sph_error_set(err, SPH_ERR_INVALID, "/initial/wavelength",
+                             "the wavelength %g m does not fit the tank: the walls must be "
+                             "antinodes, so the tank length %g m must be a whole number of half "
+                             "wavelengths",
+                             lambda, L);
+    const wave w = sw_of(c);
+    if (!(w.eps * w.H / 2.0 < 0.5 * (f->max[1] - f->min[1])))
+        return sph_error_set(err, SPH_ERR_INVALID, "/initial/epsilon",
+                             "epsilon %g is too large for linear theory", w.eps);
+    return 0;
+}
+
+static void sw_velocity(const sph_config *c, const double *x, double *v)
+{
+    const wave w = sw_of(c);
+    const double a = w.eps * w.H * w.g * w.k / (2.0 * w.omega * cosh(w.k * w.H));
+    const double ky = w.k * (x[1] - w.yb), kx = w.k * (x[0] - w.xl);
+    /* u = d phi0/dx, v = d phi0/dy of eq. (7) */
+    v[0] = a * cosh(ky) * sin(kx);
+    v[1] = -a * sinh(ky) * cos(kx);
+}
+
+/* The kinematic viscosity a config's viscous term models [m^2/s]: nu itself for the laminar and
+ * Monaghan terms, alpha h c0 / (2 (d + 2)) for the artificial one. */
+static double nu_of(const sph_config *c)
+{
+    if (c->visc == SPH_VISC_ARTIFICIAL)
+        return c->alpha * c->h_over_dx * c->dx * c->c0 / (2.0 * (c->dim + 2));
+    return c->nu;
+}
+
+static int sw_theory(const sph_config *c, sph_initial_theory *t)
+{
+    const wave w = sw_of(c);
+    t->omega = w.omega;
+    t->period = 2.0 * M_PI / w.omega;
+    t->decay_rate = 4.0 * nu_of(c) * w.k * w.k; /* Lighthill, eq. (8) */
+    t->ekin0 = c->rho0 * w.eps * w.eps * w.g * w.lambda * w.H * w.H / 16.0;
+    return 0;
+}
+
+static const field fields[SPH_INITIAL_COUNT] = {
+    [SPH_INITIAL_REST] = {"rest", 0, {{0}}, rest_check, rest_velocity, NULL},
+    [SPH_INITIAL_STANDING_WAVE] =
+        {"standing_wave",
+         2,
+         {[SW_EPSILON] = {"epsilon", "-", SPH_SW_EPSILON_DEFAULT, SPH_SW_EPSILON_MIN,
+                          SPH_SW_EPSILON_MAX,
+                          "2A/H: twice the wave amplitude over the still depth"},
+          [SW_WAVELENGTH] = {"wavelength", "m", SPH_SW_WAVELENGTH_DEFAULT, SPH_SW_WAVELENGTH_MIN,
+                             SPH_SW_WAVELENGTH_MAX, "lambda; 0 (the default): the tank's length"}},
+         sw_check,
+         sw_velocity,
+         sw_theory},
+};
+
+const char *sph_initial_name(sph_initial_type type)
+{
+    if ((int)type < 0 || type >= SPH_INITIAL_COUNT)
+        return NULL;
+    return fields[type].name;
+}
+
+int sph_initial_from_name(const char *name)
+{
+    for (int i = 0; i < SPH_INITIAL_COUNT; i++)
+        if (name && strcmp(name, fields[i].name) == 0)
+            return i;
+    return -1;
+}
+
+const sph_initial_param *sph_initial_params(sph_initial_type type, int *n)
+{
+    *n = 0;
+    if ((int)type < 0 || type >= SPH_INITIAL_COUNT)
+        return NULL;
+    *n = fields[type].nparams;
+    return fields[type].params;
+}
+
+sph_initial_spec sph_initial_default(sph_initial_type type)
+{
+    sph_initial_spec s;
+    memset(&s, 0, sizeof s);
+    s.type = type;
+    int n;
+    const sph_initial_param *p = sph_initial_params(type, &n);
+    for (int i = 0; i < n; i++)
+        s.param[i] = p[i].def;
+    return s;
+}
+
+int sph_initial_check(const sph_config *c, sph_error *err)
+{
+    const sph_initial_type t = c->initial.type;
+    if ((int)t < 0 || t >= SPH_INITIAL_COUNT)
+        return sph_error_set(err, SPH_ERR_INVALID, "/initial/type", "unknown initial field %d",
+                             (int)t);
+    const field *f = &fields[t];
+    for (int i = 0; i < f->nparams; i++) {
+        const sph_initial_param *p = &f->params[i];
+        const double v = c->initial.param[i];
+        if (!(v >= p->min && v <= p->max)) {
+            char path[64];
+            snprintf(path, sizeof path, "/initial/%s", p->name);
+            return sph_error_set(err, SPH_ERR_INVALID, path, "%s must be in [%g, %g] %s, got %g",
+                                 p->name, p->min, p->max, p->unit, v);
+        }
+    }
+    return f->check(c, err);
+}
+
+void sph_initial_velocity(const sph_config *c, const double *x, double *v)
+{
+    fields[c->initial.type].velocity(c, x, v);
+}
+
+int sph_initial_theory_of(const sph_config *c, sph_initial_theory *t)
+{
+    memset(t, 0, sizeof *t);
+    const field *f = &fields[c->initial.type];
+    return f->theory ? f->theory(c, t) : -1;
+}

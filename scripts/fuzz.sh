@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (clang, -fsanitize=fuzzer,address,undefined) into build-fuzz/ and
+# runs each for SECONDS (default 30), one after another, from its seed corpus in
+# tests/fuzz/corpus/NAME/ (new inputs go to build-fuzz/corpus/NAME/, never into the repo).
+# A crash stops with exit 1 and leaves its input in build-fuzz/artifacts/NAME/; keep it as a
+# regression test in tests/fuzz/regress/NAME/ with the fix. Each run's last status line
+# (executions, cov, ft) goes to build-fuzz/logs/NAME.log and is printed.
+# --keep-going: go on after a crash, a timeout or running out of memory (libFuzzer's fork mode:
+# every finding is kept in build-fuzz/artifacts/NAME/ and counted in the log; for long runs).
+# --no-build: run what build-fuzz/ holds (several runs at once share one build).
+# Usage: scripts/fuzz.sh [--seconds S] [--keep-going] [--build-only | --no-build] [TARGET ...]
+#   targets: request case sim_restore ckpt journal (default: all). FUZZ_NICE=19 runs it niced.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=30 build_only=0 build=1 targets=() mode=()
+while [ $# -gt 0 ]; do
+  case $1 in
+    --seconds) seconds=$2; shift 2 ;;
+    --build-only) build_only=1; shift ;;
+    --no-build) build=0; shift ;;
+    --keep-going) mode=(-fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1); shift ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    *) targets+=("$1"); shift ;;
+  esac
+done
+[ ${#targets[@]} -gt 0 ] || targets=(request case sim_restore ckpt journal)
+if [ "$build" = 1 ]; then
+  CC=clang cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPH_FUZZ=ON >/dev/null
+  cmake --build build-fuzz -j"$(nproc)" --target $(printf 'fuzz_%s ' "${targets[@]}") >/dev/null
+fi
+[ "$build_only" = 1 ] && exit 0
+export OMP_NUM_THREADS=1
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+rc=0
+for t in "${targets[@]}"; do
+  mkdir -p "build-fuzz/corpus/$t" "build-fuzz/artifacts/$t" build-fuzz/logs
+  dict=()
+  [ -f "tests/fuzz/$t.dict" ] && dict=(-dict="tests/fuzz/$t.dict")
+  log="build-fuzz/logs/$t-$(date +%Y%m%d-%H%M%S).log"
+  if nice -n "${FUZZ_NICE:-0}" "build-fuzz/fuzz/fuzz_$t" "build-fuzz/corpus/$t" "tests/fuzz/corpus/$t" \
+       "${dict[@]}" "${mode[@]}" -max_total_time="$seconds" -max_len=65536 -rss_limit_mb=2048 -timeout=20 \
+       -print_final_stats=1 -artifact_prefix="build-fuzz/artifacts/$t/" >"$log" 2>&1; then
+    echo "fuzz $t: $(grep -E '^#[0-9]+' "$log" | tail -n 1)"
+    [ ${#mode[@]} -eq 0 ] || echo "  findings kept: $(ls "build-fuzz/artifacts/$t/" | wc -l)"
+  else
+    echo "fuzz $t: FAILED (a crash; log $log)"; grep -E 'ERROR|SUMMARY|runtime error' "$log" | head -n 5
+    ls "build-fuzz/artifacts/$t/"
+    rc=1
+  fi
+done
+exit "$rc"

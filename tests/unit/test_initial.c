@@ -1,0 +1,173 @@
+/*
+ * Initial fields (core/sph_initial.c) and the kinetic-energy envelope (core/sph_envelope.c):
+ *   - the standing wave's velocity is grad phi0 of paper 001 eq. (7) (checked by central
+ *     differences of phi0 written out here), vanishes through the walls, and its kinetic energy
+ *     on the lattice is eq. (8)'s at t = 0 within 0.5% (H/dx = 50);
+ *   - fields that do not fit the case are refused at the case field's JSON path;
+ *   - the envelope fit recovers the decay rate and period of eq. (8) sampled every 2 ms, with
+ *     noise, within 0.5%.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "sph_envelope.h"
+#include "sph_sim.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void close_to(double got, double want, double tol, const char *what)
+{
+    if (!(fabs(got - want) <= tol))
+        fail_msg("%s: %.17g, expected %.17g within %g", what, got, want, tol);
+}
+
+static sph_config wave_config(double res)
+{
+    const double H = 0.5;
+    sph_config c = sph_config_default();
+    c.dx = H / res;
+    c.h_over_dx = 2.0;
+    c.domain = (sph_box){{0, 0, 0}, {1.0, 1.0, 0}};
+    c.nfluid = 1;
+    c.fluid[0] = (sph_box){{0, 0, 0}, {1.0, H, 0}};
+    c.boundary = SPH_BOUNDARY_GHOST;
+    c.has_tank = 1;
+    c.tank = (sph_box){{0, 0, 0}, {1.0, 1.0, 0}};
+    c.c0 = 23.0;
+    c.visc = SPH_VISC_MONAGHAN;
+    c.nu = H * sqrt(9.81 * H) / 500.0;
+    c.initial = sph_initial_default(SPH_INITIAL_STANDING_WAVE);
+    c.t_end = 1.0;
+    return c;
+}
+
+/* Paper 001 eq. (7), with y measured from the bottom (the paper's y + H). */
+static double phi0(double x, double y)
+{
+    const double eps = 0.1, H = 0.5, g = 9.81, k = 2.0 * M_PI;
+    const double omega = sqrt(g * k * tanh(k * H));
+    return -eps * H * g / (2.0 * omega) * cosh(k * y) / cosh(k * H) * cos(k * x);
+}
+
+static void test_velocity(void **state)
+{
+    (void)state;
+    const sph_config c = wave_config(50);
+    const double d = 1e-6;
+    for (double x = 0.0; x <= 1.0; x += 0.125)
+        for (double y = 0.0; y <= 0.5; y += 0.125) {
+            const double p[3] = {x, y, 0};
+            double v[3];
+            sph_initial_velocity(&c, p, v);
+            close_to(v[0], (phi0(x + d, y) - phi0(x - d, y)) / (2 * d), 1e-7, "u");
+            close_to(v[1], (phi0(x, y + d) - phi0(x, y - d)) / (2 * d), 1e-7, "v");
+            if (x == 0.0 || x == 1.0)
+                close_to(v[0], 0.0, 1e-15, "u at a wall");
+            if (y == 0.0)
+                close_to(v[1], 0.0, 1e-15, "v at the bottom");
+        }
+}
+
+static void test_energy(void **state)
+{
+    (void)state;
+    const sph_config c = wave_config(50);
+    sph_error err;
+    sph_sim *s = sph_sim_create(&c, &err);
+    if (!s)
+        fail_msg("%s", err.message);
+    sph_sim_wave w;
+    assert_int_equal(sph_sim_wave_fit(s, 0.0, &w), -1); /* no peaks yet, the theory is there */
+    const double e0 = 1000.0 * 0.01 * 9.81 * 1.0 * 0.25 / 16.0; /* rho eps^2 g lambda H^2 / 16 */
+    const double ekin = sph_sim_diag(s)->ekin;
+    if (fabs(ekin - e0) > 0.005 * e0)
+        fail_msg("E_kin(0) %.6f J on the lattice, eq. (8) %.6f J", ekin, e0);
+    const double k = 2.0 * M_PI, omega = sqrt(9.81 * k * tanh(k * 0.5));
+    sph_sim_destroy(s);
+    /* the theory the sim compares with */
+    sph_initial_theory t;
+    assert_int_equal(sph_initial_theory_of(&c, &t), 0);
+    close_to(t.period, 2.0 * M_PI / omega, 1e-12, "period");
+    close_to(t.decay_rate, 4.0 * c.nu * k * k, 1e-12, "4 nu k^2");
+    close_to(t.ekin0, e0, 1e-12, "ekin0");
+    sph_config r = c;
+    r.initial = sph_initial_default(SPH_INITIAL_REST);
+    assert_int_equal(sph_initial_theory_of(&r, &t), -1);
+}
+
+static void expect_error(sph_config c, const char *path)
+{
+    sph_error err;
+    sph_error_clear(&err);
+    sph_sim *s = sph_sim_create(&c, &err);
+    if (s)
+        fail_msg("created, expected an error at %s", path);
+    assert_int_equal(err.code, SPH_ERR_INVALID);
+    if (strcmp(err.path, path) != 0)
+        fail_msg("path %s, expected %s (%s)", err.path, path, err.message);
+}
+
+static void test_misfits(void **state)
+{
+    (void)state;
+    sph_config c = wave_config(20);
+    c.initial.param[1] = 0.3; /* 1 m is not a whole number of 0.15 m half wavelengths */
+    expect_error(c, "/initial/wavelength");
+    c = wave_config(20);
+    c.initial.param[1] = 2.0; /* half a wavelength: fits (the walls are antinodes) */
+    sph_error err;
+    sph_sim *s = sph_sim_create(&c, &err);
+    assert_non_null(s);
+    sph_sim_destroy(s);
+    c = wave_config(20);
+    c.initial.param[0] = 0.9;
+    expect_error(c, "/initial/epsilon");
+    c = wave_config(20);
+    c.fluid[0].max[0] = 0.5; /* water in half the tank */
+    expect_error(c, "/fluid");
+    c = wave_config(20);
+    c.gravity[1] = 0.0;
+    expect_error(c, "/physics/gravity");
+    c = wave_config(20);
+    c.boundary = SPH_BOUNDARY_NONE;
+    c.has_tank = 0;
+    expect_error(c, "/initial/type");
+}
+
+static void test_envelope(void **state)
+{
+    (void)state;
+    const double T = 0.8, beta = 0.35, omega = 2.0 * M_PI / T;
+    sph_envelope e;
+    sph_envelope_init(&e, 0.97 * T); /* the expected period a little off */
+    unsigned seed = 1;
+    for (double t = 0.0; t < 10.0 * T; t += 0.002) {
+        seed = seed * 1103515245u + 12345u;
+        const double noise = 1e-4 * (((seed >> 8) & 0xffff) / 65536.0 - 0.5);
+        sph_envelope_add(&e, t, 0.5 * exp(-beta * t) * (1.0 + cos(2.0 * omega * t)) + noise);
+    }
+    sph_envelope_fit f;
+    assert_int_equal(sph_envelope_fit_peaks(&e, 8.0 * T, &f), 0);
+    assert_int_equal(f.npeaks, 17); /* t = 0, T/2, ..., 8T */
+    close_to(f.decay_rate, beta, 0.005 * beta, "decay rate");
+    close_to(f.period, T, 0.005 * T, "period");
+    assert_int_equal(sph_envelope_fit_peaks(&e, 0.6 * T, &f), -1); /* 2 peaks: no fit */
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_velocity),
+        cmocka_unit_test(test_energy),
+        cmocka_unit_test(test_misfits),
+        cmocka_unit_test(test_envelope),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,576 @@
+/*
+ * The MPS numerics (core/mps/): neighbour lists against all pairs; lattice sums n0 and lambda
+ * against closed forms; the Laplacian model (3.5)-(3.6) and the gradient model (3.4) on a square
+ * lattice: exact for a quadratic and a linear field in the interior, second order for a smooth
+ * field; the Poisson matrix symmetric (bitwise); its CG solve equal to a dense Cholesky solve;
+ * preconditioned CG in fewer iterations than plain CG (printed); the same bits with 1 and 2
+ * threads; the iteration cap reported.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "sph_cells.h"
+#include "sph_mps_ops.h"
+#include "sph_mps_ppe.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A fluid block of nx x ny particles at spacing dx (cell centres, lower-left corner at the
+ * origin), optionally in a tank: `layers` layers of wall particles outside its left, right and
+ * bottom faces, the first `wall_layers` of them walls (pressure), the rest dummies. Sorted by
+ * cell for neighbour lists of radius rc. */
+typedef struct lattice {
+    sph_particles P;
+    sph_cells g;
+    unsigned char *kind;
+    long n;
+    double dx, W, H;
+    sph_mps_nbr L;
+} lattice;
+
+static void lattice_make(lattice *t, int nx, int ny, double dx, int layers, int wall_layers,
+                         double rc)
+{
+    memset(t, 0, sizeof *t);
+    t->dx = dx;
+    t->W = nx * dx;
+    t->H = ny * dx;
+    const long nwall = layers ? (long)layers * (nx + 2 * layers) + 2L * layers * ny : 0;
+    const long n = (long)nx * ny + nwall;
+    assert_int_equal(sph_particles_alloc(&t->P, n, 0), 0);
+    long k = 0;
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++) {
+            t->P.x[k] = (i + 0.5) * dx;
+            t->P.y[k] = (j + 0.5) * dx;
+            t->P.type[k] = SPH_FLUID;
+            t->P.id[k] = (int)k;
+            k++;
+        }
+    for (int l = 0; l < layers; l++) {
+        for (int i = -layers; i < nx + layers; i++) {
+            t->P.x[k] = (i + 0.5) * dx;
+            t->P.y[k] = -(l + 0.5) * dx;
+            t->P.type[k] = SPH_BOUNDARY;
+            t->P.id[k] = (int)k;
+            k++;
+        }
+        for (int j = 0; j < ny; j++)
+            for (int side = 0; side < 2; side++) {
+                t->P.x[k] = side ? t->W + (l + 0.5) * dx : -(l + 0.5) * dx;
+                t->P.y[k] = (j + 0.5) * dx;
+                t->P.type[k] = SPH_BOUNDARY;
+                t->P.id[k] = (int)k;
+                k++;
+            }
+    }
+    assert_int_equal(k, n);
+    const double m = (layers + 2) * dx;
+    const double lo[2] = {-m, -m}, hi[2] = {t->W + m, t->H + m};
+    assert_int_equal(sph_cells_alloc(&t->g, lo, hi, rc, n), 0);
+    t->n = sph_cells_sort(&t->g, &t->P);
+    assert_int_equal(t->n, n);
+    t->kind = malloc((size_t)n);
+    for (long i = 0; i < n; i++) {
+        const double x = t->P.x[i], y = t->P.y[i];
+        const double depth = fmax(fmax(-x, x - t->W), -y); /* how far outside the fluid block */
+        t->kind[i] = t->P.type[i] == SPH_FLUID  ? SPH_MPS_FLUID
+                     : depth < wall_layers * dx ? SPH_MPS_WALL
+                                                : SPH_MPS_DUMMY;
+    }
+    assert_int_equal(sph_mps_nbr_build(&t->L, &t->g, t->P.x, t->P.y, n, rc), 0);
+}
+
+static void lattice_free(lattice *t)
+{
+    sph_particles_free(&t->P);
+    sph_cells_free(&t->g);
+    sph_mps_nbr_free(&t->L);
+    free(t->kind);
+}
+
+/* |a - b| <= tol, with the values printed when not */
+#define assert_double_equal(a, b, tol) near_(a, b, tol, #a, __FILE__, __LINE__)
+static void near_(double a, double b, double tol, const char *what, const char *file, int line)
+{
+    if (!(fabs(a - b) <= tol)) {
+        print_error("%s = %.17g, expected %.17g within %g\n", what, a, b, tol);
+        _fail(file, line);
+    }
+}
+
+static double urand(unsigned *s)
+{
+    *s = *s * 1103515245u + 12345u;
+    return ((*s >> 8) & 0xffffff) / (double)0x1000000;
+}
+
+/* ---- neighbour lists ----------------------------------------------------------------------- */
+
+static void test_nbr_all_pairs(void **state)
+{
+    (void)state;
+    const long n = 600;
+    sph_particles P;
+    assert_int_equal(sph_particles_alloc(&P, n, 0), 0);
+    unsigned seed = 7;
+    for (long i = 0; i < n; i++) {
+        P.x[i] = urand(&seed);
+        P.y[i] = 0.5 * urand(&seed);
+        P.id[i] = (int)i;
+    }
+    const double rc = 0.061;
+    sph_cells g;
+    const double lo[2] = {0, 0}, hi[2] = {1, 0.5};
+    assert_int_equal(sph_cells_alloc(&g, lo, hi, rc, n), 0);
+    assert_int_equal(sph_cells_sort(&g, &P), n);
+    sph_mps_nbr a = {0}, b = {0};
+    assert_int_equal(sph_mps_nbr_build(&a, &g, P.x, P.y, n, rc), 0);
+    assert_int_equal(sph_mps_nbr_build_all_pairs(&b, P.x, P.y, n, rc), 0);
+    assert_true(a.entries > 4 * n); /* a real test: many pairs */
+    assert_int_equal(a.entries, b.entries);
+    for (long i = 0; i <= n; i++)
+        assert_int_equal(a.ptr[i], b.ptr[i]);
+    for (long e = 0; e < a.entries; e++)
+        assert_int_equal(a.j[e], b.j[e]);
+    sph_mps_nbr_free(&a);
+    sph_mps_nbr_free(&b);
+    sph_cells_free(&g);
+    sph_particles_free(&P);
+}
+
+/* ---- lattice sums -------------------------------------------------------------------------- */
+
+static void test_lattice_sums(void **state)
+{
+    (void)state;
+    sph_kernel k;
+    const double dx = 0.01;
+    assert_int_equal(sph_mps_weight_init(&k, SPH_KERNEL_KOSHIZUKA, 2.1 * dx, NULL), 0);
+    /* re = 2.1 dx: 4 neighbours at dx, 4 at sqrt2 dx, 4 at 2 dx */
+    const double n0 = 4 * (2.1 - 1) + 4 * (2.1 / sqrt(2.0) - 1) + 4 * (2.1 / 2 - 1);
+    assert_double_equal(sph_mps_lattice_n0(&k, dx, 2), n0, 1e-12);
+    const double lam = dx * dx * (4 * 1.1 + 4 * 2 * (2.1 / sqrt(2.0) - 1) + 4 * 4 * 0.05) / n0;
+    assert_double_equal(sph_mps_lattice_lambda(&k, dx, 2) / lam, 1.0, 1e-12);
+    /* eq. (3.6) for w = re/r - 1: re^2/6 in 2D, 3 re^2/10 in 3D; NAN in 1D (divergent) */
+    const double re = k.support;
+    assert_double_equal(sph_mps_lambda_integral(&k, 2) / (re * re / 6), 1.0, 1e-9);
+    assert_double_equal(sph_mps_lambda_integral(&k, 3) / (0.3 * re * re), 1.0, 1e-9);
+    assert_true(isnan(sph_mps_lambda_integral(&k, 1)));
+    /* the lattice lambda tends to the integral as re/dx grows: at first order for the
+     * Koshizuka weight (the singular weight's sum misses the hole at the origin, a fraction
+     * O(dx / re) of it), faster for the quartic */
+    for (int t = 0; t < 2; t++) {
+        const sph_kernel_type type = t ? SPH_KERNEL_SHEU_QUARTIC : SPH_KERNEL_KOSHIZUKA;
+        double prev = INFINITY;
+        for (double q = 5.0; q <= 40.0; q *= 2.0) {
+            assert_int_equal(sph_mps_weight_init(&k, type, q * dx, NULL), 0);
+            const double e =
+                fabs(sph_mps_lattice_lambda(&k, dx, 2) / sph_mps_lambda_integral(&k, 2) - 1);
+            printf("lambda %-12s re/dx %4.0f: lattice/integral - 1 = %.2e\n",
+                   sph_kernel_type_name(type), q, e);
+            assert_true(e < 0.6 * prev);
+            prev = e;
+        }
+        assert_true(prev < (type == SPH_KERNEL_KOSHIZUKA ? 0.04 : 0.01));
+    }
+    /* SPH kernels are refused as MPS weights */
+    sph_error err;
+    assert_int_equal(sph_mps_weight_init(&k, SPH_KERNEL_WENDLAND_C2, 0.02, &err), SPH_ERR_INVALID);
+}
+
+/* ---- Laplacian and gradient models --------------------------------------------------------- */
+
+static double quad(double x, double y)
+{
+    return 3 * x * x - 2 * x * y + 5 * y * y + x - y + 7;
+}
+
+/* largest error of the models in the interior (farther than re from the block's edges) */
+typedef struct errs {
+    double lap, grad, grad_min;
+} errs;
+
+static errs model_errors(sph_kernel_type type, double re_dx, int n, int smooth)
+{
+    const double dx = 1.0 / n;
+    lattice t;
+    lattice_make(&t, n, n, dx, 0, 0, re_dx * dx);
+    sph_kernel k;
+    assert_int_equal(sph_mps_weight_init(&k, type, re_dx * dx, NULL), 0);
+    const double n0 = sph_mps_lattice_n0(&k, dx, 2), lam = sph_mps_lattice_lambda(&k, dx, 2);
+    double *phi = malloc(t.n * sizeof *phi), *lap = malloc(t.n * sizeof *lap);
+    double *gx = malloc(t.n * sizeof *gx), *gy = malloc(t.n * sizeof *gy);
+    double *hx = malloc(t.n * sizeof *hx), *hy = malloc(t.n * sizeof *hy);
+    const double kk = 2.0 * M_PI;
+    for (long i = 0; i < t.n; i++) {
+        const double x = t.P.x[i], y = t.P.y[i];
+        phi[i] = smooth ? sin(kk * x) * cos(kk * y) : quad(x, y);
+    }
+    double *nd = malloc(t.n * sizeof *nd);
+    sph_mps_number_density(&t.L, t.P.x, t.P.y, &k, nd);
+    sph_mps_laplacian(&t.L, t.P.x, t.P.y, t.kind, SPH_MPS_DUMMY, &k, 4.0 / (lam * n0), phi, lap);
+    sph_mps_gradient(&t.L, t.P.x, t.P.y, t.kind, &k, 2.0 / n0, 0, 0, phi, gx, gy);
+    sph_mps_gradient(&t.L, t.P.x, t.P.y, t.kind, &k, 2.0 / n0, 1, 0, phi, hx, hy);
+    errs e = {0, 0, 0};
+    const double m = re_dx * dx;
+    long interior = 0;
+    for (long i = 0; i < t.n; i++) {
+        const double x = t.P.x[i], y = t.P.y[i];
+        if (x < m || y < m || x > 1 - m || y > 1 - m)
+            continue;
+        interior++;
+        assert_double_equal(nd[i] / n0, 1.0, 1e-12);
+        double el, exx, exy;
+        if (smooth) {
+            el = -2 * kk * kk * phi[i];
+            exx = kk * cos(kk * x) * cos(kk * y);
+            exy = -kk * sin(kk * x) * sin(kk * y);
+        } else {
+            el = 16.0;
+            exx = 6 * x - 2 * y + 1;
+            exy = -2 * x + 10 * y - 1;
+        }
+        e.lap = fmax(e.lap, fabs(lap[i] - el));
+        e.grad = fmax(e.grad, fmax(fabs(gx[i] - exx), fabs(gy[i] - exy)));
+        e.grad_min = fmax(e.grad_min, fmax(fabs(hx[i] - exx), fabs(hy[i] - exy)));
+    }
+    assert_true(interior > 0);
+    free(phi);
+    free(lap);
+    free(gx);
+    free(gy);
+    free(hx);
+    free(hy);
+    free(nd);
+    lattice_free(&t);
+    return e;
+}
+
+static void test_models_exact(void **state)
+{
+    (void)state;
+    const double res[] = {2.1, 3.1, 4.0};
+    for (int t = 0; t < 2; t++)
+        for (int r = 0; r < 3; r++) {
+            const sph_kernel_type type = t ? SPH_KERNEL_SHEU_QUARTIC : SPH_KERNEL_KOSHIZUKA;
+            const errs e = model_errors(type, res[r], 40, 0);
+            /* the quadratic's Laplacian is 16, the linear part's gradient is of order 10 */
+            assert_true(e.lap < 1e-9 * 16);
+            /* the gradient model is exact for a linear field; for the quadratic's gradient
+             * the lattice's symmetry cancels the second-order terms too */
+            assert_true(e.grad < 1e-9 * 10);
+            /* the local minimum adds (phi_i - phi^_i) sum r_ij / r_ij^2 w_ij, zero on a
+             * symmetric lattice */
+            assert_true(e.grad_min < 1e-9 * 10);
+        }
+}
+
+static void test_models_order(void **state)
+{
+    (void)state;
+    for (int t = 0; t < 2; t++) {
+        const sph_kernel_type type = t ? SPH_KERNEL_SHEU_QUARTIC : SPH_KERNEL_KOSHIZUKA;
+        const errs a = model_errors(type, 2.1, 32, 1), b = model_errors(type, 2.1, 64, 1);
+        const double ol = log2(a.lap / b.lap), og = log2(a.grad / b.grad),
+                     om = log2(a.grad_min / b.grad_min);
+        printf("order %-12s re = 2.1 dx: Laplacian %.2f (err %.2e -> %.2e), gradient %.2f, "
+               "gradient with local minimum %.2f (err %.2e -> %.2e)\n",
+               sph_kernel_type_name(type), ol, a.lap, b.lap, og, om, a.grad_min, b.grad_min);
+        assert_true(ol > 1.9 && ol < 2.1);
+        assert_true(og > 1.9 && og < 2.1);
+        assert_true(om > 1.9 && om < 2.1);
+    }
+}
+
+/* A linear pressure with a minimum away from i: with the local minimum, still exact in the
+ * interior; the corrected gradient exact everywhere. */
+static void test_gradient_linear_min(void **state)
+{
+    (void)state;
+    const double dx = 0.025;
+    lattice t;
+    lattice_make(&t, 40, 40, dx, 0, 0, 2.1 * dx);
+    sph_kernel k;
+    assert_int_equal(sph_mps_weight_init(&k, SPH_KERNEL_KOSHIZUKA, 2.1 * dx, NULL), 0);
+    const double n0 = sph_mps_lattice_n0(&k, dx, 2);
+    double *phi = malloc(t.n * sizeof *phi), *gx = malloc(t.n * sizeof *gx),
+           *gy = malloc(t.n * sizeof *gy);
+    for (long i = 0; i < t.n; i++)
+        phi[i] = 2 * t.P.x[i] - 3 * t.P.y[i] + 1;
+    sph_mps_gradient(&t.L, t.P.x, t.P.y, t.kind, &k, 2.0 / n0, 1, 0, phi, gx, gy);
+    const double m = 2.1 * dx;
+    for (long i = 0; i < t.n; i++) {
+        const double x = t.P.x[i], y = t.P.y[i];
+        if (x < m || y < m || x > 1 - m || y > 1 - m)
+            continue;
+        assert_double_equal(gx[i], 2.0, 1e-9);
+        assert_double_equal(gy[i], -3.0, 1e-9);
+    }
+    /* with the corrective matrix (no local minimum), exact at every particle of the block,
+     * edges and corners included (one-sided neighbourhoods, like a free surface's) */
+    sph_mps_gradient(&t.L, t.P.x, t.P.y, t.kind, &k, 2.0 / n0, 0, 1, phi, gx, gy);
+    for (long i = 0; i < t.n; i++) {
+        assert_double_equal(gx[i], 2.0, 1e-9);
+        assert_double_equal(gy[i], -3.0, 1e-9);
+    }
+    /* without it, an edge particle sees half the gradient */
+    sph_mps_gradient(&t.L, t.P.x, t.P.y, t.kind, &k, 2.0 / n0, 0, 0, phi, gx, gy);
+    double worst = 0.0;
+    for (long i = 0; i < t.n; i++)
+        worst = fmax(worst, fabs(gy[i] + 3.0));
+    assert_true(worst > 1.0);
+    free(phi);
+    free(gx);
+    free(gy);
+    lattice_free(&t);
+}
+
+/* ---- the Poisson equation ------------------------------------------------------------------ */
+
+/* A water column in a tank (2 wall + 2 dummy layers), its free surface by number density, the
+ * matrix assembled for a weight of radius re_dx dx. */
+static void ppe_setup(lattice *t, sph_mps_ppe *S, sph_kernel_type type, double re_dx, int nx,
+                      int ny, double **rhs)
+{
+    const double dx = 0.01;
+    lattice_make(t, nx, ny, dx, 4, 2, re_dx * dx);
+    sph_kernel k;
+    assert_int_equal(sph_mps_weight_init(&k, type, re_dx * dx, NULL), 0);
+    const double n0 = sph_mps_lattice_n0(&k, dx, 2), lam = sph_mps_lattice_lambda(&k, dx, 2);
+    double *nd = malloc(t->n * sizeof *nd);
+    unsigned char *surf = malloc(t->n);
+    sph_mps_number_density(&t->L, t->P.x, t->P.y, &k, nd);
+    long nsurf = 0;
+    for (long i = 0; i < t->n; i++) {
+        surf[i] = nd[i] < 0.97 * n0;
+        nsurf += surf[i] && t->kind[i] <= SPH_MPS_WALL;
+    }
+    assert_true(nsurf >= nx); /* at least the top row */
+    memset(S, 0, sizeof *S);
+    assert_int_equal(
+        sph_mps_ppe_assemble(S, &t->L, t->P.x, t->P.y, t->kind, surf, &k, 4.0 / (lam * n0)), 0);
+    assert_int_equal(S->isolated, 0);
+    *rhs = malloc(t->n * sizeof **rhs);
+    unsigned seed = 99;
+    for (long i = 0; i < t->n; i++)
+        (*rhs)[i] = 1e6 * (urand(&seed) - 0.3);
+    free(nd);
+    free(surf);
+}
+
+static void test_ppe_symmetric(void **state)
+{
+    (void)state;
+    for (int t = 0; t < 2; t++) {
+        lattice tk;
+        sph_mps_ppe S;
+        double *rhs;
+        ppe_setup(&tk, &S, t ? SPH_KERNEL_SHEU_QUARTIC : SPH_KERNEL_KOSHIZUKA, 3.1, 12, 15, &rhs);
+        long checked = 0;
+        for (long u = 0; u < S.n; u++) {
+            assert_true(S.diag[u] > 0.0);
+            double off = 0.0;
+            for (long e = S.ptr[u]; e < S.ptr[u + 1]; e++) {
+                const long v = S.col[e];
+                assert_true(v != u);
+                assert_true(S.val[e] < 0.0);
+                off -= S.val[e];
+                if (e > S.ptr[u])
+                    assert_true(S.col[e - 1] < v); /* ascending */
+                int found = 0;
+                for (long f = S.ptr[v]; f < S.ptr[v + 1]; f++)
+                    if (S.col[f] == u) {
+                        found = 1;
+                        assert_memory_equal(&S.val[f], &S.val[e], sizeof(double)); /* bitwise */
+                        checked++;
+                    }
+                assert_true(found);
+            }
+            assert_true(S.diag[u] >= off * (1 - 1e-12)); /* diagonally dominant */
+        }
+        assert_true(checked > 4 * S.n);
+        free(rhs);
+        sph_mps_ppe_free(&S);
+        lattice_free(&tk);
+    }
+}
+
+/* Dense Cholesky solve of the assembled matrix. */
+static void dense_solve(const sph_mps_ppe *S, const double *b, double *x)
+{
+    const long n = S->n;
+    double *a = calloc((size_t)(n * n), sizeof *a);
+    for (long u = 0; u < n; u++) {
+        a[u * n + u] = S->diag[u];
+        for (long e = S->ptr[u]; e < S->ptr[u + 1]; e++)
+            a[u * n + S->col[e]] = S->val[e];
+    }
+    for (long j = 0; j < n; j++) {
+        double s = a[j * n + j];
+        for (long k = 0; k < j; k++)
+            s -= a[j * n + k] * a[j * n + k];
+        assert_true(s > 0.0); /* positive definite */
+        a[j * n + j] = sqrt(s);
+        for (long i = j + 1; i < n; i++) {
+            double t = a[i * n + j];
+            for (long k = 0; k < j; k++)
+                t -= a[i * n + k] * a[j * n + k];
+            a[i * n + j] = t / a[j * n + j];
+        }
+    }
+    for (long i = 0; i < n; i++) {
+        double s = b[i];
+        for (long k = 0; k < i; k++)
+            s -= a[i * n + k] * x[k];
+        x[i] = s / a[i * n + i];
+    }
+    for (long i = n - 1; i >= 0; i--) {
+        double s = x[i];
+        for (long k = i + 1; k < n; k++)
+            s -= a[k * n + i] * x[k];
+        x[i] = s / a[i * n + i];
+    }
+    free(a);
+}
+
+static void test_ppe_dense(void **state)
+{
+    (void)state;
+    for (int t = 0; t < 2; t++)
+        for (int pc = 0; pc < 3; pc++) {
+            lattice tk;
+            sph_mps_ppe S;
+            double *rhs;
+            ppe_setup(&tk, &S, t ? SPH_KERNEL_SHEU_QUARTIC : SPH_KERNEL_KOSHIZUKA, 2.1, 14, 20,
+                      &rhs);
+            assert_true(S.n > 250);
+            double *p = calloc(tk.n, sizeof *p), *b = malloc(S.n * sizeof *b),
+                   *xd = malloc(S.n * sizeof *xd);
+            sph_mps_cg_stats st;
+            assert_int_equal(sph_mps_ppe_solve(&S, rhs, p, (sph_mps_precond)pc, 1e-13, 10000, &st),
+                             0);
+            for (long u = 0; u < S.n; u++)
+                b[u] = rhs[S.part[u]];
+            dense_solve(&S, b, xd);
+            double pmax = 0.0, emax = 0.0;
+            for (long u = 0; u < S.n; u++) {
+                pmax = fmax(pmax, fabs(xd[u]));
+                emax = fmax(emax, fabs(p[S.part[u]] - xd[u]));
+            }
+            for (long i = 0; i < tk.n; i++)
+                if (S.row[i] < 0)
+                    assert_true(p[i] == 0.0); /* Dirichlet and dummies */
+            assert_true(emax < 1e-9 * pmax);
+            free(p);
+            free(b);
+            free(xd);
+            free(rhs);
+            sph_mps_ppe_free(&S);
+            lattice_free(&tk);
+        }
+}
+
+static void test_pcg_iterations(void **state)
+{
+    (void)state;
+    for (int t = 0; t < 2; t++) {
+        const sph_kernel_type type = t ? SPH_KERNEL_SHEU_QUARTIC : SPH_KERNEL_KOSHIZUKA;
+        lattice tk;
+        sph_mps_ppe S;
+        double *rhs;
+        ppe_setup(&tk, &S, type, 2.1, 60, 120, &rhs);
+        double *p = malloc(tk.n * sizeof *p);
+        long it[3];
+        for (int pc = 0; pc < 3; pc++) {
+            memset(p, 0, tk.n * sizeof *p);
+            sph_mps_cg_stats st;
+            assert_int_equal(sph_mps_ppe_solve(&S, rhs, p, (sph_mps_precond)pc, 1e-8, 20000, &st),
+                             0);
+            assert_true(st.residual <= 1e-8);
+            it[pc] = st.iterations;
+            /* warm start from the solution: converged at once */
+            assert_int_equal(sph_mps_ppe_solve(&S, rhs, p, (sph_mps_precond)pc, 1e-8, 20000, &st),
+                             0);
+            assert_true(st.iterations <= 1);
+        }
+        printf("CG iterations to 1e-8, %-12s %ld unknowns: none %ld, jacobi %ld, ic0 %ld\n",
+               sph_kernel_type_name(type), S.n, it[0], it[1], it[2]);
+        /* on a lattice the diagonal is nearly constant and Jacobi is nearly plain CG */
+        assert_true(it[1] <= it[0] + it[0] / 10);
+        assert_true(it[2] < it[0]);
+        assert_true(it[2] < it[1]);
+        free(p);
+        free(rhs);
+        sph_mps_ppe_free(&S);
+        lattice_free(&tk);
+    }
+}
+
+/* Bitwise the same with 1 and 2 threads (a system large enough for the parallel paths). */
+static void test_threads_bitwise(void **state)
+{
+    (void)state;
+    lattice tk;
+    sph_mps_ppe S;
+    double *rhs;
+    ppe_setup(&tk, &S, SPH_KERNEL_KOSHIZUKA, 2.1, 80, 80, &rhs);
+    assert_true(S.n > SPH_OMP_MIN);
+    double *p[2];
+    long it[2];
+    const int saved = omp_get_max_threads();
+    for (int t = 0; t < 2; t++) {
+        omp_set_num_threads(t + 1);
+        p[t] = calloc(tk.n, sizeof *p[t]);
+        sph_mps_cg_stats st;
+        assert_int_equal(sph_mps_ppe_solve(&S, rhs, p[t], SPH_MPS_PC_JACOBI, 1e-10, 20000, &st), 0);
+        it[t] = st.iterations;
+    }
+    omp_set_num_threads(saved);
+    assert_int_equal(it[0], it[1]);
+    assert_memory_equal(p[0], p[1], tk.n * sizeof(double));
+    free(p[0]);
+    free(p[1]);
+    free(rhs);
+    sph_mps_ppe_free(&S);
+    lattice_free(&tk);
+}
+
+static void test_iteration_cap(void **state)
+{
+    (void)state;
+    lattice tk;
+    sph_mps_ppe S;
+    double *rhs;
+    ppe_setup(&tk, &S, SPH_KERNEL_KOSHIZUKA, 2.1, 20, 20, &rhs);
+    double *p = calloc(tk.n, sizeof *p);
+    sph_mps_cg_stats st;
+    assert_int_equal(sph_mps_ppe_solve(&S, rhs, p, SPH_MPS_PC_IC0, 1e-12, 3, &st), 1);
+    assert_int_equal(st.iterations, 3);
+    assert_false(st.converged);
+    assert_true(st.residual > 1e-12);
+    free(p);
+    free(rhs);
+    sph_mps_ppe_free(&S);
+    lattice_free(&tk);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_nbr_all_pairs),       cmocka_unit_test(test_lattice_sums),
+        cmocka_unit_test(test_models_exact),        cmocka_unit_test(test_models_order),
+        cmocka_unit_test(test_gradient_linear_min), cmocka_unit_test(test_ppe_symmetric),
+        cmocka_unit_test(test_ppe_dense),           cmocka_unit_test(test_pcg_iterations),
+        cmocka_unit_test(test_threads_bitwise),     cmocka_unit_test(test_iteration_cap),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
