@@ -3,8 +3,9 @@
 # cylinder) submitted without starting, stepped, watched, paused and resumed, then sphd killed
 # with SIGKILL twice and started again on the same state dir: the job continues from its
 # checkpoint (the body's state with it) and its snapshots and diagnostics are bitwise equal to
-# those of an uninterrupted batch run (1 thread). Diag events and queries carry the body, queries
-# name its particles "body", the result counts them.
+# those of an uninterrupted batch run (1 thread; a 2-thread batch run is bitwise the same too).
+# Diag events and queries carry the body, queries name its particles "body", the result counts
+# them.
 # Usage: bodies_daemon.sh SPHD SPHCTL SOURCE_DIR [SEED]
 SPHD=$1; SPHCTL=$2; SRC=$3; seed=${4:-$RANDOM}
 . "$(dirname "$0")/lib.sh"
@@ -18,6 +19,10 @@ check "the reference run is done" jlast "$tmp/ref.jsonl" 'd.get("state")=="done"
 t0=$(date +%s.%N)
 "$SPHD" --run "$CASE" --threads 1 "${sets[@]}" --out "$tmp/timing/we" >/dev/null 2>&1
 runtime=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { print b - a }')
+# the same with 2 threads (5,000 fluid particles: the parallel loops run), bitwise
+"$SPHD" --run "$CASE" --threads 2 "${sets[@]}" --out "$tmp/two/we" >/dev/null 2>&1
+check "2 threads: bitwise the 1-thread run" "$PY" "$(dirname "$0")/h5check.py" same "$tmp/ref/we" \
+  "$tmp/two/we"
 
 start_sphd --threads 1
 expect_rc "submit the water entry, not started" 0 "$SPHCTL" submit "$CASE" --id we --no-start \
