@@ -3,8 +3,8 @@
  * server puts them in a checkpoint file). Saved: the configuration, the scalars of the time
  * integration (t, step, dt, the latest max acceleration and speed), the latest diagnostics, and
  * every per-particle array that lives from one step to the next, in the particles' current
- * (cell-sorted) order (the method lists them). Not saved: what every step rebuilds (the cell list,
- * the probes' histogram, the force loop's scratch arrays).
+ * (cell-sorted) order (the method lists them), then the rigid bodies' state. Not saved: what every
+ * step rebuilds (the cell list, the probes' histogram, the force loop's scratch arrays).
  */
 #include "sph_sim_impl.h"
 
@@ -15,15 +15,15 @@
 
 #define SIM_MAGIC "SPHSIM01"
 /* 2: sph_config.method; 3: sph_config.mps, sph_diag MPS fields; 4: ghost walls, monaghan
- * viscosity, initial fields, the envelope */
-#define SIM_VERSION 4u
+ * viscosity, initial fields, the envelope; 5: rigid bodies (config, diag and state) */
+#define SIM_VERSION 5u
 
 typedef struct {
     char magic[8];
     uint32_t version;
     uint32_t sps; /* 1 if the SPS arrays are present */
     int64_t n;    /* particles */
-    int64_t nactive, nfluid, nboundary, step, failed;
+    int64_t nactive, nfluid, nboundary, step, failed, nbodies;
     double t, dt, amax, vmax;
     sph_config cfg;
     sph_diag diag;
@@ -41,8 +41,9 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     double *arrays[32];
     const int na = persistent_arrays(s, arrays, 32);
     const size_t n = (size_t)s->P.n;
-    const size_t size =
-        sizeof(sim_header) + (size_t)na * n * sizeof(double) + n * (1 + sizeof(int));
+    const size_t nbs = (size_t)s->bodies.n;
+    const size_t size = sizeof(sim_header) + (size_t)na * n * sizeof(double) +
+                        n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state);
     unsigned char *b = malloc(size);
     if (!b)
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for a %zu-byte checkpoint",
@@ -56,6 +57,7 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     h.nactive = s->nactive;
     h.nfluid = s->nfluid;
     h.nboundary = s->nboundary;
+    h.nbodies = s->bodies.n;
     h.step = s->step;
     h.failed = s->failed;
     h.t = s->t;
@@ -75,6 +77,11 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     memcpy(p, s->P.type, n);
     p += n;
     memcpy(p, s->P.id, n * sizeof(int));
+    p += n * sizeof(int);
+    for (size_t k = 0; k < nbs; k++) {
+        memcpy(p, &s->bodies.b[k].s, sizeof(sph_body_state));
+        p += sizeof(sph_body_state);
+    }
     *buf = b;
     *len = size;
     return 0;
@@ -107,8 +114,10 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
     double *arrays[32];
     const int na = persistent_arrays(s, arrays, 32);
     const size_t n = (size_t)s->P.n;
-    if (h.n != s->P.n || (s->P.txx != NULL) != (h.sps != 0) ||
-        len != sizeof h + (size_t)na * n * sizeof(double) + n * (1 + sizeof(int))) {
+    const size_t nbs = (size_t)s->bodies.n;
+    if (h.n != s->P.n || (s->P.txx != NULL) != (h.sps != 0) || h.nbodies != s->bodies.n ||
+        len != sizeof h + (size_t)na * n * sizeof(double) + n * (1 + sizeof(int)) +
+                   nbs * sizeof(sph_body_state)) {
         sph_sim_destroy(s);
         sph_error_set(err, SPH_ERR_IO, "", "simulation state does not match its configuration");
         return NULL;
@@ -120,8 +129,10 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
         return NULL;
     }
     const unsigned char *p = (const unsigned char *)buf + sizeof h;
-    /* types are SPH_FLUID, SPH_BOUNDARY or SPH_LOST and the ids a permutation of 0..n-1 (the
-     * server indexes by id): checked before anything is taken */
+    /* types are SPH_FLUID, SPH_BOUNDARY, SPH_LOST or SPH_BODY (ghosts live only inside a force
+     * evaluation), the ids a permutation of 0..n-1 (the server indexes by id), and a particle is
+     * a body's exactly when its id is one of the bodies' (the pair loop and the bodies index
+     * their tables by id - first): checked before anything is taken */
     const unsigned char *types = p + (size_t)na * n * sizeof(double);
     const unsigned char *ids = types + n;
     unsigned char *seen = calloc(n ? n : 1, 1);
@@ -129,7 +140,9 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
     for (size_t i = 0; i < n && !bad; i++) {
         int id;
         memcpy(&id, ids + i * sizeof(int), sizeof id);
-        bad = types[i] > SPH_LOST || id < 0 || (size_t)id >= n || seen[id]++;
+        const int body_id = s->bodies.n > 0 && (long)id >= s->bodies.first;
+        bad = (types[i] > SPH_LOST && types[i] != SPH_BODY) || id < 0 || (size_t)id >= n ||
+              seen[id]++ || (types[i] == SPH_BODY) != body_id;
     }
     free(seen);
     if (bad) {
@@ -144,6 +157,11 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
     memcpy(s->P.type, p, n);
     p += n;
     memcpy(s->P.id, p, n * sizeof(int));
+    p += n * sizeof(int);
+    for (size_t k = 0; k < nbs; k++) {
+        memcpy(&s->bodies.b[k].s, p, sizeof(sph_body_state));
+        p += sizeof(sph_body_state);
+    }
     s->nactive = h.nactive;
     s->step = h.step;
     s->failed = (int)h.failed;

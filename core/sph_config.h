@@ -9,7 +9,9 @@
 #include "sph_initial.h"
 #include "sph_kernel.h"
 
-#define SPH_CONFIG_MAX_BOXES 16
+#define SPH_CONFIG_MAX_BOXES  16
+#define SPH_CONFIG_MAX_BODIES 8
+#define SPH_BODY_NAME_MAX     32
 
 /* An axis-aligned box; components beyond dim are ignored. */
 typedef struct sph_box {
@@ -45,7 +47,34 @@ typedef enum {
 typedef enum { SPH_TURB_NONE = 0, SPH_TURB_SPS, SPH_TURB_COUNT } sph_turb_type;
 
 /* Probes a diag can carry besides the always-present fields (bit mask). */
-enum { SPH_PROBE_FRONT_X = 1 << 0, SPH_PROBE_HEIGHT_LEFT = 1 << 1 };
+enum {
+    SPH_PROBE_FRONT_X = 1 << 0,
+    SPH_PROBE_HEIGHT_LEFT = 1 << 1,
+    SPH_PROBE_PENETRATION = 1 << 2 /* the first body's lowest point below the initial level */
+};
+
+/* Shapes of rigid bodies (boundary/sph_body.h). */
+typedef enum { SPH_SHAPE_CIRCLE = 0, SPH_SHAPE_BOX } sph_shape_type;
+
+/* Degrees of freedom of a rigid body (mask bits). */
+enum { SPH_DOF_X = 1 << 0, SPH_DOF_Y = 1 << 1, SPH_DOF_ROTATION = 1 << 2, SPH_DOF_ALL = 7 };
+
+/* A rigid body of boundary particles (boundary/sph_body.h): its shape, its mass (density or
+ * mass: the other is 0), its initial motion and the degrees of freedom the forces move. */
+typedef struct sph_body_spec {
+    char name[SPH_BODY_NAME_MAX]; /* the body's name in diagnostics */
+    sph_shape_type shape;         /* circle or box */
+    double diameter;              /* circle: diameter [m] */
+    double size[3];               /* box: edge lengths [m] */
+    double center[3];             /* initial centre of mass [m] */
+    double angle;                 /* initial angle, counter-clockwise [rad] */
+    double velocity[3];           /* initial velocity [m/s] (prescribed on a fixed axis) */
+    double omega;                 /* initial angular velocity [rad/s] (prescribed if fixed) */
+    double density;               /* [kg/m^3], 0 when the mass is given */
+    double mass;                  /* [kg] (per metre in 2D), 0 when the density is given */
+    int layers;                   /* layers of particles inside the surface, 0: filled [-] */
+    unsigned free;                /* SPH_DOF_* mask of the free degrees of freedom */
+} sph_body_spec;
 
 /* The MPS method's fields (Koshizuka & Oka 1996; Sheu, Chiao & Huang 2011): defaults from
  * sph_mps_config_default() (core/mps/sph_mps.c). */
@@ -97,6 +126,10 @@ typedef struct sph_config {
     unsigned probes;          /* SPH_PROBE_* mask */
     double max_bytes;         /* memory a simulation may use [bytes] */
     sph_mps_config mps;       /* method mps only */
+
+    /* rigid bodies of boundary particles (boundary/sph_body.h) */
+    int nbodies;
+    sph_body_spec bodies[SPH_CONFIG_MAX_BODIES];
 } sph_config;
 
 #define SPH_CONFIG_DEFAULT_MAX_BYTES (4.0 * 1024 * 1024 * 1024)

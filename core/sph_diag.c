@@ -87,6 +87,24 @@ void sph_diag_compute(sph_sim *s)
     d->lost = s->P.n - s->nactive;
     d->nfluid = s->nfluid;
     d->nboundary = s->nboundary;
+    d->nbody = s->bodies.np;
+    d->nbodies = s->bodies.n;
+    d->penetration = NAN;
+    for (int k = 0; k < s->bodies.n; k++) {
+        const sph_body_state *b = &s->bodies.b[k].s;
+        sph_body_diag *o = &d->body[k];
+        for (int j = 0; j < 3; j++) {
+            o->x[j] = b->x[j];
+            o->v[j] = b->v[j];
+            o->force[j] = b->force[j];
+        }
+        o->angle = b->theta;
+        o->omega = b->omega;
+        o->torque = b->torque;
+        o->penetration = sph_bodies_penetration(&s->bodies, c, k);
+        if (k == 0)
+            d->penetration = o->penetration;
+    }
 
     const double wall = c->has_tank ? c->tank.min[0] : c->domain.min[0];
     const double bottom = c->has_tank ? c->tank.min[1] : c->domain.min[1];

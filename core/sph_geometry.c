@@ -1,5 +1,6 @@
 #include "sph_geometry.h"
 
+#include "sph_body.h"
 #include "sph_eos.h"
 
 #include <math.h>
@@ -32,11 +33,46 @@ static void tank_counts(const sph_config *c, long *nbottom, long *nside)
     *nside = axis_count(c->tank.min[1], c->tank.max[1], c->dx) * L;
 }
 
+/* Bodies take their place out of the fluid boxes: a box that overlaps one is counted particle
+ * by particle (unless it is too large to be built anyway). */
+#define SPH_CARVE_MAX 1000000000L
+
+static int box_meets_bodies(const sph_config *c, const sph_box *f)
+{
+    if (c->nbodies == 0 || sph_geometry_box_count(f, c->dim, c->dx) > SPH_CARVE_MAX)
+        return 0;
+    for (int k = 0; k < c->nbodies; k++) {
+        const sph_body_spec *b = &c->bodies[k];
+        const double r =
+            0.5 * (b->shape == SPH_SHAPE_CIRCLE ? b->diameter : hypot(b->size[0], b->size[1])) +
+            c->dx;
+        if (b->center[0] + r > f->min[0] && b->center[0] - r < f->max[0] &&
+            b->center[1] + r > f->min[1] && b->center[1] - r < f->max[1])
+            return 1;
+    }
+    return 0;
+}
+
+static long fluid_box_count(const sph_config *c, const sph_box *f)
+{
+    if (!box_meets_bodies(c, f))
+        return sph_geometry_box_count(f, c->dim, c->dx);
+    const double dx = c->dx;
+    const long nx = axis_count(f->min[0], f->max[0], dx), ny = axis_count(f->min[1], f->max[1], dx);
+    long n = 0;
+    for (long ix = 0; ix < nx; ix++)
+        for (long iy = 0; iy < ny; iy++) {
+            const double x[2] = {f->min[0] + (ix + 0.5) * dx, f->min[1] + (iy + 0.5) * dx};
+            n += !sph_body_covers(c, x);
+        }
+    return n;
+}
+
 void sph_geometry_count(const sph_config *c, long *nfluid, long *nboundary)
 {
     *nfluid = 0;
     for (int b = 0; b < c->nfluid; b++)
-        *nfluid += sph_geometry_box_count(&c->fluid[b], c->dim, c->dx);
+        *nfluid += fluid_box_count(c, &c->fluid[b]);
     *nboundary = 0;
     if (c->has_tank && c->boundary == SPH_BOUNDARY_DYNAMIC) {
         long nb, ns;
@@ -65,6 +101,11 @@ static double initial_density(const sph_config *c, double x, double y, double ma
     return sph_geometry_eos_density(c, c->rho0 * g * depth);
 }
 
+double sph_geometry_hydrostatic_density(const sph_config *c, double x, double y)
+{
+    return initial_density(c, x, y, 0.0);
+}
+
 static void put(sph_particles *P, long i, double x, double y, int type, double rho)
 {
     P->x[i] = x;
@@ -84,9 +125,13 @@ void sph_geometry_fill(const sph_config *c, sph_particles *P)
         const sph_box *f = &c->fluid[b];
         const long nx = axis_count(f->min[0], f->max[0], dx);
         const long ny = axis_count(f->min[1], f->max[1], dx);
+        const int carve = box_meets_bodies(c, f);
         for (long ix = 0; ix < nx; ix++)
             for (long iy = 0; iy < ny; iy++) {
                 const double x = f->min[0] + (ix + 0.5) * dx, y = f->min[1] + (iy + 0.5) * dx;
+                const double xy[2] = {x, y};
+                if (carve && sph_body_covers(c, xy))
+                    continue;
                 put(P, i++, x, y, SPH_FLUID, initial_density(c, x, y, 0.0));
             }
     }

@@ -13,8 +13,10 @@ enum {
     SPH_FLUID = 0,    /* moves, feels forces */
     SPH_BOUNDARY = 1, /* dynamic boundary particle: fixed, density by continuity */
     SPH_LOST = 2,     /* fluid that left the domain: frozen, excluded from interactions */
-    SPH_GHOST = 3     /* mirror of a fluid particle behind a free-slip wall: rebuilt for every
+    SPH_GHOST = 3,    /* mirror of a fluid particle behind a free-slip wall: rebuilt for every
                          force evaluation, never integrated, never in outputs or diagnostics */
+    SPH_BODY = 4      /* particle of a rigid body (boundary/sph_body.h): moves with its body,
+                         density by continuity */
 };
 
 /* Loops over fewer particles than this run on the calling thread alone: for small jobs the

@@ -108,8 +108,10 @@ static long nbins_of(const sph_config *c)
 double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nboundary)
 {
     long nf = 0, nb = 0;
-    if (cfg->dx > 0.0)
+    if (cfg->dx > 0.0) {
         sph_geometry_count(cfg, &nf, &nb);
+        nb += sph_body_count(cfg); /* the bodies' particles are boundary particles that move */
+    }
     if (nfluid)
         *nfluid = nf;
     if (nboundary)
@@ -170,6 +172,8 @@ int sph_sim_check(const sph_config *c, sph_error *err)
         return sph_error_set(err, SPH_ERR_INVALID, "/time/end", "the end time must be positive");
     if (!(c->cfl > 0.0) && !(c->dt_fixed > 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/time/cfl", "cfl must be positive");
+    if (sph_body_check(c, err))
+        return err ? err->code : SPH_ERR_INVALID;
     return ops->check(c, err);
 }
 
@@ -179,7 +183,7 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
         return NULL;
     long nf, nb;
     const double bytes = sph_sim_estimate_bytes(cfg, &nf, &nb);
-    if (nf <= 0) {
+    if (nf <= 0 && cfg->nbodies == 0) {
         sph_error_set(err, SPH_ERR_INVALID, "/fluid",
                       "the case has no fluid particles (every fluid box is thinner than dx)");
         return NULL;
@@ -205,8 +209,9 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
     /* MPS weights have support 2h = re (sph_kernel.h) */
     s->h = sph_kernel_is_mps(cfg->kernel.type) ? 0.5 * support_of(cfg) : cfg->h_over_dx * cfg->dx;
     s->mass = cfg->rho0 * cfg->dx * cfg->dx;
+    const long nbody = sph_body_count(cfg);
     s->nfluid = nf;
-    s->nboundary = nb;
+    s->nboundary = nb - nbody;
     s->max_lost = 10 + nf / 100;
     if (sph_kernel_init(&s->kernel, &cfg->kernel, 2, s->h, err)) {
         if (err) {
@@ -230,7 +235,8 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
     if (!s->bin_count || !s->bin_max ||
         sph_particles_alloc(&s->P, nf + nb, cfg->turb == SPH_TURB_SPS) ||
         sph_particles_reserve(&s->P, cap) ||
-        sph_cells_alloc(&s->cells, lo, hi, s->kernel.support, cap)) {
+        sph_cells_alloc(&s->cells, lo, hi, s->kernel.support, cap) ||
+        sph_bodies_init(&s->bodies, cfg, nf + nb - nbody)) {
         sph_sim_destroy(s);
         sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for %ld particles", nf + nb);
         return NULL;
@@ -244,6 +250,8 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
             s->P.vx[i] = v[0];
             s->P.vy[i] = v[1];
         }
+    sph_bodies_fill(&s->bodies, cfg, &s->P);
+    s->vmax = sph_bodies_vmax(&s->bodies); /* the first step respects the bodies' speed */
     if (s->ops->init(s, err)) {
         sph_sim_destroy(s);
         return NULL;
@@ -382,6 +390,7 @@ void sph_sim_destroy(sph_sim *s)
         s->ops->destroy(s);
     sph_particles_free(&s->P);
     sph_cells_free(&s->cells);
+    sph_bodies_free(&s->bodies);
     free(s->bin_count);
     free(s->bin_max);
     free(s);

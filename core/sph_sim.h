@@ -25,6 +25,17 @@
 
 typedef struct sph_sim sph_sim;
 
+/* One rigid body in the diagnostics (SI units; per metre in 2D). */
+typedef struct sph_body_diag {
+    double x[3];        /* centre of mass [m] */
+    double v[3];        /* its velocity [m/s] */
+    double angle;       /* [rad], counter-clockwise */
+    double omega;       /* angular velocity [rad/s] */
+    double force[3];    /* force of the fluid (and of walls in contact) on the body [N] */
+    double torque;      /* its torque about the centre of mass [N m] */
+    double penetration; /* depth of the lowest point below the initial still-water level [m] */
+} sph_body_diag;
+
 /* Diagnostics of the latest completed step (SI units). */
 typedef struct sph_diag {
     double t;           /* time [s] */
@@ -40,11 +51,15 @@ typedef struct sph_diag {
     long lost;          /* fluid particles that left the domain [-] */
     long nfluid;        /* fluid particles (lost included) [-] */
     long nboundary;     /* boundary particles [-] */
-    double runup;       /* top of the fluid at the right wall (tank or domain) above its bottom [m] */
+    double runup;       /* fluid top at the right wall (tank or domain) above its bottom [m] */
     /* MPS only (0 for other methods): the pressure solve of the latest step */
     long cg_iterations; /* conjugate-gradient iterations [-] */
     double cg_residual; /* relative residual ||b - A p|| / ||b|| reached [-] */
     long free_surface;  /* particles on the free surface (Dirichlet p = 0) [-] */
+    long nbody;         /* particles of the rigid bodies [-] */
+    double penetration; /* the first body's penetration (NAN without bodies) [m] */
+    int nbodies;        /* rigid bodies, in the configuration's order (names there) */
+    sph_body_diag body[SPH_CONFIG_MAX_BODIES];
 } sph_diag;
 
 /* Read access to the particles. Arrays are in the sim's current (cell-sorted) order; `id` maps
@@ -56,7 +71,7 @@ typedef struct sph_particle_view {
     const double *vel[3];      /* velocity components [m/s] */
     const double *rho;         /* density [kg/m^3] */
     const double *p;           /* pressure [Pa] */
-    const unsigned char *type; /* 0 fluid, 1 boundary, 2 lost (see sph_particles.h) */
+    const unsigned char *type; /* 0 fluid, 1 boundary, 2 lost, 4 body (sph_particles.h) */
     const int *id;             /* creation index */
 } sph_particle_view;
 
@@ -65,6 +80,8 @@ typedef struct sph_timing {
     double neighbours;   /* cell list build and particle reordering [s] */
     double interactions; /* pair loops [s] */
     double integration;  /* time integration, checks, diagnostics [s] */
+    double bodies;       /* rigid bodies: forces summed, bodies moved, particles placed [s]
+                            (part of interactions and integration) */
     double solve;        /* MPS: the pressure equation's assembly and solve [s] */
     long pairs;          /* interacting pairs (r < support) in the latest force evaluation */
     long active;         /* particles in the latest force evaluation */

@@ -5,6 +5,7 @@
 #ifndef SPH_SIM_IMPL_H
 #define SPH_SIM_IMPL_H
 
+#include "sph_body.h"
 #include "sph_cells.h"
 #include "sph_config.h"
 #include "sph_envelope.h"
@@ -27,6 +28,7 @@ struct sph_sim {
     long nactive;              /* particles in cells after the latest sort [-] */
     long nfluid;               /* fluid particles created [-] */
     long nboundary;            /* boundary particles [-] */
+    sph_bodies bodies;         /* rigid bodies (their particles follow the walls') */
     sph_wall_ghost ghost;      /* the free-slip walls, with boundary == SPH_BOUNDARY_GHOST */
     long nghost;               /* ghosts of the latest force evaluation [-] */
     long max_lost;             /* more lost fluid particles than this is a blow-up [-] */
@@ -34,7 +36,7 @@ struct sph_sim {
     long step;                 /* steps done [-] */
     double dt;                 /* latest time step [s] */
     double amax;               /* largest fluid acceleration of the latest evaluation [m/s^2] */
-    double vmax;               /* largest fluid speed at the end of the latest step [m/s] */
+    double vmax;               /* largest fluid or body speed at the end of the latest step [m/s] */
     int failed;                /* 1 after a blow-up */
     sph_diag diag;             /* latest diagnostics */
     sph_timing timing;         /* cumulative timers */

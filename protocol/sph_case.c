@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static const char *const method_names[] = {[SPH_METHOD_KERNEL_STUDY] = "kernel_study",
@@ -198,7 +199,8 @@ static const char *key_of(const char *path)
     return slash ? slash + 1 : path;
 }
 
-/* The value at a JSON pointer of the table (plain keys, no escapes), or NULL. */
+/* The value at a JSON pointer of the table (plain keys, no escapes; array elements by index),
+ * or NULL. */
 static const json_t *lookup(const json_t *root, const char *path)
 {
     const json_t *v = root;
@@ -206,22 +208,57 @@ static const json_t *lookup(const json_t *root, const char *path)
     while (v && *path == '/') {
         const char *end = strchr(path + 1, '/');
         const size_t len = end ? (size_t)(end - path - 1) : strlen(path + 1);
-        if (!json_is_object(v) || len >= sizeof key)
+        if (len >= sizeof key)
             return NULL;
         memcpy(key, path + 1, len);
         key[len] = '\0';
-        v = json_object_get(v, key);
+        if (json_is_array(v) && len > 0 && strspn(key, "0123456789") == len)
+            v = json_array_get(v, strtoul(key, NULL, 10));
+        else if (json_is_object(v))
+            v = json_object_get(v, key);
+        else
+            return NULL;
         path += len + 1;
     }
     return v;
 }
 
+/* Whether a path of the table (an element row's has a "*" segment) names the concrete path. */
+static int path_matches(const char *pattern, const char *path)
+{
+    while (*pattern && *path) {
+        if (pattern[0] == '*' && (pattern[1] == '/' || pattern[1] == '\0')) {
+            const size_t digits = strspn(path, "0123456789");
+            if (digits == 0 || (path[digits] != '/' && path[digits] != '\0'))
+                return 0;
+            pattern++;
+            path += digits;
+            continue;
+        }
+        if (*pattern++ != *path++)
+            return 0;
+    }
+    return *pattern == *path;
+}
+
 static const sph_case_field *row_of(const char *path)
 {
     for (const sph_case_field *f = sph_case_fields; f->path; f++)
-        if (strcmp(f->path, path) == 0)
+        if (path_matches(f->path, path))
             return f;
     return NULL;
+}
+
+/* An element row's path with its "*" replaced by index i, into buf. */
+static const char *element_path(const char *pattern, size_t i, char *buf, size_t n)
+{
+    const char *star = strstr(pattern, "/*");
+    if (!star) {
+        snprintf(buf, n, "%s", pattern);
+        return buf;
+    }
+    snprintf(buf, n, "%.*s/%zu%s", (int)(star - pattern), pattern, i, star + 2);
+    return buf;
 }
 
 static void *dest(const sph_case_field *f, sph_config *c, sph_output_config *o)
@@ -229,10 +266,10 @@ static void *dest(const sph_case_field *f, sph_config *c, sph_output_config *o)
     return (f->dst == SPH_CF_OUT ? (char *)o : (char *)c) + f->off;
 }
 
-/* The name an enum row holds in this case: given, or its default. */
-static const char *enum_name(const json_t *root, const sph_case_field *f)
+/* The name an enum row holds in this case at path: given, or its default. */
+static const char *enum_name(const json_t *root, const sph_case_field *f, const char *path)
 {
-    const json_t *v = lookup(root, f->path);
+    const json_t *v = lookup(root, path);
     if (json_is_string(v))
         return json_string_value(v);
     return f->has_def ? f->names[(int)f->def] : "";
@@ -247,7 +284,7 @@ static int when_holds(const json_t *root, const sph_case_field *f, char *what, s
     char path[SPH_ERROR_PATH_MAX];
     snprintf(path, sizeof path, "%.*s", (int)(eq - f->when), f->when);
     const sph_case_field *ref = row_of(path);
-    const char *name = ref ? enum_name(root, ref) : "";
+    const char *name = ref ? enum_name(root, ref, path) : "";
     snprintf(what, n, "'%s' applies only when %s is %s", key_of(f->path), path + 1, eq + 1);
     for (char *p = what; *p; p++)
         if (*p == '|')
@@ -286,7 +323,7 @@ static int check_object_keys(const json_t *obj, const char *path, sph_method m, 
         char allowed[240] = "";
         for (const sph_case_field *g = sph_case_fields; g->path; g++)
             if ((g->methods & SPH_CF_M(m)) &&
-                strcmp(parent_of(g->path, parent, sizeof parent), path) == 0 &&
+                path_matches(parent_of(g->path, parent, sizeof parent), path) &&
                 strlen(allowed) + strlen(key_of(g->path)) + 8 < sizeof allowed)
                 snprintf(allowed + strlen(allowed), sizeof allowed - strlen(allowed), "%s%s",
                          allowed[0] ? ", " : "", key_of(g->path));
@@ -345,6 +382,9 @@ int sph_case_parse_box(const json_t *obj, const char *base, int dim, sph_box *b,
         }
     return 0;
 }
+
+static int parse_array(const json_t *root, const sph_case_field *f, const json_t *v, sph_method m,
+                       sph_config *c, sph_output_config *o, sph_error *err);
 
 /* One row, present (v) or not, whose parent object is present or not. */
 static int parse_row(const json_t *root, const sph_case_field *f, const json_t *v,
@@ -433,7 +473,55 @@ static int parse_row(const json_t *root, const sph_case_field *f, const json_t *
         return parse_names(v, f, dst, err);
     case SPH_CF_CUSTOM:
         return f->parse(v, f->path, c, o, err);
+    case SPH_CF_STRING:
+        if (sph_json_string(obj, parent, key, 1, &str, err))
+            return SPH_ERR_INVALID;
+        if (strlen(str) < 1 || strlen(str) >= f->size)
+            return sph_error_set(err, SPH_ERR_INVALID, f->path,
+                                 "'%s' must have 1 to %zu characters", key, f->size - 1);
+        snprintf(dst, f->size, "%s", str);
+        return 0;
+    case SPH_CF_ARRAY:
+        return parse_array(root, f, v, m, c, o, err);
     }
+    return 0;
+}
+
+/* An array row: lo..hi objects, each element's rows read with its index in their paths. */
+static int parse_array(const json_t *root, const sph_case_field *f, const json_t *v, sph_method m,
+                       sph_config *c, sph_output_config *o, sph_error *err)
+{
+    const char *key = key_of(f->path);
+    if (!json_is_array(v) || json_array_size(v) < (size_t)f->lo ||
+        json_array_size(v) > (size_t)f->hi)
+        return sph_error_set(err, SPH_ERR_INVALID, f->path,
+                             "'%s' must be an array of %g to %g objects", key, f->lo, f->hi);
+    char pattern[SPH_ERROR_PATH_MAX], base[SPH_ERROR_PATH_MAX], path[SPH_ERROR_PATH_MAX];
+    char when[SPH_ERROR_PATH_MAX + 64];
+    snprintf(pattern, sizeof pattern, "%s/*/", f->path);
+    for (size_t i = 0; i < json_array_size(v); i++) {
+        const json_t *e = json_array_get(v, i);
+        snprintf(base, sizeof base, "%s/%zu", f->path, i);
+        if (!json_is_object(e))
+            return sph_error_set(err, SPH_ERR_INVALID, base, "an element of '%s' must be an object",
+                                 key);
+        if (check_object_keys(e, base, m, err))
+            return SPH_ERR_INVALID;
+        for (const sph_case_field *g = sph_case_fields; g->path; g++) {
+            if (!(g->methods & SPH_CF_M(m)) || strncmp(g->path, pattern, strlen(pattern)) != 0)
+                continue;
+            sph_case_field row = *g; /* the element's own copy: its path, condition, place */
+            row.path = element_path(g->path, i, path, sizeof path);
+            if (g->when)
+                row.when = element_path(g->when, i, when, sizeof when);
+            row.dst = f->dst;
+            row.off = f->off + i * f->stride + g->off;
+            if (parse_row(root, &row, lookup(root, row.path), 1, m, c, o, err))
+                return SPH_ERR_INVALID;
+        }
+    }
+    *(int *)((f->dst == SPH_CF_OUT ? (char *)o : (char *)c) + f->count_off) =
+        (int)json_array_size(v);
     return 0;
 }
 
@@ -447,8 +535,8 @@ int sph_case_parse_sim(const json_t *root, sph_method m, sph_config *c, sph_outp
         return SPH_ERR_INVALID;
     char parent[SPH_ERROR_PATH_MAX];
     for (const sph_case_field *f = sph_case_fields; f->path; f++) {
-        if (!(f->methods & SPH_CF_M(m)))
-            continue;
+        if (!(f->methods & SPH_CF_M(m)) || strstr(f->path, "/*"))
+            continue; /* element rows are read by their array's row */
         const json_t *up = lookup(root, parent_of(f->path, parent, sizeof parent));
         if (parse_row(root, f, lookup(root, f->path), up != NULL, m, c, o, err))
             return SPH_ERR_INVALID;
@@ -493,8 +581,8 @@ int sph_case_from_json(const json_t *root, sph_case *out, sph_error *err)
 
 json_t *sph_case_fields_json(void)
 {
-    static const char *const types[] = {"object", "text", "number", "integer", "enum",
-                                        "vector", "box",  "names",  "custom"};
+    static const char *const types[] = {"object", "text",  "number", "integer", "enum",  "vector",
+                                        "box",    "names", "custom", "array",   "string"};
     json_t *rows = json_array();
     for (const sph_case_field *f = sph_case_fields; rows && f->path; f++) {
         json_t *methods = json_array(), *required = json_array();
@@ -511,7 +599,8 @@ json_t *sph_case_fields_json(void)
                                 f->when, "doc", f->doc ? f->doc : "");
         if (!row)
             continue;
-        if (f->type == SPH_CF_NUMBER || f->type == SPH_CF_INTEGER || f->type == SPH_CF_VECTOR) {
+        if (f->type == SPH_CF_NUMBER || f->type == SPH_CF_INTEGER || f->type == SPH_CF_VECTOR ||
+            f->type == SPH_CF_ARRAY) {
             json_object_set_new(row, f->lo_open ? "exclusive_min" : "min", json_real(f->lo));
             json_object_set_new(row, "max", json_real(f->hi));
         }

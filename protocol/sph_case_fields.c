@@ -13,6 +13,10 @@
 #define CFG(member)                                                                                \
     .dst = SPH_CF_CFG, .off = offsetof(sph_config, member),                                        \
     .size = sizeof(((sph_config *)0)->member)
+/* A field of a body (an element of /bodies): relative to its sph_body_spec. */
+#define BODY(member)                                                                               \
+    .dst = SPH_CF_CFG, .off = offsetof(sph_body_spec, member),                                     \
+    .size = sizeof(((sph_body_spec *)0)->member)
 #define OUT(member)                                                                                \
     .dst = SPH_CF_OUT, .off = offsetof(sph_output_config, member),                                 \
     .size = sizeof(((sph_output_config *)0)->member)
@@ -29,9 +33,15 @@ static const int visc_values[] = {SPH_VISC_ARTIFICIAL, SPH_VISC_LAMINAR, SPH_VIS
 static const char *const initial_names[] = {"rest", "standing_wave", NULL}; /* sph_initial_type */
 static const char *const turb_names[] = {"none", "sps", NULL};
 static const int turb_values[] = {SPH_TURB_NONE, SPH_TURB_SPS};
-static const char *const probe_names[] = {"front_x", "height_left", "ekin", "epot", "vmax", NULL};
+static const char *const probe_names[] = {"front_x", "height_left", "ekin", "epot",
+                                          "vmax",    "penetration", NULL};
 /* ekin, epot and vmax are always in diag: accepted, no bit */
-static const int probe_bits[] = {SPH_PROBE_FRONT_X, SPH_PROBE_HEIGHT_LEFT, 0, 0, 0};
+static const int probe_bits[] = {SPH_PROBE_FRONT_X,    SPH_PROBE_HEIGHT_LEFT, 0, 0, 0,
+                                 SPH_PROBE_PENETRATION};
+static const char *const shape_names[] = {"circle", "box", NULL};
+static const int shape_values[] = {SPH_SHAPE_CIRCLE, SPH_SHAPE_BOX};
+static const char *const dof_names[] = {"x", "y", "rotation", NULL};
+static const int dof_bits[] = {SPH_DOF_X, SPH_DOF_Y, SPH_DOF_ROTATION};
 static const char *const field_names[] = {"pos", "vel", "rho", "p", "type", "id", "mass", NULL};
 static const int field_bits[] = {SPH_FIELD_POS,  SPH_FIELD_VEL, SPH_FIELD_RHO, SPH_FIELD_P,
                                  SPH_FIELD_TYPE, SPH_FIELD_ID,  SPH_FIELD_MASS};
@@ -138,6 +148,47 @@ const sph_case_field sph_case_fields[] = {
      .parse = parse_tank, CFG(tank),
      .doc = "{\"min\", \"max\"}: inner faces of a tank with bottom, left and right walls (open "
             "top) [m]"},
+    {.path = "/bodies", .type = SPH_CF_ARRAY, .methods = SPH_CF_WCSPH, .lo = 0,
+     .hi = SPH_CONFIG_MAX_BODIES, CFG(bodies), .stride = sizeof(sph_body_spec),
+     .count_off = offsetof(sph_config, nbodies),
+     .doc = "array of 0-8 rigid bodies of boundary particles (section 1.4); absent: none"},
+    {.path = "/bodies/*/name", .type = SPH_CF_STRING, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, BODY(name),
+     .doc = "the body's name, 1-31 characters, distinct: its key in diag events"},
+    {.path = "/bodies/*/shape", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .names = shape_names, .values = shape_values, BODY(shape),
+     .doc = "circle (diameter) or box (size)"},
+    {.path = "/bodies/*/diameter", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .when = "/bodies/*/shape=circle", .lo = 0.0, .lo_open = 1,
+     .hi = 1e3, BODY(diameter), .doc = "circle: diameter [m], at least 2 dx"},
+    {.path = "/bodies/*/size", .type = SPH_CF_VECTOR, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .when = "/bodies/*/shape=box", .lo = 0.0, .hi = 1e3, BODY(size),
+     .doc = "box: [width, height] [m], each at least 2 dx"},
+    {.path = "/bodies/*/center", .type = SPH_CF_VECTOR, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .lo = -1e6, .hi = 1e6, BODY(center),
+     .doc = "initial centre of mass [x, y] [m]; the body inside the domain, clear of the walls "
+            "and of other bodies"},
+    {.path = "/bodies/*/angle", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH, .lo = -1e3,
+     .hi = 1e3, .has_def = 1, .def = 0.0, BODY(angle),
+     .doc = "initial angle, counter-clockwise [rad]"},
+    {.path = "/bodies/*/velocity", .type = SPH_CF_VECTOR, .methods = SPH_CF_WCSPH, .lo = -1e3,
+     .hi = 1e3, BODY(velocity),
+     .doc = "initial velocity [vx, vy] [m/s], default [0, 0]; kept on an axis that is not free"},
+    {.path = "/bodies/*/angular_velocity", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .lo = -1e4, .hi = 1e4, .has_def = 1, .def = 0.0, BODY(omega),
+     .doc = "initial angular velocity [rad/s]; kept when rotation is not free"},
+    {.path = "/bodies/*/density", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH, .lo = 0.0,
+     .lo_open = 1, .hi = 1e6, BODY(density),
+     .doc = "density of the solid [kg/m^3]; give density or mass"},
+    {.path = "/bodies/*/mass", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH, .lo = 0.0,
+     .lo_open = 1, .hi = 1e9, BODY(mass), .doc = "mass [kg] (per metre in 2D); or density"},
+    {.path = "/bodies/*/layers", .type = SPH_CF_INTEGER, .methods = SPH_CF_WCSPH, .lo = 0,
+     .hi = 8, .has_def = 1, .def = 0, BODY(layers),
+     .doc = "layers of particles inside the surface; 0: filled"},
+    {.path = "/bodies/*/free", .type = SPH_CF_NAMES, .methods = SPH_CF_WCSPH,
+     .names = dof_names, .values = dof_bits, .def_mask = SPH_DOF_ALL, BODY(free),
+     .doc = "the degrees of freedom the forces move, from x, y, rotation; the others keep "
+            "their initial velocity"},
     {.path = "/physics", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
      .required = SPH_CF_SIMS, .doc = "the fluid and its models"},
     {.path = "/physics/rho0", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS, .lo = 1e-3,
@@ -217,7 +268,8 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/diagnostics/probes", .type = SPH_CF_NAMES, .methods = SPH_CF_SIMS,
      .names = probe_names, .values = probe_bits,
      .def_mask = SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT, CFG(probes),
-     .doc = "probes added to diag (ekin, epot, vmax are always there)"},
+     .doc = "probes added to diag (ekin, epot, vmax are always there); penetration: the first "
+            "body's"},
     {.path = NULL},
 };
 /* clang-format on */

@@ -5,6 +5,11 @@
  * value lands (sph_config or sph_output_config) and what it means. The same table parses and
  * validates a case (sph_case.c), fills the defaults, and is dumped (sph_case_fields_json) so that
  * a test holds the JSON Schema and PROTOCOL.md to it. A new case field is a new row.
+ *
+ * Arrays of objects (the bodies) are one SPH_CF_ARRAY row ("/bodies") and one row per field of
+ * an element, whose path has the segment "*" where the index goes (the density of a body is the
+ * row "/bodies", "*", "density" joined by slashes). Those rows are read for each element with the
+ * index in their paths, conditions included (a condition on the shape reads the same element's).
  */
 #ifndef SPH_CASE_TABLE_H
 #define SPH_CASE_TABLE_H
@@ -23,6 +28,10 @@ typedef enum {
     SPH_CF_BOX,     /* {"min": [..], "max": [..]}, max > min, stored as sph_box */
     SPH_CF_NAMES,   /* an array of names from names, stored as an unsigned mask (bit values[k]) */
     SPH_CF_CUSTOM,  /* parsed by the row's parse() */
+    SPH_CF_ARRAY,   /* an array of lo..hi objects; each element holds the element rows (below the
+                     * segment "*"), whose destinations are relative to the element (element i at
+                     * off + i stride) */
+    SPH_CF_STRING,  /* a string of 1 to size - 1 characters, stored as char[size] */
 } sph_case_ftype;
 
 /* Where a row's value lands. */
@@ -50,6 +59,7 @@ typedef struct sph_case_field {
     unsigned def_mask;        /* names: default mask */
     int dst;                  /* SPH_CF_CFG or SPH_CF_OUT */
     size_t off, size;         /* offset and size of the destination member */
+    size_t stride, count_off; /* arrays: element size, and where the element count (int) lands */
     /* SPH_CF_CUSTOM: reads v (present) at path into c / o. */
     int (*parse)(const json_t *v, const char *path, sph_config *c, sph_output_config *o,
                  sph_error *err);

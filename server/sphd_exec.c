@@ -94,9 +94,31 @@ static json_t *num(double v)
     return isfinite(v) ? json_real(v) : json_null();
 }
 
-/* The body of a diag event (new reference). */
-static json_t *diag_json(const sph_diag *d, unsigned probes)
+/* [v0, v1] of a 2D vector (new reference). */
+static json_t *vec2(const double *v)
 {
+    return json_pack("[o, o]", num(v[0]), num(v[1]));
+}
+
+/* The rigid bodies of a diag, under their names (new reference). */
+static json_t *bodies_json(const sph_diag *d, const sph_config *c)
+{
+    json_t *all = json_object();
+    for (int k = 0; k < d->nbodies && k < c->nbodies; k++) {
+        const sph_body_diag *b = &d->body[k];
+        json_object_set_new(all, c->bodies[k].name,
+                            json_pack("{s:o, s:o, s:o, s:o, s:o, s:o, s:o}", "x", vec2(b->x), "v",
+                                      vec2(b->v), "angle", num(b->angle), "omega", num(b->omega),
+                                      "force", vec2(b->force), "torque", num(b->torque),
+                                      "penetration", num(b->penetration)));
+    }
+    return all;
+}
+
+/* The body of a diag event (new reference). */
+static json_t *diag_json(const sph_diag *d, const sph_config *c)
+{
+    const unsigned probes = c->probes;
     json_t *b = json_object();
     json_object_set_new(b, "step", json_integer(d->step));
     json_object_set_new(b, "t", num(d->t));
@@ -111,6 +133,10 @@ static json_t *diag_json(const sph_diag *d, unsigned probes)
         json_object_set_new(b, "front_x", num(d->front_x));
     if (probes & SPH_PROBE_HEIGHT_LEFT)
         json_object_set_new(b, "height_left", num(d->height_left));
+    if (probes & SPH_PROBE_PENETRATION)
+        json_object_set_new(b, "penetration", num(d->penetration));
+    if (d->nbodies > 0)
+        json_object_set_new(b, "bodies", bodies_json(d, c));
     return b;
 }
 
@@ -143,7 +169,7 @@ static int emit_diag(sphd_exec *x, sphd_emit_fn emit, void *ud, sph_error *err)
 {
     const sph_diag *d = sph_sim_diag(x->sim);
     json_decref(x->diag);
-    x->diag = diag_json(d, x->c.sim.probes);
+    x->diag = diag_json(d, &x->c.sim);
     x->last_diag = d->step;
     emit(ud, "diag", json_deep_copy(x->diag));
     return x->out ? sphd_outputs_diag(x->out, d, err) : 0;
@@ -216,6 +242,8 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
                             "steps", (json_int_t)d->step, "t", num(d->t), "wall_time", num(x->wall),
                             "particles", "fluid", (json_int_t)d->nfluid, "boundary",
                             (json_int_t)d->nboundary, "lost", (json_int_t)d->lost, "diag", x->diag);
+    if (res && d->nbody > 0) /* the bodies' particles, when there are bodies */
+        json_object_set_new(json_object_get(res, "particles"), "body", json_integer(d->nbody));
     result_physics(res, x->sim);
     emit(ud, "result", res);
     x->finished = 1;
@@ -237,7 +265,7 @@ json_t *sphd_exec_progress(const sphd_exec *x)
     if (!x->sim)
         return json_pack("{s:I, s:b}", "step", (json_int_t)0, "finished", x->finished);
     const sph_diag *d = sph_sim_diag(x->sim);
-    json_t *diag = x->diag ? json_deep_copy(x->diag) : diag_json(d, x->c.sim.probes);
+    json_t *diag = x->diag ? json_deep_copy(x->diag) : diag_json(d, &x->c.sim);
     return json_pack("{s:o, s:o, s:I, s:b, s:o}", "t", num(d->t), "t_end", num(x->c.sim.t_end),
                      "step", (json_int_t)d->step, "finished", x->finished, "diag", diag);
 }
@@ -330,7 +358,10 @@ json_t *sphd_exec_particles(const sphd_exec *x, const char *const *fields, int n
             else if (strcmp(name, "p") == 0)
                 val = num(v.p[i]);
             else if (strcmp(name, "type") == 0)
-                val = json_string(v.type[i] == 0 ? "fluid" : v.type[i] == 1 ? "boundary" : "lost");
+                val = json_string(v.type[i] == 0   ? "fluid"
+                                  : v.type[i] == 1 ? "boundary"
+                                  : v.type[i] == 4 ? "body"
+                                                   : "lost");
             else
                 val = json_integer(v.id[i]);
             json_array_append_new(arr[f], val);
@@ -413,7 +444,7 @@ sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_bac
     sphd_ckpt_free(ck);
     if (x->sim) {
         const sph_diag *d = sph_sim_diag(x->sim);
-        x->diag = diag_json(d, x->c.sim.probes);
+        x->diag = diag_json(d, &x->c.sim);
         x->out = sphd_outputs_open(outdir, job_of(outdir), c, d->step, err);
         if (x->out && sphd_outputs_restore(x->out, json_object_get(ex, "outputs"), err)) {
             sphd_outputs_close(x->out);

@@ -113,10 +113,11 @@ json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err)
     sphd_h5_field f[8];
     int nf = 0;
     const unsigned want = o->cfg.fields;
-    long nfluid = 0, nboundary = 0;
-    for (long i = 0; i < n; i++) {
-        nfluid += v.type[i] != 1;
+    long nfluid = 0, nboundary = 0, nbody = 0;
+    for (long i = 0; i < n; i++) { /* types: 0 fluid, 1 boundary, 2 lost, 4 body (sph_sim.h) */
+        nfluid += v.type[i] == 0 || v.type[i] == 2;
         nboundary += v.type[i] == 1;
+        nbody += v.type[i] == 4;
     }
     int c = 0;
     sphd_h5_field pos = {"pos", "m", SPHD_H5_F64, v.dim, {0}};
@@ -180,7 +181,7 @@ json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err)
                         .n = n,
                         .n_fluid = nfluid,
                         .n_boundary = nboundary,
-                        .n_body = 0,
+                        .n_body = nbody,
                         .mass = o->mass,
                         .h = o->h};
     char path[4400], xmf[4200];

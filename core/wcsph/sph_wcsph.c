@@ -23,8 +23,17 @@
 /* Option flags, instantiated as constants. F_GHOST: the walls are ghost particles (free slip,
  * boundary/sph_wall_ghost.c), which take part in every term like fluid neighbours, delta-SPH
  * included; only ghost-ghost pairs are skipped. F_MONAGHAN: Monaghan's viscous term on every
- * pair, approaching or not, as a physical viscosity (Macia et al.). */
-enum { F_LAMINAR = 1, F_SPS = 2, F_DELTA = 4, F_GHOST = 8, F_MONAGHAN = 16, F_COUNT = 32 };
+ * pair, approaching or not, as a physical viscosity (Macia et al.). F_BODY: the case has rigid
+ * bodies (boundary/sph_body.h), whose particles interact with everything but their own body. */
+enum {
+    F_LAMINAR = 1,
+    F_SPS = 2,
+    F_DELTA = 4,
+    F_GHOST = 8,
+    F_MONAGHAN = 16,
+    F_BODY = 32,
+    F_COUNT = 64
+};
 
 #define SPH_SPS_CS 0.12   /* Smagorinsky constant, Yang et al. after Lo & Shao */
 #define SPH_SPS_CI 0.0066 /* isotropic part, Dalrymple & Rogers 2006 */
@@ -32,6 +41,9 @@ enum { F_LAMINAR = 1, F_SPS = 2, F_DELTA = 4, F_GHOST = 8, F_MONAGHAN = 16, F_CO
 typedef struct fctx {
     const double *x, *y, *vx, *vy, *rho, *pr;
     const unsigned char *type;
+    const int *id;    /* creation index (F_BODY: which body a body particle belongs to) */
+    const int *owner; /* F_BODY: body of body particle id, at owner[id - body0] */
+    long body0;       /* F_BODY: id of the first body particle */
     double *ax, *ay, *drho;
     double *gxx, *gxy, *gyy;
     const double *txx, *txy, *tyy;
@@ -65,6 +77,9 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
     /* the walls: dynamic boundary particles, or ghosts */
     const unsigned char wall = (F & F_GHOST) ? SPH_GHOST : SPH_BOUNDARY;
     const int bi = c->type[i] == wall;
+    /* F_BODY: the body of particle i (-1: not a body particle), and whether i is fluid */
+    const int oi = (F & F_BODY) && c->type[i] == SPH_BODY ? c->owner[c->id[i] - c->body0] : -1;
+    const int fi = c->type[i] == SPH_FLUID;
     const double m = c->m, support2 = c->support2, eta2 = c->eta2;
     for (long j = jb; j < je; j++) {
         const double dx = xi - x[j], dy = yi - y[j];
@@ -73,6 +88,9 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
             continue;
         const int bj = c->type[j] == wall;
         if (bi & bj) /* wall-wall pairs: nothing a fluid particle feels */
+            continue;
+        if ((F & F_BODY) && oi >= 0 && c->type[j] == SPH_BODY &&
+            c->owner[c->id[j] - c->body0] == oi) /* one rigid body: no force within it */
             continue;
         ai->pairs++;
         const double r = sqrt(r2);
@@ -117,7 +135,8 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
             c->gxy[j] += vj * (dvx * gy + dvy * gx);
             c->gyy[j] += vj * dvy * gy;
         }
-        if ((F & F_DELTA) && ((F & F_GHOST) || !(bi | bj))) {
+        if ((F & F_DELTA) &&
+            ((F & F_GHOST) || ((F & F_BODY) ? fi && c->type[j] == SPH_FLUID : !(bi | bj)))) {
             /* delta-SPH (Molteni & Colagrossi 2009): 2 delta h c0 sum (rho_b - rho_a)
              * (x_b - x_a).grad_a W / (r^2 + eta^2) V_b, fluid and ghost pairs only (a ghost's
              * density is the hydrostatic one behind the wall, dynamic particles' is not) */
@@ -168,8 +187,10 @@ static inline __attribute__((always_inline)) long strip_generic(sph_kernel_type 
 
 typedef long (*strip_fn)(const fctx *c, int strip);
 
-/* One instantiation per kernel type and option set: strips_<TYPE>[flags], the flags' value
- * naming the instantiation (combinations no job makes, laminar with monaghan, cost only code). */
+/* One instantiation per kernel type and option set a job can make: strips_<TYPE>[flags], the
+ * flags' value naming the instantiation. The combinations sph_sim_check refuses (laminar with
+ * monaghan: one viscosity; ghost walls with bodies: sph_body_check) have none, their entry is
+ * NULL: 36 of the 64 per kernel, 180 functions instead of 320. */
 #define SPH_STRIP_FN(T, FL)                                                                        \
     static long strip_##T##_##FL(const fctx *c, int strip)                                         \
     {                                                                                              \
@@ -181,19 +202,21 @@ typedef long (*strip_fn)(const fctx *c, int strip);
     SPH_STRIP_FN(T, 4) SPH_STRIP_FN(T, 5) SPH_STRIP_FN(T, 6) SPH_STRIP_FN(T, 7) \
     SPH_STRIP_FN(T, 8) SPH_STRIP_FN(T, 9) SPH_STRIP_FN(T, 10) SPH_STRIP_FN(T, 11) \
     SPH_STRIP_FN(T, 12) SPH_STRIP_FN(T, 13) SPH_STRIP_FN(T, 14) SPH_STRIP_FN(T, 15) \
-    SPH_STRIP_FN(T, 16) SPH_STRIP_FN(T, 17) SPH_STRIP_FN(T, 18) SPH_STRIP_FN(T, 19) \
-    SPH_STRIP_FN(T, 20) SPH_STRIP_FN(T, 21) SPH_STRIP_FN(T, 22) SPH_STRIP_FN(T, 23) \
-    SPH_STRIP_FN(T, 24) SPH_STRIP_FN(T, 25) SPH_STRIP_FN(T, 26) SPH_STRIP_FN(T, 27) \
-    SPH_STRIP_FN(T, 28) SPH_STRIP_FN(T, 29) SPH_STRIP_FN(T, 30) SPH_STRIP_FN(T, 31) \
+    SPH_STRIP_FN(T, 16) SPH_STRIP_FN(T, 18) SPH_STRIP_FN(T, 20) SPH_STRIP_FN(T, 22) \
+    SPH_STRIP_FN(T, 24) SPH_STRIP_FN(T, 26) SPH_STRIP_FN(T, 28) SPH_STRIP_FN(T, 30) \
+    SPH_STRIP_FN(T, 32) SPH_STRIP_FN(T, 33) SPH_STRIP_FN(T, 34) SPH_STRIP_FN(T, 35) \
+    SPH_STRIP_FN(T, 36) SPH_STRIP_FN(T, 37) SPH_STRIP_FN(T, 38) SPH_STRIP_FN(T, 39) \
+    SPH_STRIP_FN(T, 48) SPH_STRIP_FN(T, 50) SPH_STRIP_FN(T, 52) SPH_STRIP_FN(T, 54) \
     static const strip_fn strips_##T[F_COUNT] = { \
-        strip_##T##_0, strip_##T##_1, strip_##T##_2, strip_##T##_3, \
-        strip_##T##_4, strip_##T##_5, strip_##T##_6, strip_##T##_7, \
-        strip_##T##_8, strip_##T##_9, strip_##T##_10, strip_##T##_11, \
-        strip_##T##_12, strip_##T##_13, strip_##T##_14, strip_##T##_15, \
-        strip_##T##_16, strip_##T##_17, strip_##T##_18, strip_##T##_19, \
-        strip_##T##_20, strip_##T##_21, strip_##T##_22, strip_##T##_23, \
-        strip_##T##_24, strip_##T##_25, strip_##T##_26, strip_##T##_27, \
-        strip_##T##_28, strip_##T##_29, strip_##T##_30, strip_##T##_31, \
+        [0] = strip_##T##_0, [1] = strip_##T##_1, [2] = strip_##T##_2, [3] = strip_##T##_3, \
+        [4] = strip_##T##_4, [5] = strip_##T##_5, [6] = strip_##T##_6, [7] = strip_##T##_7, \
+        [8] = strip_##T##_8, [9] = strip_##T##_9, [10] = strip_##T##_10, [11] = strip_##T##_11, \
+        [12] = strip_##T##_12, [13] = strip_##T##_13, [14] = strip_##T##_14, [15] = strip_##T##_15, \
+        [16] = strip_##T##_16, [18] = strip_##T##_18, [20] = strip_##T##_20, [22] = strip_##T##_22, \
+        [24] = strip_##T##_24, [26] = strip_##T##_26, [28] = strip_##T##_28, [30] = strip_##T##_30, \
+        [32] = strip_##T##_32, [33] = strip_##T##_33, [34] = strip_##T##_34, [35] = strip_##T##_35, \
+        [36] = strip_##T##_36, [37] = strip_##T##_37, [38] = strip_##T##_38, [39] = strip_##T##_39, \
+        [48] = strip_##T##_48, [50] = strip_##T##_50, [52] = strip_##T##_52, [54] = strip_##T##_54, \
     };
 /* clang-format on */
 
@@ -286,7 +309,8 @@ int sph_wcsph_forces(sph_sim *s)
     const unsigned flags = (cfg->visc == SPH_VISC_LAMINAR ? F_LAMINAR : 0) |
                            (cfg->visc == SPH_VISC_MONAGHAN ? F_MONAGHAN : 0) |
                            (cfg->turb == SPH_TURB_SPS ? F_SPS : 0) |
-                           (cfg->delta_sph > 0.0 ? F_DELTA : 0) | (ghosts ? F_GHOST : 0);
+                           (cfg->delta_sph > 0.0 ? F_DELTA : 0) | (ghosts ? F_GHOST : 0) |
+                           (s->bodies.n > 0 ? F_BODY : 0);
     const fctx c = {.x = P->x,
                     .y = P->y,
                     .vx = P->vx,
@@ -294,6 +318,9 @@ int sph_wcsph_forces(sph_sim *s)
                     .rho = P->rho,
                     .pr = P->pr,
                     .type = P->type,
+                    .id = P->id,
+                    .owner = s->bodies.owner,
+                    .body0 = s->bodies.first,
                     .ax = P->ax,
                     .ay = P->ay,
                     .drho = P->drho,
@@ -319,7 +346,7 @@ int sph_wcsph_forces(sph_sim *s)
 #define SPH_PICK(T) fn = strips_##T[flags]
     SPH_KERNEL_DISPATCH(s->kernel.type, SPH_PICK);
 #undef SPH_PICK
-    if (!fn) /* an MPS weight: wcsph_check refuses them before a sim is made */
+    if (!fn) /* an MPS weight or a refused combination: sph_sim_check refuses them first */
         return -1;
     const int nstrips = (s->cells.nx - 2 + 1) / 2;
     const long n = s->nactive;
@@ -330,7 +357,12 @@ int sph_wcsph_forces(sph_sim *s)
             pairs += fn(&c, st);
     }
 
-    /* gravity on the fluid; walls and lost particles do not move */
+    /* the bodies take the force and torque their particles received */
+    double t2 = omp_get_wtime();
+    sph_bodies_gather(&s->bodies, P, n, s->mass);
+    s->timing.bodies += omp_get_wtime() - t2;
+
+    /* gravity on the fluid; walls, bodies' particles and lost particles do not move by it */
     const double gx = cfg->gravity[0], gy = cfg->gravity[1];
     double amax2 = 0.0;
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(max                            \
@@ -347,14 +379,14 @@ int sph_wcsph_forces(sph_sim *s)
     }
     for (long i = n; i < P->n; i++)
         P->ax[i] = P->ay[i] = P->drho[i] = 0.0;
-    s->amax = sqrt(amax2);
-    double t2 = omp_get_wtime();
-    s->timing.interactions += t2 - t1;
+    s->amax = fmax(sqrt(amax2), sph_bodies_amax(&s->bodies));
+    double t3 = omp_get_wtime();
+    s->timing.interactions += t3 - t1;
     s->timing.pairs = pairs;
     if (ghosts) { /* what the ghosts received is discarded with them */
         sph_particles_remove(P, SPH_GHOST, s->cells.perm);
         s->nactive -= s->nghost;
-        s->timing.neighbours += omp_get_wtime() - t2;
+        s->timing.neighbours += omp_get_wtime() - t3;
     }
     s->timing.active = s->nactive;
     return 0;

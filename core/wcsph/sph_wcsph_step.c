@@ -11,6 +11,9 @@
  *
  * The time step is fixed (the case's `time.dt`) or adaptive: dt = CFL min(h / (c0 + vmax),
  * sqrt(h / amax)), and at most h^2 / (8 nu) with laminar viscosity.
+ * Rigid bodies (boundary/sph_body.h) follow the same scheme as a whole: predicted with the
+ * fluid, their particles placed rigidly before the force evaluation, which sums the force on
+ * them, corrected with the fluid; dt also respects their particles' speed and acceleration.
  * After every step the state is checked: non-finite values, density outside [rho0/2, 2 rho0],
  * too many particles lost, a collapsing time step are blow-ups reported with the step.
  * With ghost walls, a particle the predictor takes across a wall is reflected back into the
@@ -114,6 +117,16 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
                              "blow-up at step %ld (t = %g s, dt = %g s): non-finite position of "
                              "%ld particles",
                              step, s->t, dt, bad);
+    if (s->bodies.n > 0) {
+        const double tb = omp_get_wtime();
+        const int out = sph_bodies_predict(&s->bodies, dt, &c->domain);
+        if (out >= 0)
+            return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                                 "blow-up at step %ld (t = %g s): the body '%s' left the domain",
+                                 step, s->t, c->bodies[out].name);
+        sph_bodies_move(&s->bodies, P, n0);
+        s->timing.bodies += omp_get_wtime() - tb;
+    }
     s->timing.integration += omp_get_wtime() - t0;
 
     /* sorts by cell: the arrays are permuted, nactive updated */
@@ -148,6 +161,13 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
         rhi = rho > rhi ? rho : rhi;
     }
     s->vmax = sqrt(vmax2);
+    if (s->bodies.n > 0) {
+        const double tb = omp_get_wtime();
+        sph_bodies_correct(&s->bodies, dt);
+        sph_bodies_move(&s->bodies, P, n);
+        s->vmax = fmax(s->vmax, sph_bodies_vmax(&s->bodies));
+        s->timing.bodies += omp_get_wtime() - tb;
+    }
     s->t += dt;
     s->step = step;
     s->timing.integration += omp_get_wtime() - t1;

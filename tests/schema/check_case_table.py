@@ -30,6 +30,11 @@ def node_at(method, path):
     node, parent = resolve(defs.get(method)), None
     for key in path.strip("/").split("/"):
         node = resolve(node)
+        if key == "*":  # an element of an array row
+            if not isinstance(node, dict) or "items" not in node:
+                return None, None
+            node = node["items"]
+            continue
         if not isinstance(node, dict) or key not in node.get("properties", {}):
             return None, None
         parent, node = node, node["properties"][key]
@@ -37,7 +42,7 @@ def node_at(method, path):
 
 
 KIND = {"number": "number", "integer": "integer", "object": "object", "vector": "array",
-        "names": "array", "box": "object"}
+        "names": "array", "box": "object", "array": "array", "string": "string"}
 methods = sorted({m for r in rows for m in r["methods"]})
 expect(len(methods) > 0, "the table has rows for at least one method")
 for r in rows:
@@ -65,6 +70,9 @@ for r in rows:
             else:
                 expect(node.get("minimum") == r["min"], f"{where}: minimum {node.get('minimum')} vs {r['min']}")
             expect(node.get("maximum") == r["max"], f"{where}: maximum {node.get('maximum')} vs {r['max']}")
+        if t == "array":
+            expect(node.get("minItems") == r["min"] and node.get("maxItems") == r["max"],
+                   f"{where}: items {node.get('minItems')}..{node.get('maxItems')} vs {r['min']}..{r['max']}")
         if "default" in r and t != "object":
             expect(node.get("default") == r["default"],
                    f"{where}: default {node.get('default')} vs {r['default']}")
@@ -88,6 +96,8 @@ def walk(method, node, path):
         expect(row is not None, f"{method} {p}: the schema's field is a row of the table")
         if row and row["type"] == "object":
             walk(method, sub, p)
+        if row and row["type"] == "array":
+            walk(method, resolve(sub).get("items", {}), p + "/*")
 
 
 for m in methods:

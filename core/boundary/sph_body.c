@@ -1,0 +1,490 @@
+/*
+ * sph_body: rigid bodies of boundary particles (sph_body.h). Yang, Peng & Liu 2014, section 2.3.
+ */
+#include "sph_body.h"
+
+#include "sph_geometry.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SPH_PI 3.14159265358979323846
+
+/* More body particles than this is refused (the checks below visit them all). */
+#define SPH_BODY_MAX_PARTICLES 50000000L
+
+/* Rounding slack of the geometric tests, in units of dx. */
+#define SPH_BODY_EPS 1e-9
+
+/* ---- shapes ------------------------------------------------------------------------------- */
+
+static double shape_area(const sph_body_spec *b)
+{
+    if (b->shape == SPH_SHAPE_CIRCLE)
+        return 0.25 * SPH_PI * b->diameter * b->diameter;
+    return b->size[0] * b->size[1];
+}
+
+/* Moment of inertia of the uniform solid shape of mass m about its centre. */
+static double shape_inertia(const sph_body_spec *b, double m)
+{
+    if (b->shape == SPH_SHAPE_CIRCLE)
+        return m * b->diameter * b->diameter / 8.0; /* M R^2 / 2 */
+    return m * (b->size[0] * b->size[0] + b->size[1] * b->size[1]) / 12.0;
+}
+
+/* Half the vertical and horizontal extent of the shape at angle th. */
+static void shape_half_extent(const sph_body_spec *b, double th, double ext[2])
+{
+    if (b->shape == SPH_SHAPE_CIRCLE) {
+        ext[0] = ext[1] = 0.5 * b->diameter;
+        return;
+    }
+    const double c = fabs(cos(th)), s = fabs(sin(th));
+    ext[0] = 0.5 * (b->size[0] * c + b->size[1] * s);
+    ext[1] = 0.5 * (b->size[0] * s + b->size[1] * c);
+}
+
+/* 1 if x lies inside the shape grown by `grow`, the body at its initial place. */
+static int shape_contains(const sph_body_spec *b, const double *x, double grow)
+{
+    const double dx = x[0] - b->center[0], dy = x[1] - b->center[1];
+    if (b->shape == SPH_SHAPE_CIRCLE) {
+        const double r = 0.5 * b->diameter + grow;
+        return dx * dx + dy * dy < r * r;
+    }
+    const double c = cos(b->angle), s = sin(b->angle);
+    const double u = c * dx + s * dy, v = -s * dx + c * dy; /* into the body's frame */
+    return fabs(u) < 0.5 * b->size[0] + grow && fabs(v) < 0.5 * b->size[1] + grow;
+}
+
+/* Particles along an edge of length w at spacing dx (at least 1). */
+static long edge_count(double w, double dx)
+{
+    const long n = (long)floor(w / dx + 1e-6);
+    return n > 0 ? n : 1;
+}
+
+/* The body's particles in its own frame (angle 0): rings of radius R - (k + 1/2) dx for the
+ * circle (ring k has round(2 pi r / dx) particles, every other ring turned by half a spacing;
+ * what is left at the centre, less than dx across, gets one particle), a lattice centred in the
+ * box for the box; all of it or the outer `layers`. Writes xy (2 per particle) when not NULL;
+ * returns the count. */
+static long shape_points(const sph_body_spec *b, double dx, double *xy)
+{
+    long n = 0;
+    const long L = b->layers > 0 ? b->layers : (long)1 << 30;
+    if (b->shape == SPH_SHAPE_CIRCLE) {
+        const double R = 0.5 * b->diameter;
+        for (long k = 0; k < L; k++) {
+            const double r = R - (k + 0.5) * dx;
+            if (r < 0.5 * dx * (1.0 - SPH_BODY_EPS)) {
+                if (r > -0.5 * dx * (1.0 - SPH_BODY_EPS)) {
+                    if (xy)
+                        xy[2 * n] = xy[2 * n + 1] = 0.0;
+                    n++;
+                }
+                break;
+            }
+            long m = lround(2.0 * SPH_PI * r / dx);
+            m = m < 3 ? 3 : m;
+            for (long j = 0; j < m; j++) {
+                if (xy) {
+                    const double phi =
+                        2.0 * SPH_PI * ((double)j + 0.5 * (double)(k % 2)) / (double)m;
+                    xy[2 * n] = r * cos(phi);
+                    xy[2 * n + 1] = r * sin(phi);
+                }
+                n++;
+            }
+        }
+        return n;
+    }
+    const long nx = edge_count(b->size[0], dx), ny = edge_count(b->size[1], dx);
+    if (!xy) { /* counted without visiting the lattice: all of it less the hollow core */
+        const long cx = nx - 2 * L > 0 ? nx - 2 * L : 0, cy = ny - 2 * L > 0 ? ny - 2 * L : 0;
+        return nx * ny - (b->layers > 0 ? cx * cy : 0);
+    }
+    for (long i = 0; i < nx; i++)
+        for (long j = 0; j < ny; j++) {
+            /* layers from the surface: the least of the distances to the four edges */
+            long depth = i < nx - 1 - i ? i : nx - 1 - i;
+            depth = j < depth ? j : depth;
+            depth = ny - 1 - j < depth ? ny - 1 - j : depth;
+            if (depth >= L)
+                continue;
+            if (xy) {
+                xy[2 * n] = -0.5 * (double)nx * dx + ((double)i + 0.5) * dx;
+                xy[2 * n + 1] = -0.5 * (double)ny * dx + ((double)j + 0.5) * dx;
+            }
+            n++;
+        }
+    return n;
+}
+
+/* The points of body b at its initial place, as a new array (2 per point); NULL when out of
+ * memory. */
+static double *world_points(const sph_body_spec *b, double dx, long *np)
+{
+    *np = shape_points(b, dx, NULL);
+    double *xy = malloc((size_t)*np * 2 * sizeof *xy);
+    if (!xy)
+        return NULL;
+    shape_points(b, dx, xy);
+    const double c = cos(b->angle), s = sin(b->angle);
+    for (long p = 0; p < *np; p++) {
+        const double u = xy[2 * p], v = xy[2 * p + 1];
+        xy[2 * p] = b->center[0] + c * u - s * v;
+        xy[2 * p + 1] = b->center[1] + s * u + c * v;
+    }
+    return xy;
+}
+
+/* Distance from (x, y) to the rectangle [x0, x1] x [y0, y1] (0 inside). */
+static double rect_distance(double x, double y, double x0, double x1, double y0, double y1)
+{
+    const double ex = x < x0 ? x0 - x : x > x1 ? x - x1 : 0.0;
+    const double ey = y < y0 ? y0 - y : y > y1 ? y - y1 : 0.0;
+    return sqrt(ex * ex + ey * ey);
+}
+
+/* Distance from (x, y) to the tank's walls (dynamic particles: `layers` layers outside its
+ * bottom, left and right faces). */
+static double wall_distance(const sph_config *c, double x, double y)
+{
+    const sph_box *t = &c->tank;
+    const double w = c->layers * c->dx;
+    const double db = rect_distance(x, y, t->min[0] - w, t->max[0] + w, t->min[1] - w, t->min[1]);
+    const double dl = rect_distance(x, y, t->min[0] - w, t->min[0], t->min[1], t->max[1]);
+    const double dr = rect_distance(x, y, t->max[0], t->max[0] + w, t->min[1], t->max[1]);
+    return fmin(db, fmin(dl, dr));
+}
+
+/* ---- configuration ------------------------------------------------------------------------ */
+
+/* An error at /bodies/i/field. */
+static int body_error(sph_error *err, int i, const char *field, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static int body_error(sph_error *err, int i, const char *field, const char *fmt, ...)
+{
+    char path[SPH_ERROR_PATH_MAX], msg[SPH_ERROR_TEXT_MAX];
+    snprintf(path, sizeof path, "/bodies/%d/%s", i, field);
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    return sph_error_set(err, SPH_ERR_INVALID, path, "%s", msg);
+}
+
+int sph_body_check(const sph_config *c, sph_error *err)
+{
+    if (c->nbodies < 0 || c->nbodies > SPH_CONFIG_MAX_BODIES)
+        return sph_error_set(err, SPH_ERR_INVALID, "/bodies", "at most %d bodies",
+                             SPH_CONFIG_MAX_BODIES);
+    if (c->nbodies > 0 && c->method != SPH_METHOD_WCSPH)
+        return sph_error_set(err, SPH_ERR_INVALID, "/bodies",
+                             "rigid bodies are available with wcsph only in this version");
+    /* A body meets the tank through the dynamic wall particles (the wall's particles push it
+     * back); ghost walls mirror only the fluid and would let a body pass through a wall. */
+    if (c->nbodies > 0 && c->boundary == SPH_BOUNDARY_GHOST)
+        return sph_error_set(err, SPH_ERR_INVALID, "/bodies",
+                             "rigid bodies need dynamic boundary particles (boundary.type "
+                             "'dynamic'): with ghost walls a body would not meet the walls");
+    if ((c->probes & SPH_PROBE_PENETRATION) && c->nbodies == 0)
+        return sph_error_set(err, SPH_ERR_INVALID, "/diagnostics/probes",
+                             "the probe 'penetration' needs a body (the first in 'bodies')");
+    const double dx = c->dx;
+    for (int i = 0; i < c->nbodies; i++) {
+        const sph_body_spec *b = &c->bodies[i];
+        const char *name = b->name;
+        if (!name[0] || strnlen(name, SPH_BODY_NAME_MAX) >= SPH_BODY_NAME_MAX)
+            return body_error(err, i, "name", "a body needs a name of 1 to %d characters",
+                              SPH_BODY_NAME_MAX - 1);
+        for (int j = 0; j < i; j++)
+            if (strcmp(c->bodies[j].name, name) == 0)
+                return body_error(err, i, "name", "two bodies are named '%s'", name);
+        if ((unsigned)b->shape > SPH_SHAPE_BOX)
+            return body_error(err, i, "shape", "unknown shape");
+        if (b->density > 0.0 && b->mass > 0.0)
+            return body_error(err, i, "mass", "give the density or the mass of '%s', not both",
+                              name);
+        if (!(b->density > 0.0) && !(b->mass > 0.0))
+            return body_error(err, i, b->mass == 0.0 ? "density" : "mass",
+                              "the density or mass of '%s' must be a positive number", name);
+        if (!(b->free <= SPH_DOF_ALL))
+            return body_error(err, i, "free", "unknown degrees of freedom");
+        if (b->shape == SPH_SHAPE_CIRCLE && !(b->diameter >= 2.0 * dx * (1.0 - SPH_BODY_EPS)))
+            return body_error(err, i, "diameter",
+                              "the circle '%s' (D = %g m) is too small for dx: D must be at least "
+                              "2 dx = %g m",
+                              name, b->diameter, 2.0 * dx);
+        if (b->shape == SPH_SHAPE_BOX)
+            for (int d = 0; d < 2; d++)
+                if (!(b->size[d] >= 2.0 * dx * (1.0 - SPH_BODY_EPS))) {
+                    const char *f = d == 0 ? "size/0" : "size/1";
+                    return body_error(err, i, f,
+                                      "the box '%s' (edge %g m) is too small for dx: each edge "
+                                      "must be at least 2 dx = %g m",
+                                      name, b->size[d], 2.0 * dx);
+                }
+        if (b->shape != SPH_SHAPE_CIRCLE && b->shape != SPH_SHAPE_BOX)
+            return body_error(err, i, "shape", "unknown shape");
+        double ext[2];
+        shape_half_extent(b, b->angle, ext);
+        for (int d = 0; d < 2; d++)
+            if (!(b->center[d] - ext[d] >= c->domain.min[d] &&
+                  b->center[d] + ext[d] <= c->domain.max[d]))
+                return body_error(err, i, "center",
+                                  "the body '%s' is not inside the domain (centre %g, %g)", name,
+                                  b->center[0], b->center[1]);
+    }
+    if (sph_body_count(c) > SPH_BODY_MAX_PARTICLES)
+        return sph_error_set(err, SPH_ERR_NOMEM, "/dx",
+                             "the bodies would need more than %ld particles: use a larger dx",
+                             SPH_BODY_MAX_PARTICLES);
+    /* overlaps: with each other (a particle of one within dx/2 of the other's surface), with the
+     * tank's walls (a particle closer than dx/2 to a wall's particles' region) */
+    for (int i = 0; i < c->nbodies; i++) {
+        long np;
+        double *xy = world_points(&c->bodies[i], dx, &np);
+        if (!xy)
+            return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory");
+        int bad = -1, wall = 0;
+        for (long p = 0; p < np && bad < 0 && !wall; p++) {
+            for (int j = i + 1; j < c->nbodies && bad < 0; j++)
+                if (shape_contains(&c->bodies[j], xy + 2 * p, 0.5 * dx * (1.0 - SPH_BODY_EPS)))
+                    bad = j;
+            wall = c->has_tank && c->boundary == SPH_BOUNDARY_DYNAMIC &&
+                   wall_distance(c, xy[2 * p], xy[2 * p + 1]) < 0.5 * dx * (1.0 - SPH_BODY_EPS);
+        }
+        free(xy);
+        if (bad >= 0)
+            return body_error(err, bad, "center", "the body '%s' overlaps the body '%s'",
+                              c->bodies[bad].name, c->bodies[i].name);
+        if (wall)
+            return body_error(err, i, "center", "the body '%s' overlaps a wall of the tank",
+                              c->bodies[i].name);
+    }
+    return 0;
+}
+
+long sph_body_count(const sph_config *c)
+{
+    long n = 0;
+    for (int i = 0; i < c->nbodies; i++)
+        n += shape_points(&c->bodies[i], c->dx, NULL);
+    return n;
+}
+
+int sph_body_covers(const sph_config *c, const double *x)
+{
+    for (int i = 0; i < c->nbodies; i++)
+        if (shape_contains(&c->bodies[i], x, 0.5 * c->dx * (1.0 - SPH_BODY_EPS)))
+            return 1;
+    return 0;
+}
+
+/* ---- the bodies of a simulation ----------------------------------------------------------- */
+
+int sph_bodies_init(sph_bodies *B, const sph_config *c, long first)
+{
+    memset(B, 0, sizeof *B);
+    B->n = c->nbodies;
+    B->dim = 2;
+    B->first = first;
+    B->np = sph_body_count(c);
+    for (int d = 0; d < 3; d++)
+        B->gravity[d] = c->gravity[d];
+    B->level = c->nfluid > 0 ? -INFINITY : NAN;
+    for (int f = 0; f < c->nfluid; f++)
+        B->level = fmax(B->level, c->fluid[f].max[1]);
+    if (B->n == 0)
+        return 0;
+    B->local = malloc((size_t)B->np * 2 * sizeof *B->local);
+    B->owner = malloc((size_t)B->np * sizeof *B->owner);
+    if (!B->local || !B->owner) {
+        sph_bodies_free(B);
+        return -1;
+    }
+    long p = 0;
+    for (int k = 0; k < B->n; k++) {
+        const sph_body_spec *bs = &c->bodies[k];
+        sph_body *b = &B->b[k];
+        const double area = shape_area(bs);
+        b->mass = bs->mass > 0.0 ? bs->mass : bs->density * area;
+        b->inertia = shape_inertia(bs, b->mass);
+        b->free = bs->free;
+        b->first = first + p;
+        b->np = shape_points(bs, c->dx, B->local + 2 * p);
+        for (long q = 0; q < b->np; q++) {
+            const double *u = B->local + 2 * (p + q);
+            B->owner[p + q] = k;
+            b->rmax = fmax(b->rmax, sqrt(u[0] * u[0] + u[1] * u[1]));
+        }
+        p += b->np;
+        for (int d = 0; d < 3; d++) {
+            b->s.x[d] = bs->center[d];
+            b->s.v[d] = bs->velocity[d];
+        }
+        b->s.theta = bs->angle;
+        b->s.omega = bs->omega;
+        /* a body at rest before the first evaluation: gravity on its free axes */
+        b->s.a[0] = (b->free & SPH_DOF_X) ? B->gravity[0] : 0.0;
+        b->s.a[1] = (b->free & SPH_DOF_Y) ? B->gravity[1] : 0.0;
+    }
+    return 0;
+}
+
+void sph_bodies_free(sph_bodies *B)
+{
+    free(B->local);
+    free(B->owner);
+    B->local = NULL;
+    B->owner = NULL;
+}
+
+/* Position and velocity of body particle q (q = id - first) from its body's state. The
+ * rotated offset is computed from theta afresh, so the body stays rigid to round-off. */
+static inline void particle_of(const sph_bodies *B, long q, double *x, double *v)
+{
+    const sph_body_state *s = &B->b[B->owner[q]].s;
+    const double c = cos(s->theta), sn = sin(s->theta);
+    const double u = B->local[2 * q], w = B->local[2 * q + 1];
+    const double rx = c * u - sn * w, ry = sn * u + c * w;
+    x[0] = s->x[0] + rx;
+    x[1] = s->x[1] + ry;
+    v[0] = s->v[0] - s->omega * ry;
+    v[1] = s->v[1] + s->omega * rx;
+}
+
+void sph_bodies_fill(const sph_bodies *B, const sph_config *c, sph_particles *P)
+{
+    for (long q = 0; q < B->np; q++) {
+        const long i = B->first + q;
+        double x[2], v[2];
+        particle_of(B, q, x, v);
+        P->x[i] = x[0];
+        P->y[i] = x[1];
+        P->vx[i] = v[0];
+        P->vy[i] = v[1];
+        P->rho[i] = sph_geometry_hydrostatic_density(c, x[0], x[1]);
+        P->type[i] = SPH_BODY;
+        P->id[i] = (int)i;
+    }
+}
+
+void sph_bodies_move(const sph_bodies *B, sph_particles *P, long n)
+{
+    if (B->n == 0)
+        return;
+    const long first = B->first, np = B->np;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++) {
+        if (P->type[i] != SPH_BODY)
+            continue;
+        const long q = P->id[i] - first;
+        if (q < 0 || q >= np)
+            continue;
+        double x[2], v[2];
+        particle_of(B, q, x, v);
+        P->x[i] = x[0];
+        P->y[i] = x[1];
+        P->vx[i] = v[0];
+        P->vy[i] = v[1];
+    }
+}
+
+int sph_bodies_predict(sph_bodies *B, double dt, const sph_box *domain)
+{
+    int out = -1;
+    for (int k = 0; k < B->n; k++) {
+        sph_body *b = &B->b[k];
+        sph_body_state *s = &b->s;
+        for (int d = 0; d < B->dim; d++) {
+            b->a0[d] = s->a[d];
+            s->x[d] += dt * (s->v[d] + 0.5 * dt * s->a[d]);
+            s->v[d] += dt * s->a[d];
+            if (out < 0 &&
+                !(s->x[d] - b->rmax >= domain->min[d] && s->x[d] + b->rmax <= domain->max[d]))
+                out = k;
+        }
+        b->alpha0 = s->alpha;
+        s->theta += dt * (s->omega + 0.5 * dt * s->alpha);
+        s->omega += dt * s->alpha;
+    }
+    return out;
+}
+
+void sph_bodies_correct(sph_bodies *B, double dt)
+{
+    for (int k = 0; k < B->n; k++) {
+        sph_body *b = &B->b[k];
+        for (int d = 0; d < B->dim; d++)
+            b->s.v[d] += 0.5 * dt * (b->s.a[d] - b->a0[d]);
+        b->s.omega += 0.5 * dt * (b->s.alpha - b->alpha0);
+    }
+}
+
+void sph_bodies_gather(sph_bodies *B, const sph_particles *P, long n, double m)
+{
+    if (B->n == 0)
+        return;
+    double f[SPH_CONFIG_MAX_BODIES][2] = {{0.0}}, t[SPH_CONFIG_MAX_BODIES] = {0.0};
+    for (long i = 0; i < n; i++) {
+        if (P->type[i] != SPH_BODY)
+            continue;
+        const long q = P->id[i] - B->first;
+        if (q < 0 || q >= B->np)
+            continue;
+        const int k = B->owner[q];
+        const double fx = m * P->ax[i], fy = m * P->ay[i];
+        const double rx = P->x[i] - B->b[k].s.x[0], ry = P->y[i] - B->b[k].s.x[1];
+        f[k][0] += fx;
+        f[k][1] += fy;
+        t[k] += rx * fy - ry * fx;
+    }
+    static const unsigned axis[2] = {SPH_DOF_X, SPH_DOF_Y};
+    for (int k = 0; k < B->n; k++) {
+        sph_body *b = &B->b[k];
+        for (int d = 0; d < 2; d++) {
+            b->s.force[d] = f[k][d];
+            b->s.a[d] = (b->free & axis[d]) ? f[k][d] / b->mass + B->gravity[d] : 0.0;
+        }
+        b->s.torque = t[k];
+        b->s.alpha = (b->free & SPH_DOF_ROTATION) ? t[k] / b->inertia : 0.0;
+    }
+}
+
+double sph_bodies_vmax(const sph_bodies *B)
+{
+    double vmax = 0.0;
+    for (int k = 0; k < B->n; k++) {
+        const sph_body_state *s = &B->b[k].s;
+        const double v =
+            sqrt(s->v[0] * s->v[0] + s->v[1] * s->v[1]) + fabs(s->omega) * B->b[k].rmax;
+        vmax = fmax(vmax, v);
+    }
+    return vmax;
+}
+
+double sph_bodies_amax(const sph_bodies *B)
+{
+    double amax = 0.0;
+    for (int k = 0; k < B->n; k++) {
+        const sph_body_state *s = &B->b[k].s;
+        const double a = sqrt(s->a[0] * s->a[0] + s->a[1] * s->a[1]) +
+                         fabs(s->alpha) * B->b[k].rmax + s->omega * s->omega * B->b[k].rmax;
+        amax = fmax(amax, a);
+    }
+    return amax;
+}
+
+double sph_bodies_penetration(const sph_bodies *B, const sph_config *c, int k)
+{
+    double ext[2];
+    shape_half_extent(&c->bodies[k], B->b[k].s.theta, ext);
+    return B->level - (B->b[k].s.x[1] - ext[1]);
+}
