@@ -4,22 +4,34 @@
  *
  *   1. predictor: u* = u + dt (nu lap u + g), r* = r + dt u* (fluid particles; Laplacian model
  *      (3.5) with the number-density weight, walls and dummies at rest count in it: no slip);
- *   2. number density n* at r*; free-surface particles (fluid or wall, n* < beta n0) get p = 0;
- *   3. the pressure Poisson equation lap p = -relax (rho / dt^2) (n* - n0) / n0 (sph_mps_ppe.h),
- *      solved by preconditioned CG warm-started from the previous pressure; negative pressures
- *      are set to 0 (as Koshizuka & Oka's code does: the fluid cannot pull);
- *   4. correction: u' = -(dt / rho) grad p with the gradient model (3.4) and the local minimum
- *      pressure; u = u* + u', r = r* + dt u';
+ *   2. number density n* at r* (walls and dummies count); free-surface particles (fluid,
+ *      n* < beta n0) get p = 0;
+ *   3. the pressure Poisson equation lap p = -relax (rho / dt^2) (n* - n0) / n0 (sph_mps_ppe.h)
+ *      over the fluid particles, walls as a Neumann boundary (below), solved by preconditioned
+ *      CG warm-started from the previous pressure; negative pressures are set to 0 (as
+ *      Koshizuka & Oka's code does: the fluid cannot pull);
+ *   4. correction: u' = -(dt / rho) grad p with the gradient model (3.4) (with the local minimum
+ *      pressure, or with the corrective matrix and without it); u = u* + u', r = r* + dt u';
  *   5. optionally Koshizuka's collision model (pairs closer than `collision` dx that approach
  *      each other exchange momentum with restitution e), a standard stabiliser of MPS codes.
  *
  * relax = 1 is the source of Koshizuka & Oka 1996; smaller values (0.2 in Koshizuka's later
- * codes) damp the pressure noise of the number-density source term at the cost of a slightly
- * larger density error; the case chooses, the default is 1 (the paper's).
+ * codes; 0.005-0.05 with the mixed source of Tanaka & Masunaga) damp the pressure noise of the
+ * number-density term at the cost of a slightly larger density error; the case chooses, the
+ * default is 1 (the paper's).
  *
- * Walls: the tank's boundary particles, the inner floor(max(re, re_grad)) layers carry a
- * pressure (they are unknowns of the PPE and take part in the gradient), the outer layers are
- * dummies that only complete the number density of the wall particles; all are fixed.
+ * Walls: the tank's boundary particles are fixed; all count in the number density (the outer
+ * ones, "dummies", only there). In the pressure equation they are a Neumann boundary, not
+ * unknowns: wall j seen from fluid particle i holds the ghost pressure p_i + (rho/dt) u*_i .
+ * (r_j - r_i), the pressure gradient that stops i's predicted velocity at the wall (rho g at rest:
+ * hydrostatic), in the Laplacian of the equation (its share goes to the right-hand side, the
+ * matrix stays symmetric) and in the gradient alike; the velocity-divergence source counts fluid
+ * neighbours only (the walls' share is the ghosts'). A linear hydrostatic pressure is then an
+ * exact solution next to the walls too. The first version (Koshizuka & Oka's: the inner wall
+ * layers as unknowns with their own source) left the wall pressures off hydrostatic near the
+ * floor corners and above the contact line (a wall column above the water is a chain of unknowns
+ * with a number-density deficit): the fluid column next to each side wall slid down at 1-2% of
+ * sqrt(gH) and drove a circulation that never settled (issue 12, test_mps_still).
  *
  * The handle's arrays: P.p the pressure (kept across steps for the warm start: permuted here
  * when the particles are sorted), P.rho = rho0 n* / n0 (what a view shows as density); P.ax,
@@ -67,11 +79,12 @@ typedef struct mps_state {
     double lap_coef;           /* 2d / (lambda n0) [1/m^2] */
     double grad_coef;          /* d / n0g [-] */
     double rc;                 /* neighbour-list radius max(re, re_grad) [m] */
-    int wall_layers;           /* boundary layers that carry a pressure [-] */
+    int wall_layers;           /* boundary layers within reach of the fluid's gradient [-] */
     unsigned char *kind_by_id; /* SPH_MPS_WALL or _DUMMY of each boundary particle, by id */
     unsigned char *kind;       /* SPH_MPS_* in the current order */
     unsigned char *surface;    /* free-surface flags of the latest step */
     double *vx0, *vy0;         /* collision model: velocities before it */
+    double *gvx, *gvy;         /* Neumann walls: (rho / dt) u* of the fluid particles [Pa/m] */
     sph_mps_nbr L;             /* neighbour lists */
     sph_mps_ppe ppe;           /* the Poisson system */
     sph_mps_cg_stats cg;       /* the latest solve */
@@ -128,8 +141,8 @@ static int mps_check(const sph_config *c, sph_error *err)
     const int need = 2 * (int)floor(rmax);
     if (c->layers < need)
         return sph_error_set(err, SPH_ERR_INVALID, "/boundary/layers",
-                             "with re = %g dx the MPS walls need %d layers (%d that carry a "
-                             "pressure, %d dummies that complete their number density): got %d",
+                             "with re = %g dx the MPS walls need %d layers (%d within reach of the "
+                             "fluid, %d that complete their number density): got %d",
                              rmax, need, need / 2, need / 2, c->layers);
     if (c->visc == SPH_VISC_LAMINAR && !(c->nu >= 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/physics/viscosity/nu",
@@ -142,7 +155,7 @@ static size_t mps_bytes_per_particle(const sph_config *c)
 {
     const double rmax = c->mps.re > c->mps.re_grad ? c->mps.re : c->mps.re_grad;
     const double nl = M_PI * rmax * rmax, np = M_PI * c->mps.re * c->mps.re;
-    return sph_particles_bytes_per_particle(0) + 5 + 2 * sizeof(double) +
+    return sph_particles_bytes_per_particle(0) + 5 + 4 * sizeof(double) +
            (size_t)(1.25 * (nl * sizeof(int) + sizeof(long)) +
                     1.25 * (np * (sizeof(int) + 2 * sizeof(double)) + 2 * sizeof(long) +
                             8 * sizeof(double) + 3 * sizeof(int) + 1));
@@ -183,6 +196,8 @@ static void mps_destroy(sph_sim *s)
     free(m->surface);
     free(m->vx0);
     free(m->vy0);
+    free(m->gvx);
+    free(m->gvy);
     sph_mps_nbr_free(&m->L);
     sph_mps_ppe_free(&m->ppe);
     free(m);
@@ -200,7 +215,7 @@ static void number_density(sph_sim *s, mps_state *m)
     long nsurf = 0;
     for (long i = 0; i < na; i++) {
         const int k = m->kind[i];
-        m->surface[i] = k <= SPH_MPS_WALL && nd[i] < beta_n0;
+        m->surface[i] = k == SPH_MPS_FLUID && nd[i] < beta_n0;
         nsurf += m->surface[i];
         P->rho[i] = k == SPH_MPS_FLUID ? rho_n0 * nd[i] : s->cfg.rho0;
     }
@@ -229,11 +244,13 @@ static int mps_init(sph_sim *s, sph_error *err)
     m->kind_by_id = calloc((size_t)n, 1);
     m->kind = calloc((size_t)n, 1);
     m->surface = calloc((size_t)n, 1);
+    m->gvx = calloc((size_t)n, sizeof(double));
+    m->gvy = calloc((size_t)n, sizeof(double));
     if (c->mps.collision > 0.0) {
         m->vx0 = calloc((size_t)n, sizeof(double));
         m->vy0 = calloc((size_t)n, sizeof(double));
     }
-    if (!m->kind_by_id || !m->kind || !m->surface ||
+    if (!m->kind_by_id || !m->kind || !m->surface || !m->gvx || !m->gvy ||
         (c->mps.collision > 0.0 && (!m->vx0 || !m->vy0)))
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for %ld particles", n);
     /* walls or dummies by depth outside the tank's inner faces (particles are in creation
@@ -252,6 +269,11 @@ static int mps_init(sph_sim *s, sph_error *err)
     return 0;
 }
 
+/* The time step: cfl dx / max(u_max, u_ref), u_ref = sqrt(2 g H) the speed of a fall from the
+ * top of the fluid to the tank floor (H the initial height of the fluid above the floor): a
+ * particle crosses a fraction cfl of the spacing per step even at rest, when u_max alone would
+ * allow any step (the body force limit cfl sqrt(dx / g) is far larger: MPS blows up with it);
+ * capped by the viscous limit dx^2 / (8 nu). */
 static double mps_dt(const sph_sim *s)
 {
     const sph_config *c = &s->cfg;
@@ -259,7 +281,13 @@ static double mps_dt(const sph_sim *s)
         return c->dt_fixed;
     const double dx = c->dx;
     const double g = hypot(c->gravity[0], c->gravity[1]);
-    double dt = s->vmax > 0.0 ? dx / s->vmax : INFINITY;
+    double top = -INFINITY;
+    for (int b = 0; b < c->nfluid; b++)
+        top = fmax(top, c->fluid[b].max[1]);
+    const double H = c->has_tank && c->nfluid > 0 ? top - c->tank.min[1] : 0.0;
+    const double uref = H > 0.0 ? sqrt(2.0 * g * H) : 0.0;
+    const double u = fmax(s->vmax, uref);
+    double dt = u > 0.0 ? dx / u : INFINITY;
     if (g > 0.0)
         dt = fmin(dt, sqrt(dx / g));
     if (!isfinite(dt))
@@ -380,9 +408,11 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
     double *rhs = P->drho;
     const double src = c->mps.relax * c->rho0 / (dt * dt * m->n0);
     if (c->mps.source == SPH_MPS_SOURCE_MIXED) {
-        /* Tanaka & Masunaga 2010: lap p = (rho / dt) div u* - relax (rho / dt^2) (n* - n0) / n0 */
+        /* Tanaka & Masunaga 2010: lap p = (rho / dt) div u* - relax (rho / dt^2) (n* - n0) / n0,
+         * the divergence over fluid neighbours (the walls' share is their Neumann terms) */
         double *div = P->ax;
-        sph_mps_divergence(&m->L, P->x, P->y, m->kind, &m->wg, m->grad_coef, P->vx, P->vy, div);
+        sph_mps_divergence_fluid(&m->L, P->x, P->y, m->kind, &m->wg, m->grad_coef, P->vx, P->vy,
+                                 div);
         const double sd = c->rho0 / dt;
         for (long i = 0; i < na; i++)
             rhs[i] = src * (P->pr[i] - m->n0) - sd * div[i];
@@ -393,10 +423,19 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
     s->timing.active = na;
     s->timing.pairs = m->L.entries / 2;
 
-    /* 3. the pressure Poisson equation */
+    /* 3. the pressure Poisson equation over the fluid particles, the walls' ghost pressures
+     * p_i + (rho / dt) u*_i . (r_j - r_i) in the right-hand side */
     double t2 = omp_get_wtime();
     s->timing.interactions += t2 - t1;
-    if (sph_mps_ppe_assemble(&m->ppe, &m->L, P->x, P->y, m->kind, m->surface, &m->wn, m->lap_coef))
+    const double f = c->rho0 / dt;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (na >= SPH_OMP_MIN)
+    for (long i = 0; i < na; i++) {
+        m->gvx[i] = m->kind[i] == SPH_MPS_FLUID ? f * P->vx[i] : 0.0;
+        m->gvy[i] = m->kind[i] == SPH_MPS_FLUID ? f * P->vy[i] : 0.0;
+    }
+    sph_mps_neumann_rhs(&m->L, P->x, P->y, m->kind, &m->wn, m->lap_coef, m->gvx, m->gvy, rhs);
+    if (sph_mps_ppe_assemble_kinds(&m->ppe, &m->L, P->x, P->y, m->kind, m->surface, &m->wn,
+                                   m->lap_coef, SPH_MPS_FLUID))
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the pressure equation");
     const int rc = sph_mps_ppe_solve(&m->ppe, rhs, P->p, (sph_mps_precond)c->mps.precond,
                                      c->mps.tol, c->mps.maxit, &m->cg);
@@ -414,9 +453,11 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
         if (P->p[i] < 0.0)
             P->p[i] = 0.0;
 
-    /* 4. correction */
-    sph_mps_gradient(&m->L, P->x, P->y, m->kind, &m->wg, m->grad_coef, 1, c->mps.corrected, P->p,
-                     P->ax, P->ay);
+    /* 4. correction: the walls' values in the gradient are the same ghosts; the local minimum
+     * only with the plain gradient (with the corrective matrix it drives a row-sliding mode in
+     * still water) */
+    sph_mps_gradient_neumann(&m->L, P->x, P->y, m->kind, &m->wg, m->grad_coef, !c->mps.corrected,
+                             c->mps.corrected, P->p, m->gvx, m->gvy, P->ax, P->ay);
     const double k = -dt / c->rho0;
     double vmax2 = 0.0;
     bad = 0;

@@ -151,7 +151,8 @@ static inline __attribute__((always_inline)) void
 grad_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
              const double *restrict y, const unsigned char *restrict kind, const sph_kernel *k,
              double coef, int local_min, int corrected, const double *restrict phi,
-             double *restrict gx, double *restrict gy)
+             const double *restrict gvx, const double *restrict gvy, double *restrict gx,
+             double *restrict gy)
 {
     const long np = L->n;
     const double re2 = k->support * k->support;
@@ -167,7 +168,8 @@ grad_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
             for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
                 const long j = L->j[e];
                 const double dx = x[j] - xi, dy = y[j] - yi;
-                if (kind[j] <= SPH_MPS_WALL && dx * dx + dy * dy < re2 && phi[j] < pmin)
+                if ((gvx ? kind[j] == SPH_MPS_FLUID : kind[j] <= SPH_MPS_WALL) &&
+                    dx * dx + dy * dy < re2 && phi[j] < pmin)
                     pmin = phi[j];
             }
         double sx = 0.0, sy = 0.0, mxx = 0.0, mxy = 0.0, myy = 0.0;
@@ -181,7 +183,10 @@ grad_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
                 continue;
             const double rmin = SPH_MPS_RMIN * k->support;
             const double wr = weight(T, k, sqrt(r2)) / (r2 > rmin * rmin ? r2 : rmin * rmin);
-            const double f = (phi[j] - pmin) * wr;
+            /* Neumann walls (gvx set): the ghost pressure of wall j seen from i */
+            const double pj =
+                gvx && kind[j] != SPH_MPS_FLUID ? phi[i] + gvx[i] * dx + gvy[i] * dy : phi[j];
+            const double f = (pj - pmin) * wr;
             sx += f * dx;
             sy += f * dy;
             if (corrected) {
@@ -207,7 +212,8 @@ grad_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
 static inline __attribute__((always_inline)) void
 div_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
             const double *restrict y, const unsigned char *restrict kind, const sph_kernel *k,
-            double coef, const double *restrict ux, const double *restrict uy, double *restrict div)
+            double coef, int maxk, const double *restrict ux, const double *restrict uy,
+            double *restrict div)
 {
     const long np = L->n;
     const double re2 = k->support * k->support;
@@ -221,7 +227,7 @@ div_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
         double s = 0.0;
         for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
             const long j = L->j[e];
-            if (kind[j] > SPH_MPS_DUMMY)
+            if (kind[j] > maxk)
                 continue;
             const double dx = x[j] - x[i], dy = y[j] - y[i];
             const double r2 = dx * dx + dy * dy;
@@ -238,16 +244,73 @@ void sph_mps_divergence(const sph_mps_nbr *L, const double *x, const double *y,
                         const unsigned char *kind, const sph_kernel *k, double coef,
                         const double *ux, const double *uy, double *div)
 {
-#define DIV(T) div_generic(T, L, x, y, kind, k, coef, ux, uy, div)
+#define DIV(T) div_generic(T, L, x, y, kind, k, coef, SPH_MPS_DUMMY, ux, uy, div)
     SPH_KERNEL_DISPATCH(k->type, DIV);
 #undef DIV
+}
+
+void sph_mps_divergence_fluid(const sph_mps_nbr *L, const double *x, const double *y,
+                              const unsigned char *kind, const sph_kernel *k, double coef,
+                              const double *ux, const double *uy, double *div)
+{
+#define DIV(T) div_generic(T, L, x, y, kind, k, coef, SPH_MPS_FLUID, ux, uy, div)
+    SPH_KERNEL_DISPATCH(k->type, DIV);
+#undef DIV
+}
+
+/* ---- Neumann wall terms of the Poisson equation --------------------------------------------- */
+
+static inline __attribute__((always_inline)) void
+neumann_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
+                const double *restrict y, const unsigned char *restrict kind, const sph_kernel *k,
+                double coef, const double *restrict gvx, const double *restrict gvy,
+                double *restrict b)
+{
+    const long np = L->n;
+    const double re2 = k->support * k->support;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (np >= SPH_OMP_MIN)
+    for (long i = 0; i < np; i++) {
+        if (kind[i] != SPH_MPS_FLUID)
+            continue;
+        double s = 0.0;
+        for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
+            const long j = L->j[e];
+            if (kind[j] != SPH_MPS_WALL && kind[j] != SPH_MPS_DUMMY)
+                continue;
+            const double dx = x[j] - x[i], dy = y[j] - y[i];
+            const double r2 = dx * dx + dy * dy;
+            if (r2 < re2)
+                s += (gvx[i] * dx + gvy[i] * dy) * weight(T, k, sqrt(r2));
+        }
+        b[i] += coef * s;
+    }
+}
+
+void sph_mps_neumann_rhs(const sph_mps_nbr *L, const double *x, const double *y,
+                         const unsigned char *kind, const sph_kernel *k, double coef,
+                         const double *gvx, const double *gvy, double *b)
+{
+#define NEU(T) neumann_generic(T, L, x, y, kind, k, coef, gvx, gvy, b)
+    SPH_KERNEL_DISPATCH(k->type, NEU);
+#undef NEU
 }
 
 void sph_mps_gradient(const sph_mps_nbr *L, const double *x, const double *y,
                       const unsigned char *kind, const sph_kernel *k, double coef, int local_min,
                       int corrected, const double *phi, double *gx, double *gy)
 {
-#define GRAD(T) grad_generic(T, L, x, y, kind, k, coef, local_min, corrected, phi, gx, gy)
+#define GRAD(T)                                                                                    \
+    grad_generic(T, L, x, y, kind, k, coef, local_min, corrected, phi, NULL, NULL, gx, gy)
+    SPH_KERNEL_DISPATCH(k->type, GRAD);
+#undef GRAD
+}
+
+void sph_mps_gradient_neumann(const sph_mps_nbr *L, const double *x, const double *y,
+                              const unsigned char *kind, const sph_kernel *k, double coef,
+                              int local_min, int corrected, const double *phi, const double *gvx,
+                              const double *gvy, double *gx, double *gy)
+{
+#define GRAD(T) grad_generic(T, L, x, y, kind, k, coef, local_min, corrected, phi, gvx, gvy, gx, gy)
     SPH_KERNEL_DISPATCH(k->type, GRAD);
 #undef GRAD
 }

@@ -79,4 +79,26 @@ void sph_mps_divergence(const sph_mps_nbr *L, const double *x, const double *y,
                         const unsigned char *kind, const sph_kernel *k, double coef,
                         const double *ux, const double *uy, double *div);
 
+/* Walls as a Neumann boundary of the pressure (the alternative to walls as unknowns): a wall or
+ * dummy neighbour j of fluid particle i holds the ghost pressure p_i + G_i . (r_j - r_i), with
+ * G_i = (rho / dt) u*_i the gradient that stops i's predicted velocity at the wall (rho g at
+ * rest: hydrostatic). Then
+ *   sph_mps_neumann_rhs:      b[i] += coef sum_walls G_i . (r_j - r_i) w_ij (coef = 2d/(lambda
+ *                             n0)), the ghosts' share of row i of A p = b, A assembled with
+ *                             sph_mps_ppe_assemble_kinds(..., SPH_MPS_FLUID);
+ *   sph_mps_gradient_neumann: the gradient of sph_mps_gradient with the walls' values the
+ *                             ghosts (G = (gvx, gvy)) and the local minimum over fluid only;
+ *   sph_mps_divergence_fluid: the divergence over fluid neighbours only (the walls' share of the
+ *                             source is the ghosts'). */
+void sph_mps_neumann_rhs(const sph_mps_nbr *L, const double *x, const double *y,
+                         const unsigned char *kind, const sph_kernel *k, double coef,
+                         const double *gvx, const double *gvy, double *b);
+void sph_mps_gradient_neumann(const sph_mps_nbr *L, const double *x, const double *y,
+                              const unsigned char *kind, const sph_kernel *k, double coef,
+                              int local_min, int corrected, const double *phi, const double *gvx,
+                              const double *gvy, double *gx, double *gy);
+void sph_mps_divergence_fluid(const sph_mps_nbr *L, const double *x, const double *y,
+                              const unsigned char *kind, const sph_kernel *k, double coef,
+                              const double *ux, const double *uy, double *div);
+
 #endif

@@ -68,7 +68,7 @@ enum { F_CAND = 1, F_SEEN = 2, F_SURF = 4 };
 #define FOR_PRESSURE_NEIGHBOURS(L, i, BODY)                                                        \
     for (long e_ = (L)->ptr[i]; e_ < (L)->ptr[(i) + 1]; e_++) {                                    \
         const long j = (L)->j[e_];                                                                 \
-        if (kind[j] > SPH_MPS_WALL)                                                                \
+        if (kind[j] > maxk)                                                                        \
             continue;                                                                              \
         const double dx_ = x[j] - x[i], dy_ = y[j] - y[i];                                         \
         const double r2 = dx_ * dx_ + dy_ * dy_;                                                   \
@@ -88,7 +88,7 @@ static inline __attribute__((always_inline)) double weight(sph_kernel_type T, co
 static inline __attribute__((always_inline)) void
 fill_generic(sph_kernel_type T, sph_mps_ppe *S, const sph_mps_nbr *L, const double *restrict x,
              const double *restrict y, const unsigned char *restrict kind, const sph_kernel *k,
-             double c)
+             double c, int maxk)
 {
     const long n = S->n;
     const double re2 = k->support * k->support;
@@ -121,6 +121,14 @@ int sph_mps_ppe_assemble(sph_mps_ppe *S, const sph_mps_nbr *L, const double *x, 
                          const unsigned char *kind, const unsigned char *surface,
                          const sph_kernel *k, double c)
 {
+    return sph_mps_ppe_assemble_kinds(S, L, x, y, kind, surface, k, c, SPH_MPS_WALL);
+}
+
+int sph_mps_ppe_assemble_kinds(sph_mps_ppe *S, const sph_mps_nbr *L, const double *x,
+                               const double *y, const unsigned char *kind,
+                               const unsigned char *surface, const sph_kernel *k, double c,
+                               int maxk)
+{
     const long np = L->n;
     const double re2 = k->support * k->support;
     S->n = 0;
@@ -135,9 +143,9 @@ int sph_mps_ppe_assemble(sph_mps_ppe *S, const sph_mps_nbr *L, const double *x, 
     long nsurf = 0;
     for (long i = 0; i < np; i++) {
         flag[i] = 0;
-        if (kind[i] <= SPH_MPS_WALL)
+        if (kind[i] <= maxk)
             flag[i] = surface[i] ? F_SURF : F_CAND;
-        nsurf += surface[i] && kind[i] <= SPH_MPS_WALL;
+        nsurf += surface[i] && kind[i] <= maxk;
     }
     /* breadth-first search from the seeds over candidate-candidate edges (serial, in particle
      * order: deterministic) */
@@ -203,7 +211,7 @@ int sph_mps_ppe_assemble(sph_mps_ppe *S, const sph_mps_nbr *L, const double *x, 
         return -1;
     S->n = n;
     S->nnz = S->ptr[n];
-#define FILL(T) fill_generic(T, S, L, x, y, kind, k, c)
+#define FILL(T) fill_generic(T, S, L, x, y, kind, k, c, maxk)
     SPH_KERNEL_DISPATCH(k->type, FILL);
 #undef FILL
     return 0;

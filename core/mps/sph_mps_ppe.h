@@ -74,6 +74,14 @@ int sph_mps_ppe_assemble(sph_mps_ppe *S, const sph_mps_nbr *L, const double *x, 
                          const unsigned char *kind, const unsigned char *surface,
                          const sph_kernel *k, double c);
 
+/* The same with the pressure particles those of kind <= maxk: SPH_MPS_WALL (the above: walls are
+ * unknowns), or SPH_MPS_FLUID (walls are no unknowns and drop out of A altogether, diagonal
+ * included: the caller puts their Neumann terms in b). */
+int sph_mps_ppe_assemble_kinds(sph_mps_ppe *S, const sph_mps_nbr *L, const double *x,
+                               const double *y, const unsigned char *kind,
+                               const unsigned char *surface, const sph_kernel *k, double c,
+                               int maxk);
+
 /* Solves A p = b for the latest assembly; rhs and p are per particle. p holds the starting
  * guess on entry (its unknowns' entries; warm start), the solution on return, and 0 for every
  * particle that is not an unknown. Returns 0 when converged, 1 when maxit iterations did not

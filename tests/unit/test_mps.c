@@ -4,7 +4,8 @@
  * lattice: exact for a quadratic and a linear field in the interior, second order for a smooth
  * field; the Poisson matrix symmetric (bitwise); its CG solve equal to a dense Cholesky solve;
  * preconditioned CG in fewer iterations than plain CG (printed); the same bits with 1 and 2
- * threads; the iteration cap reported.
+ * threads; the iteration cap reported; walls as a Neumann boundary: the hydrostatic pressure
+ * exact, next to the walls included.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -404,6 +405,83 @@ static void test_ppe_symmetric(void **state)
     }
 }
 
+/* Walls as a Neumann boundary (sph_mps_neumann_rhs, sph_mps_ppe_assemble_kinds with fluid
+ * unknowns only, sph_mps_gradient_neumann): for water at rest in a tank, ghost gradient rho g,
+ * the hydrostatic pressure p = rho g (y_top - y) (0 on the top row, the free surface) solves the
+ * Poisson equation with a zero source, and its corrected gradient is rho g at every fluid
+ * particle: next to the walls, in the corners and on the surface. */
+static void test_neumann_hydrostatic(void **state)
+{
+    (void)state;
+    const double rho = 1000.0, g = 9.81;
+    for (int t = 0; t < 2; t++) {
+        const sph_kernel_type type = t ? SPH_KERNEL_SHEU_QUARTIC : SPH_KERNEL_KOSHIZUKA;
+        const double re_dx = t ? 2.0 : 2.1, dx = 0.01;
+        lattice tk;
+        lattice_make(&tk, 12, 15, dx, 4, 2, re_dx * dx);
+        sph_kernel k;
+        assert_int_equal(sph_mps_weight_init(&k, type, re_dx * dx, NULL), 0);
+        const double n0 = sph_mps_lattice_n0(&k, dx, 2), lam = sph_mps_lattice_lambda(&k, dx, 2);
+        const long n = tk.n;
+        const double ytop = tk.H - 0.5 * dx;
+        unsigned char *surf = calloc((size_t)n, 1);
+        double *b = calloc((size_t)n, sizeof(double)), *p = calloc((size_t)n, sizeof(double));
+        double *gvx = calloc((size_t)n, sizeof(double)), *gvy = calloc((size_t)n, sizeof(double));
+        double *gx = calloc((size_t)n, sizeof(double)), *gy = calloc((size_t)n, sizeof(double));
+        for (long i = 0; i < n; i++) {
+            const int fluid = tk.kind[i] == SPH_MPS_FLUID;
+            surf[i] = fluid && tk.P.y[i] > ytop - 0.5 * dx;
+            gvy[i] = fluid ? -rho * g : 0.0;
+        }
+        sph_mps_ppe S;
+        memset(&S, 0, sizeof S);
+        const double c = 4.0 / (lam * n0);
+        sph_mps_neumann_rhs(&tk.L, tk.P.x, tk.P.y, tk.kind, &k, c, gvx, gvy, b);
+        assert_int_equal(sph_mps_ppe_assemble_kinds(&S, &tk.L, tk.P.x, tk.P.y, tk.kind, surf, &k, c,
+                                                    SPH_MPS_FLUID),
+                         0);
+        assert_int_equal(S.n, 12 * 14); /* the fluid below the top row, no wall */
+        /* A p = b on every row whose neighbourhood is complete (more than re below the top
+         * row: near the free surface the Laplacian of a linear field is not exact, walls or
+         * not), the rows next to the walls and in the corners included */
+        for (long i = 0; i < n; i++)
+            p[i] = tk.kind[i] == SPH_MPS_FLUID ? rho * g * (ytop - tk.P.y[i]) : 0.0;
+        double *xu = calloc((size_t)S.n, sizeof(double)), *yu = calloc((size_t)S.n, sizeof(double));
+        for (long u = 0; u < S.n; u++)
+            xu[u] = p[S.part[u]];
+        sph_mps_ppe_matvec(&S, xu, yu);
+        long rows = 0, walled = 0;
+        for (long u = 0; u < S.n; u++) {
+            const long i = S.part[u];
+            if (tk.P.y[i] > ytop - re_dx * dx)
+                continue;
+            assert_double_equal(yu[u], b[i], 1e-9 * fabs(S.diag[u]) * rho * g * dx);
+            rows++;
+            walled += b[i] != 0.0;
+        }
+        assert_true(rows >= 12 * 12 && walled >= 2 * 12); /* the floor rows at least */
+        free(xu);
+        free(yu);
+        sph_mps_gradient_neumann(&tk.L, tk.P.x, tk.P.y, tk.kind, &k, 2.0 / n0, 0, 1, p, gvx, gvy,
+                                 gx, gy);
+        for (long i = 0; i < n; i++) {
+            if (tk.kind[i] != SPH_MPS_FLUID)
+                continue;
+            assert_double_equal(gx[i], 0.0, 1e-8 * rho * g);
+            assert_double_equal(gy[i], -rho * g, 1e-8 * rho * g);
+        }
+        sph_mps_ppe_free(&S);
+        free(surf);
+        free(b);
+        free(p);
+        free(gvx);
+        free(gvy);
+        free(gx);
+        free(gy);
+        lattice_free(&tk);
+    }
+}
+
 /* Dense Cholesky solve of the assembled matrix. */
 static void dense_solve(const sph_mps_ppe *S, const double *b, double *x)
 {
@@ -571,6 +649,7 @@ int main(void)
         cmocka_unit_test(test_gradient_linear_min), cmocka_unit_test(test_ppe_symmetric),
         cmocka_unit_test(test_ppe_dense),           cmocka_unit_test(test_pcg_iterations),
         cmocka_unit_test(test_threads_bitwise),     cmocka_unit_test(test_iteration_cap),
+        cmocka_unit_test(test_neumann_hydrostatic),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
