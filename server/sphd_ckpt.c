@@ -214,6 +214,8 @@ sphd_ckpt *sphd_ckpt_load_file(const char *path, sph_error *err)
             why = "header checksum mismatch";
         else if (sizeof h + h.body + sizeof t != size)
             why = "truncated or extended (size mismatch)";
+        else if (h.nsections > h.body / sizeof(ckpt_section_header))
+            why = "more sections than the file holds"; /* before they are allocated */
         else if (memcmp(t.magic, END_MAGIC, 8) != 0 || t.crc_inverted != ~t.crc)
             why = "missing end marker";
         else if (t.crc != crc(0, b, size - sizeof t))

@@ -177,7 +177,9 @@ try:
     # -- shutdown with a running job: paused at a step boundary, recorded, exit 0
     d.ok("submit", {"case": case, "job": "db4", "set": ["dx=0.01", "time.end=1000"]})
     d.wait_state("db4", ("running",))
-    time.sleep(0.1)
+    deadline = time.time() + 60  # a first step done, however loaded the machine
+    while time.time() < deadline and d.ok("query", {"job": "db4"})["progress"]["steps"] == 0:
+        time.sleep(0.05)
     F.check(d.shutdown() == 0, "shutdown with a running job: exit 0")
     rec = json.load(open(os.path.join(d.state, "jobs", "db4", "job.json")))
     F.check(rec["state"] == "paused" and rec["resumable"] and rec["interrupted_by_shutdown"]
