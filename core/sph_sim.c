@@ -22,6 +22,7 @@ sph_config sph_config_default(void)
     c.h_over_dx = 1.414; /* sqrt(2): what the shipped cases are validated with */
     c.boundary = SPH_BOUNDARY_DYNAMIC;
     c.layers = 3;
+    c.wall_viscosity = 1.0;
     c.rho0 = 1000.0;
     c.gravity[1] = -9.81;
     c.eos = SPH_EOS_LINEAR;

@@ -144,6 +144,11 @@ const sph_case_field sph_case_fields[] = {
      .when = "/boundary/type=dynamic", .lo = 1,
      .hi = 8, .has_def = 1, .def = 3, CFG(layers),
      .doc = "layers of wall particles outside the tank's faces"},
+    {.path = "/boundary/viscosity_factor", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .when = "/boundary/type=dynamic", .lo = 0.0, .hi = 1.0, .has_def = 1, .def = 1.0,
+     CFG(wall_viscosity),
+     .doc = "factor on the viscous terms between fluid and wall particles (DualSPHysics' "
+            "ViscoBoundFactor); 0: the walls exert no viscous friction"},
     {.path = "/boundary/tank", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS,
      .parse = parse_tank, CFG(tank),
      .doc = "{\"min\", \"max\"}: inner faces of a tank with bottom, left and right walls (open "

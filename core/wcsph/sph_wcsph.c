@@ -50,14 +50,15 @@ typedef struct fctx {
     const int *start;
     int nx, ny;
     const sph_kernel *k;
-    double m;        /* particle mass [kg] */
-    double h;        /* smoothing length [m] */
-    double eta2;     /* 0.01 h^2 [m^2] */
-    double support2; /* support radius squared [m^2] */
-    double tiny;     /* guards r = 0 [m] */
-    double alpha_c0; /* Monaghan's term (artificial or physical): alpha c0 [m/s] */
-    double mu8;      /* laminar: 8 mu = 8 rho0 nu [Pa s] */
-    double dcoef;    /* delta-SPH: 2 delta h c0 m [kg m^2/s] */
+    double m;         /* particle mass [kg] */
+    double h;         /* smoothing length [m] */
+    double eta2;      /* 0.01 h^2 [m^2] */
+    double support2;  /* support radius squared [m^2] */
+    double tiny;      /* guards r = 0 [m] */
+    double alpha_c0;  /* Monaghan's term (artificial or physical): alpha c0 [m/s] */
+    double mu8;       /* laminar: 8 mu = 8 rho0 nu [Pa s] */
+    double wall_visc; /* factor on the viscous terms of fluid-wall pairs (dynamic walls) [-] */
+    double dcoef;     /* delta-SPH: 2 delta h c0 m [kg m^2/s] */
 } fctx;
 
 typedef struct acc {
@@ -106,18 +107,22 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
         ai->drho += dd;
         drho[j] += dd;
 
+        /* the viscous terms between fluid and dynamic wall particles are scaled by the case's
+         * boundary.viscosity_factor (DualSPHysics' ViscoBoundFactor); ghosts are not walls here */
+        const double vf = (!(F & F_GHOST) && (bi | bj)) ? c->wall_visc : 1.0;
+
         /* eq. (13): pressure, with Monaghan's viscous term Pi_ab (Macia et al.): artificial
          * (approaching pairs only) or physical (every pair, alpha from nu) */
         double pt = pri + pr[j];
         if ((F & F_MONAGHAN) || (!(F & F_LAMINAR) && vr < 0.0)) {
             const double mu = c->h * vr / (r2 + eta2);
-            pt -= c->alpha_c0 * mu * 2.0 / (rhoi + rhoj);
+            pt -= vf * c->alpha_c0 * mu * 2.0 / (rhoi + rhoj);
         }
         double fx = -m * pt * fw * dx, fy = -m * pt * fw * dy;
 
         if (F & F_LAMINAR) { /* eq. (14) */
             const double rs = rhoi + rhoj;
-            const double lc = c->mu8 * m * fw * r2 / (rs * rs * (r2 + eta2));
+            const double lc = vf * c->mu8 * m * fw * r2 / (rs * rs * (r2 + eta2));
             fx += lc * dvx;
             fy += lc * dvy;
         }
@@ -341,6 +346,7 @@ int sph_wcsph_forces(sph_sim *s)
                     .tiny = 1e-12 * s->h,
                     .alpha_c0 = alpha * cfg->c0,
                     .mu8 = 8.0 * cfg->rho0 * cfg->nu,
+                    .wall_visc = cfg->wall_viscosity,
                     .dcoef = 2.0 * cfg->delta_sph * s->h * cfg->c0 * s->mass};
     strip_fn fn = NULL;
 #define SPH_PICK(T) fn = strips_##T[flags]

@@ -34,6 +34,9 @@ static double urand(unsigned *s)
 }
 
 /* A sim whose particles are replaced by a random cloud of fluid and boundary particles. */
+/* boundary.viscosity_factor of the clouds (test_wall_viscosity changes it) */
+static double cloud_wall_visc = 1.0;
+
 static sph_sim *cloud(sph_kernel_type type, sph_visc_type visc, sph_turb_type turb, double delta)
 {
     sph_config c = sph_config_default();
@@ -51,6 +54,7 @@ static sph_sim *cloud(sph_kernel_type type, sph_visc_type visc, sph_turb_type tu
     c.nu = 1e-3;
     c.turb = turb;
     c.delta_sph = delta;
+    c.wall_viscosity = cloud_wall_visc;
     c.t_end = 1.0;
     sph_error err;
     sph_sim *s = sph_sim_create(&c, &err);
@@ -110,13 +114,17 @@ static void all_pairs(const sph_sim *s, ref *R)
             const double vr = v[0] * rv[0] + v[1] * rv[1];
             R->drho[a] += m * (v[0] * g[0] + v[1] * g[1]);
             double pt = pa / (ra * ra) + pb / (rb * rb);
+            const double vf = (P->type[a] == SPH_BOUNDARY || P->type[b] == SPH_BOUNDARY)
+                                  ? c->wall_viscosity
+                                  : 1.0;
             if (c->visc == SPH_VISC_MONAGHAN || (c->visc == SPH_VISC_ARTIFICIAL && vr < 0.0))
-                pt += -(c->visc == SPH_VISC_MONAGHAN ? sph_config_monaghan_alpha(c) : c->alpha) *
+                pt += -vf *
+                      (c->visc == SPH_VISC_MONAGHAN ? sph_config_monaghan_alpha(c) : c->alpha) *
                       c->c0 * (h * vr / (r2 + eta2)) / (0.5 * (ra + rb));
             for (int d = 0; d < 2; d++) {
                 double acc = -m * pt * g[d];
                 if (c->visc == SPH_VISC_LAMINAR)
-                    acc += 8.0 * c->rho0 * c->nu * m * (rv[0] * g[0] + rv[1] * g[1]) /
+                    acc += vf * 8.0 * c->rho0 * c->nu * m * (rv[0] * g[0] + rv[1] * g[1]) /
                            ((ra + rb) * (ra + rb) * (r2 + eta2)) * v[d];
                 if (c->turb == SPH_TURB_SPS) {
                     const double t0 = P->txx[a] + P->txx[b], t1 = P->txy[a] + P->txy[b],
@@ -243,6 +251,17 @@ static void test_monaghan(void **state)
     sph_sim_destroy(s);
 }
 
+/* The viscous terms between fluid and wall particles scaled by boundary.viscosity_factor. */
+static void test_wall_viscosity(void **state)
+{
+    (void)state;
+    cloud_wall_visc = 0.25;
+    check(SPH_KERNEL_WENDLAND_C2, SPH_VISC_ARTIFICIAL, SPH_TURB_NONE, 0.0);
+    check(SPH_KERNEL_CUBIC_SPLINE, SPH_VISC_LAMINAR, SPH_TURB_NONE, 0.0);
+    check(SPH_KERNEL_WENDLAND_C2, SPH_VISC_MONAGHAN, SPH_TURB_NONE, 0.0);
+    cloud_wall_visc = 1.0;
+}
+
 /* The counting sort: cells hold exactly the particles whose positions fall in them. */
 static void test_sort(void **state)
 {
@@ -361,7 +380,7 @@ int main(void)
         cmocka_unit_test(test_sort),         cmocka_unit_test(test_artificial),
         cmocka_unit_test(test_laminar_sps),  cmocka_unit_test(test_delta),
         cmocka_unit_test(test_reproducible), cmocka_unit_test(test_probes),
-        cmocka_unit_test(test_monaghan),
+        cmocka_unit_test(test_monaghan),     cmocka_unit_test(test_wall_viscosity),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
