@@ -161,13 +161,45 @@ static void test_envelope(void **state)
     assert_int_equal(sph_envelope_fit_peaks(&e, 0.6 * T, &f), -1); /* 2 peaks: no fit */
 }
 
+/* A ghost-walled standing wave saved and restored continues bitwise, its envelope included. */
+static void test_restore(void **state)
+{
+    (void)state;
+    const sph_config c = wave_config(10);
+    sph_error err;
+    sph_sim *a = sph_sim_create(&c, &err);
+    assert_non_null(a);
+    assert_int_equal(sph_sim_advance(a, 400, 0.3, &err), 0); /* past the first window */
+    void *buf;
+    size_t len;
+    assert_int_equal(sph_sim_save(a, &buf, &len, &err), 0);
+    sph_sim *b = sph_sim_restore(buf, len, &err);
+    free(buf);
+    if (!b)
+        fail_msg("%s", err.message);
+    assert_int_equal(sph_sim_advance(a, 4000, 1.1, &err), 0);
+    assert_int_equal(sph_sim_advance(b, 4000, 1.1, &err), 0);
+    sph_particle_view va, vb;
+    sph_sim_particles(a, &va);
+    sph_sim_particles(b, &vb);
+    assert_int_equal(va.n, vb.n);
+    assert_memory_equal(va.pos[0], vb.pos[0], (size_t)va.n * sizeof(double));
+    assert_memory_equal(va.vel[1], vb.vel[1], (size_t)va.n * sizeof(double));
+    sph_sim_wave wa, wb;
+    assert_int_equal(sph_sim_wave_fit(a, INFINITY, &wa), 0);
+    assert_int_equal(sph_sim_wave_fit(b, INFINITY, &wb), 0);
+    assert_int_equal(wa.peaks, 3);
+    assert_memory_equal(&wa, &wb, sizeof wa);
+    sph_sim_destroy(a);
+    sph_sim_destroy(b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_velocity),
-        cmocka_unit_test(test_energy),
-        cmocka_unit_test(test_misfits),
-        cmocka_unit_test(test_envelope),
+        cmocka_unit_test(test_velocity), cmocka_unit_test(test_energy),
+        cmocka_unit_test(test_misfits),  cmocka_unit_test(test_envelope),
+        cmocka_unit_test(test_restore),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
