@@ -153,6 +153,9 @@ int sph_sim_check(const sph_config *c, sph_error *err)
     if ((unsigned)c->boundary >= SPH_BOUNDARY_COUNT || (unsigned)c->eos >= SPH_EOS_COUNT ||
         (unsigned)c->visc >= SPH_VISC_COUNT || (unsigned)c->turb >= SPH_TURB_COUNT)
         return sph_error_set(err, SPH_ERR_INVALID, "", "unknown boundary, EOS or viscosity type");
+    if (!(c->wall_viscosity >= 0.0 && c->wall_viscosity <= 1.0))
+        return sph_error_set(err, SPH_ERR_INVALID, "/boundary/viscosity_factor",
+                             "viscosity_factor must be in [0, 1]");
     if (c->boundary == SPH_BOUNDARY_DYNAMIC && (c->layers < 1 || c->layers > 8))
         return sph_error_set(err, SPH_ERR_INVALID, "/boundary/layers",
                              "layers must be from 1 to 8");
@@ -167,6 +170,9 @@ int sph_sim_check(const sph_config *c, sph_error *err)
         if (sph_wall_ghost_init(&w, c, support_of(c), err))
             return err ? err->code : SPH_ERR_INVALID;
     }
+    if (c->visc == SPH_VISC_MONAGHAN && c->method != SPH_METHOD_WCSPH)
+        return sph_error_set(err, SPH_ERR_INVALID, "/physics/viscosity/type",
+                             "Monaghan's viscous term is a WCSPH term (method wcsph)");
     if (sph_initial_check(c, err))
         return err ? err->code : SPH_ERR_INVALID;
     if (!(c->t_end > 0.0))
