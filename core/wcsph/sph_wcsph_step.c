@@ -94,15 +94,17 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
     for (long i = 0; i < n0; i++) {
         if (P->type[i] == SPH_FLUID) {
             const double ax = P->ax0[i], ay = P->ay0[i];
-            const double x = P->x[i] + dt * (P->vx[i] + 0.5 * dt * ax);
-            const double y = P->y[i] + dt * (P->vy[i] + 0.5 * dt * ay);
-            bad += !isfinite(x) || !isfinite(y);
+            double xy[2] = {P->x[i] + dt * (P->vx[i] + 0.5 * dt * ax),
+                            P->y[i] + dt * (P->vy[i] + 0.5 * dt * ay)};
+            double v[2] = {P->vx[i] + dt * ax, P->vy[i] + dt * ay};
+            bad += !isfinite(xy[0]) || !isfinite(xy[1]);
+            if (ghosts) /* a particle that crossed a free-slip wall comes back, before the domain
+                           check: a tank may fill the domain */
+                sph_wall_ghost_reflect(&s->ghost, xy, v);
+            const double x = xy[0], y = xy[1];
             if (x >= xlo && x <= xhi && y >= ylo && y <= yhi) {
-                double xy[2] = {x, y}, v[2] = {P->vx[i] + dt * ax, P->vy[i] + dt * ay};
-                if (ghosts) /* a particle that crossed a free-slip wall comes back */
-                    sph_wall_ghost_reflect(&s->ghost, xy, v);
-                P->x[i] = xy[0];
-                P->y[i] = xy[1];
+                P->x[i] = x;
+                P->y[i] = y;
                 P->vx[i] = v[0];
                 P->vy[i] = v[1];
             } else {

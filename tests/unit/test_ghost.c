@@ -349,6 +349,32 @@ static void test_invisible(void **state)
     sph_sim_destroy(s);
 }
 
+/* A particle the predictor takes across a wall of a tank that fills the domain comes back
+ * (reflected before the domain check): it is not lost. */
+static void test_crossing(void **state)
+{
+    (void)state;
+    sph_config c = tank_config(); /* domain and tank share the walls */
+    sph_error err;
+    sph_sim *s = sph_sim_create(&c, &err);
+    assert_non_null(s);
+    sph_particles *P = &s->P;
+    long k = -1;
+    for (long i = 0; i < P->n; i++)
+        if (P->id[i] == 0) /* the bottom-left corner particle, at (dx/2, dx/2) */
+            k = i;
+    assert_true(k >= 0);
+    P->vx[k] = -100.0; /* 2 cm in a step of 2e-4 s: through the left wall */
+    assert_int_equal(sph_sim_step(s, 1, &err), 0);
+    assert_int_equal(sph_sim_diag(s)->lost, 0);
+    for (long i = 0; i < P->n; i++)
+        if (P->id[i] == 0) {
+            assert_true(P->x[i] > 0.0 && P->vx[i] > 0.0);
+            assert_int_equal(P->type[i], SPH_FLUID);
+        }
+    sph_sim_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -359,6 +385,7 @@ int main(void)
         cmocka_unit_test(test_forces_monaghan_delta),
         cmocka_unit_test(test_forces_laminar),
         cmocka_unit_test(test_invisible),
+        cmocka_unit_test(test_crossing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

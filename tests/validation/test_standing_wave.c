@@ -6,6 +6,7 @@
  * 4 nu k^2 (eq. 8) and 2 pi / omega.
  * Usage: test_standing_wave [--res H/DX] [--re RE] [--kernel NAME] [--periods N]
  *                           [--period-bound F] [--rate-bound F] [--csv FILE] [--rpdf FILE]
+ *                           [--delta D]
  * Passes when |T - T_theory| <= period-bound T_theory and |beta - 4 nu k^2| <= rate-bound
  * 4 nu k^2 (defaults 0.02 and 0.15). Writes t, E_kin/E_kin(0) and eq. (8) to the --csv FILE,
  * and the radial particle density function (q = r/h, pairs, density) at the start and at the end
@@ -20,13 +21,15 @@
 
 int main(int argc, char **argv)
 {
-    double res = 50, re = 500, periods = 10, period_bound = 0.02, rate_bound = 0.15;
+    double res = 50, re = 500, periods = 10, period_bound = 0.02, rate_bound = 0.15, delta = 0.0;
     const char *kernel = "wendland_c2", *csv = NULL, *rpdf = NULL;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!strcmp(argv[i], "--res"))
             res = atof(argv[i + 1]);
         else if (!strcmp(argv[i], "--re"))
             re = atof(argv[i + 1]);
+        else if (!strcmp(argv[i], "--delta"))
+            delta = atof(argv[i + 1]);
         else if (!strcmp(argv[i], "--kernel"))
             kernel = argv[i + 1];
         else if (!strcmp(argv[i], "--periods"))
@@ -64,6 +67,7 @@ int main(int argc, char **argv)
     c.visc = SPH_VISC_MONAGHAN;
     c.nu = H * sqrt(g * H) / re;
     c.initial = sph_initial_default(SPH_INITIAL_STANDING_WAVE);
+    c.delta_sph = delta;
     c.t_end = 1.0; /* set below from the theory's period */
     sph_error err;
     sph_sim *s = sph_sim_create(&c, &err);
