@@ -92,8 +92,10 @@ static long ghosts_estimate(const sph_config *c)
         const int left = f->min[0] < c->tank.min[0] + band;
         const int right = f->max[0] > c->tank.max[0] - band;
         const int bottom = f->min[1] < c->tank.min[1] + band;
-        n +=
-            (long)((left + right) * kx * ny + bottom * ky * nx + (left + right) * bottom * kx * ky);
+        const double e =
+            (left + right) * kx * ny + bottom * ky * nx + (left + right) * bottom * kx * ky;
+        if (e > 0.0) /* false for NaN: a config no check has seen yet (a saved state) */
+            n += e < 1e15 ? (long)e : (long)1e15;
     }
     return n;
 }
