@@ -11,7 +11,9 @@ SPHD=$1; SPHCTL=$2; SRC=$3; seed=${4:-$RANDOM}
 . "$(dirname "$0")/lib.sh"
 echo "seed $seed"; RANDOM=$seed
 CASE="$SRC/cases/water_entry.json"
-sets=(--set dx=0.01 --set time.end=0.06 --set output.every=0.02 --set diagnostics.every=5)
+# long enough that the sleeps below, scaled by the batch run time, end well before the job does
+# even when each sphctl call is slow (ASan, a loaded machine): the kills must find it running
+sets=(--set dx=0.01 --set time.end=0.15 --set output.every=0.05 --set diagnostics.every=5)
 
 # the uninterrupted reference, in batch mode
 "$SPHD" --run "$CASE" --threads 1 "${sets[@]}" --out "$tmp/ref/we" >"$tmp/ref.jsonl" 2>/dev/null
