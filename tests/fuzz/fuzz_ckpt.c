@@ -8,6 +8,7 @@
  * checksums, bit 1 the header's (and its body size), bit 2 the trailer's. With no flag set the
  * file is taken as it is.
  */
+#include "fuzz_ckpt_case.h"
 #include "fuzz_util.h"
 
 #include "sph_case.h"
@@ -20,18 +21,6 @@
 #define HEADER_SIZE  32 /* magic[8] u32 nsections u32 reserved u64 body u32 crc u32 pad */
 #define SECTION_SIZE 48 /* name[32] u64 size u32 crc u32 reserved */
 #define TRAILER_SIZE 16 /* magic[8] u32 crc u32 ~crc */
-
-static const char case_text[] =
-    "{\"name\":\"fz\",\"method\":\"wcsph\",\"dim\":2,"
-    "\"kernel\":{\"type\":\"wendland_c2\",\"h_over_dx\":1.3},\"dx\":0.02,"
-    "\"domain\":{\"min\":[0,0],\"max\":[0.2,0.2]},"
-    "\"fluid\":[{\"box\":{\"min\":[0,0],\"max\":[0.1,0.06]}}],"
-    "\"boundary\":{\"type\":\"dynamic\",\"layers\":3,\"tank\":{\"min\":[0,0],\"max\":[0.2,0.2]}},"
-    "\"physics\":{\"rho0\":1000,\"gravity\":[0,-9.81],\"eos\":{\"type\":\"linear\",\"c0\":10},"
-    "\"viscosity\":{\"type\":\"artificial\",\"alpha\":0.1}},"
-    "\"time\":{\"end\":0.01,\"cfl\":0.2},"
-    "\"output\":{\"every\":0.005,\"fields\":[\"pos\",\"rho\"]},"
-    "\"diagnostics\":{\"every\":1,\"probes\":[\"front_x\"]}}";
 
 static uint32_t crc(const unsigned char *p, size_t n)
 {
@@ -74,7 +63,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     static sph_case c;
     static int have_case;
     if (!have_case) {
-        json_t *root = json_loads(case_text, 0, NULL);
+        json_t *root = json_loads(fuzz_ckpt_case_text, 0, NULL);
         sph_error err;
         if (!root || sph_case_from_json(root, &c, &err) != 0)
             abort();
