@@ -11,6 +11,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Counting stops past this many particles: more than any simulation may hold (2e9). */
+#define SPH_BODY_COUNT_CAP 2100000000L
+
 #define SPH_PI 3.14159265358979323846
 
 /* More body particles than this is refused (the checks below visit them all). */
@@ -91,6 +94,12 @@ static long shape_points(const sph_body_spec *b, double dx, double *xy)
             }
             long m = lround(2.0 * SPH_PI * r / dx);
             m = m < 3 ? 3 : m;
+            if (!xy) { /* counted, not visited: a fuzzed state's absurd circle returns at once */
+                n += m;
+                if (n > SPH_BODY_COUNT_CAP)
+                    return n;
+                continue;
+            }
             for (long j = 0; j < m; j++) {
                 if (xy) {
                     const double phi =
