@@ -42,6 +42,17 @@ typedef struct sph_method_ops {
     void (*destroy)(sph_sim *s);
 } sph_method_ops;
 
+/* For a method's `arrays`: copies the non-NULL arrays of all[0..nall) to d (at most maxd, in
+ * order) and returns how many. */
+static inline int sph_method_arrays(double *const *all, int nall, double **d, int maxd)
+{
+    int n = 0;
+    for (int i = 0; i < nall && n < maxd; i++)
+        if (all[i])
+            d[n++] = all[i];
+    return n;
+}
+
 /* The row of method m, or NULL when m is not a particle simulation of this build. */
 const sph_method_ops *sph_method_ops_of(sph_method m);
 

@@ -517,11 +517,8 @@ static void mps_diag(sph_sim *s)
 static int mps_arrays(const sph_sim *s, double **d, int maxd)
 {
     const sph_particles *P = &s->P;
-    double *all[] = {P->x, P->y, P->vx, P->vy, P->p, P->rho};
-    int n = 0;
-    for (size_t i = 0; i < sizeof all / sizeof all[0] && n < maxd; i++)
-        d[n++] = all[i];
-    return n;
+    double *const all[] = {P->x, P->y, P->vx, P->vy, P->p, P->rho};
+    return sph_method_arrays(all, (int)(sizeof all / sizeof all[0]), d, maxd);
 }
 
 const sph_method_ops sph_mps_ops = {

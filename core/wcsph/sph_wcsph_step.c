@@ -238,13 +238,10 @@ static void wcsph_pressure(const sph_sim *s)
 static int wcsph_arrays(const sph_sim *s, double **d, int maxd)
 {
     const sph_particles *P = &s->P;
-    double *all[] = {P->x,   P->y,   P->vx,    P->vy,  P->rho, P->p,   P->ax,  P->ay,  P->drho,
-                     P->ax0, P->ay0, P->drho0, P->txx, P->txy, P->tyy, P->gxx, P->gxy, P->gyy};
-    int n = 0;
-    for (size_t i = 0; i < sizeof all / sizeof all[0] && n < maxd; i++)
-        if (all[i])
-            d[n++] = all[i];
-    return n;
+    double *const all[] = {P->x,   P->y,   P->vx,   P->vy,  P->rho, P->p,
+                           P->ax,  P->ay,  P->drho, P->ax0, P->ay0, P->drho0,
+                           P->txx, P->txy, P->tyy,  P->gxx, P->gxy, P->gyy};
+    return sph_method_arrays(all, (int)(sizeof all / sizeof all[0]), d, maxd);
 }
 
 const sph_method_ops sph_wcsph_ops = {
