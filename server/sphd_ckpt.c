@@ -1,4 +1,5 @@
 #include "sphd_ckpt.h"
+#include "sphd_ckpt_format.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -18,28 +19,6 @@
  */
 #define MAGIC     "SPHCKPT1"
 #define END_MAGIC "SPHCKEND"
-
-typedef struct {
-    char magic[8];
-    uint32_t nsections;
-    uint32_t reserved;
-    uint64_t body;
-    uint32_t crc;
-    uint32_t pad;
-} ckpt_header;
-
-typedef struct {
-    char name[SPHD_CKPT_NAME_MAX];
-    uint64_t size;
-    uint32_t crc;
-    uint32_t reserved;
-} ckpt_section_header;
-
-typedef struct {
-    char magic[8];
-    uint32_t crc;
-    uint32_t crc_inverted;
-} ckpt_trailer;
 
 struct sphd_ckpt {
     unsigned char *bytes; /* the whole file */

@@ -28,6 +28,7 @@
 #include "sph_sim.h"
 #include "sph_sim_impl.h"
 #include "sphd_ckpt.h"
+#include "sphd_ckpt_format.h"
 #include "sphd_exec.h"
 
 #include <dirent.h>
@@ -55,28 +56,7 @@ typedef struct {
     sph_envelope wave;
 } sim_header;
 
-/* server/sphd_ckpt.c's file header and trailer. */
-typedef struct {
-    char magic[8];
-    uint32_t nsections;
-    uint32_t reserved;
-    uint64_t body;
-    uint32_t crc;
-    uint32_t pad;
-} ckpt_header;
-
-typedef struct {
-    char name[SPHD_CKPT_NAME_MAX];
-    uint64_t size;
-    uint32_t crc;
-    uint32_t reserved;
-} ckpt_section_header;
-
-typedef struct {
-    char magic[8];
-    uint32_t crc;
-    uint32_t crc_inverted;
-} ckpt_trailer;
+/* server/sphd_ckpt.c's file header and trailer: sphd_ckpt_format.h */
 
 _Static_assert(sizeof(ckpt_header) == 32 && sizeof(ckpt_section_header) == 48 &&
                    sizeof(ckpt_trailer) == 16,
