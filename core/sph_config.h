@@ -12,6 +12,8 @@
 #define SPH_CONFIG_MAX_BOXES  16
 #define SPH_CONFIG_MAX_BODIES 8
 #define SPH_BODY_NAME_MAX     32
+#define SPH_H_OVER_DX_MIN     0.5 /* smoothing length range, in units of dx */
+#define SPH_H_OVER_DX_MAX     4.5
 
 /* An axis-aligned box; components beyond dim are ignored. */
 typedef struct sph_box {

@@ -55,7 +55,8 @@ static double probe(sph_sim *s, const double *u, const double *v, double lo, dou
         if (u[i] > s->bin_max[b])
             s->bin_max[b] = u[i];
     }
-    const long gap = (long)ceil(s->kernel.support / dx) + 1;
+    const double g = ceil(s->kernel.support / dx) + 1.0; /* the bins a support spans */
+    const long gap = g < (double)s->nbins ? (long)g : s->nbins;
     return walk(s->bin_count, s->bin_max, s->nbins, gap) + 0.5 * dx;
 }
 

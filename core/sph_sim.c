@@ -144,9 +144,10 @@ int sph_sim_check(const sph_config *c, sph_error *err)
         return sph_error_set(err, SPH_ERR_INVALID, "/dim", "only 2D simulations are available");
     if (!(c->dx > 0.0) || !isfinite(c->dx))
         return sph_error_set(err, SPH_ERR_INVALID, "/dx", "dx must be a positive number");
-    if (!(c->h_over_dx > 0.0))
+    if (!(c->h_over_dx >= SPH_H_OVER_DX_MIN && c->h_over_dx <= SPH_H_OVER_DX_MAX))
         return sph_error_set(err, SPH_ERR_INVALID, "/kernel/h_over_dx",
-                             "h_over_dx must be positive");
+                             "h_over_dx must be in [%g, %g]", SPH_H_OVER_DX_MIN,
+                             SPH_H_OVER_DX_MAX);
     if ((unsigned)c->kernel.type >= SPH_KERNEL_COUNT)
         return sph_error_set(err, SPH_ERR_INVALID, "/kernel/type", "unknown kernel");
     if (c->nfluid < 0 || c->nfluid > SPH_CONFIG_MAX_BOXES)

@@ -8,18 +8,25 @@
 # --keep-going: go on after a crash, a timeout or running out of memory (libFuzzer's fork mode:
 # every finding is kept in build-fuzz/artifacts/NAME/ and counted in the log; for long runs).
 # --no-build: run what build-fuzz/ holds (several runs at once share one build).
-# Usage: scripts/fuzz.sh [--seconds S] [--keep-going] [--build-only | --no-build] [TARGET ...]
+# --seed S: libFuzzer's random seed (default 0, a new one each run). With a fixed seed a run
+# tries the same inputs in the same order from the same corpus, so a short run (CI's) is the
+# start of a longer one: scripts/test.sh fixes it, so CI never fails on a first-time find.
+# --fresh: start from the seed corpus only, not from what earlier runs in build-fuzz/ found.
+# Usage: scripts/fuzz.sh [--seconds S] [--seed S] [--fresh] [--keep-going]
+#                        [--build-only | --no-build] [TARGET ...]
 #   targets: request case sim_restore ckpt journal (default: all). FUZZ_NICE=19 runs it niced.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-seconds=30 build_only=0 build=1 targets=() mode=()
+seconds=30 seed=0 fresh=0 build_only=0 build=1 targets=() mode=()
 while [ $# -gt 0 ]; do
   case $1 in
     --seconds) seconds=$2; shift 2 ;;
+    --seed) seed=$2; shift 2 ;;
+    --fresh) fresh=1; shift ;;
     --build-only) build_only=1; shift ;;
     --no-build) build=0; shift ;;
     --keep-going) mode=(-fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1); shift ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
     *) targets+=("$1"); shift ;;
   esac
 done
@@ -34,12 +41,13 @@ export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 rc=0
 for t in "${targets[@]}"; do
+  [ "$fresh" = 0 ] || rm -rf "build-fuzz/corpus/$t"
   mkdir -p "build-fuzz/corpus/$t" "build-fuzz/artifacts/$t" build-fuzz/logs
   dict=()
   [ -f "tests/fuzz/$t.dict" ] && dict=(-dict="tests/fuzz/$t.dict")
   log="build-fuzz/logs/$t-$(date +%Y%m%d-%H%M%S).log"
   if nice -n "${FUZZ_NICE:-0}" "build-fuzz/fuzz/fuzz_$t" "build-fuzz/corpus/$t" "tests/fuzz/corpus/$t" \
-       "${dict[@]}" "${mode[@]}" -max_total_time="$seconds" -max_len=65536 -rss_limit_mb=2048 -timeout=20 \
+       "${dict[@]}" "${mode[@]}" -seed="$seed" -max_total_time="$seconds" -max_len=65536 -rss_limit_mb=2048 -timeout=20 \
        -print_final_stats=1 -artifact_prefix="build-fuzz/artifacts/$t/" >"$log" 2>&1; then
     echo "fuzz $t: $(grep -E '^#[0-9]+' "$log" | tail -n 1)"
     [ ${#mode[@]} -eq 0 ] || echo "  findings kept: $(ls "build-fuzz/artifacts/$t/" | wc -l)"

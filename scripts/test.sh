@@ -3,7 +3,9 @@
 # again with AddressSanitizer and UndefinedBehaviorSanitizer and run the unit, command-line and
 # integration tests under them; then build with clang and run the unit tests; then the build
 # types that are not built above (scripts/build-matrix.sh), so that gcc and clang each build
-# Release, RelWithDebInfo and Debug without a warning; last, each fuzz target runs for 30 s.
+# Release, RelWithDebInfo and Debug without a warning; last, each fuzz target runs for 30 s
+# from its seed corpus with a fixed random seed (SPH_FUZZ_SEED, default 1): the same inputs each
+# run, so a find fails the run that brought it, not a later one by chance.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -25,4 +27,4 @@ echo "== the other build types, warnings as errors =="
 scripts/build-matrix.sh gcc:Release gcc:Debug clang:RelWithDebInfo clang:Debug
 
 echo "== fuzzing: each libFuzzer target for 30 s (scripts/fuzz.sh) =="
-scripts/fuzz.sh --seconds "${SPH_FUZZ_SECONDS:-30}"
+scripts/fuzz.sh --seconds "${SPH_FUZZ_SECONDS:-30}" --seed "${SPH_FUZZ_SEED:-1}" --fresh
