@@ -3,6 +3,7 @@
 figure, made with matplotlib) and OUT/results.json.
 
     validate.py --sphd BUILD/bin/sphd --src SOURCE_DIR --out OUT [--level full|ci] [--only NAME]
+                [--threads N] [--runs DIR]
 
 `cmake --build build --target validate` runs it at --level full (each case's full resolution);
 the ctest validations run single cases at --level ci (a coarse resolution that still checks the
@@ -14,7 +15,10 @@ A case is one Python file in cases/ (loaded in name order) defining
 ctx gives: ctx.level ("full" or "ci"), ctx.src, ctx.out (the case's own directory),
 ctx.reference(NAME) (a file of tests/validation/reference/), ctx.sphd_run(CASE, sets) (runs
 `sphd --run` with `--set` items, returns (events, job directory); its wall time and its sets are
-recorded), ctx.check(what, value, tolerance, ok, how=""), ctx.figure(NAME) (a new matplotlib
+recorded), ctx.sphd_run_long(CASE, sets, job) (a run of hours that survives an interruption: it
+lives in RUNS/JOB (--runs, default OUT/runs), continues from its checkpoint when it was killed and
+is taken as it is when it finished with the same case and sets; returns (result, diag series,
+directory)), ctx.check(what, value, tolerance, ok, how=""), ctx.figure(NAME) (a new matplotlib
 figure that is saved as NAME.png into the report), ctx.note(text). A new physics case is a new
 file in cases/; nothing else changes.
 """
@@ -26,6 +30,7 @@ import importlib.util
 import json
 import os
 import platform
+import shutil
 import subprocess
 import sys
 import time
@@ -44,6 +49,7 @@ class Context:
         self.name, self.level, self.src, self.out = name, args.level, args.src, out
         self.sphd = args.sphd
         self.threads = args.threads
+        self.runs_dir = args.runs or os.path.join(args.out, "runs")
         self.checks, self.figures, self.runs, self.notes = [], [], [], []
         self._open = []
 
@@ -71,6 +77,39 @@ class Context:
                                                                p.stderr.strip()[-500:]))
         return events, d
 
+    def sphd_run_long(self, case, sets, job):
+        d = os.path.join(self.runs_dir, job)
+        stamp_path = os.path.join(d, "report-run.json")
+        stamp = {"case": case, "sets": list(sets)}
+        old = None
+        if os.path.exists(stamp_path):
+            with open(stamp_path) as f:
+                old = json.load(f)
+        if old != stamp and os.path.exists(d):  # another run's directory: not resumed
+            shutil.rmtree(d)
+        done = old == stamp and os.path.exists(os.path.join(d, "result.json"))
+        t0 = time.time()
+        if not done:
+            os.makedirs(d, exist_ok=True)
+            with open(stamp_path, "w") as f:
+                json.dump(stamp, f)
+            cmd = [self.sphd, "--run", os.path.join(self.src, case), "--out", d, "--resume",
+                   "--id", job, "--threads", str(self.threads)]
+            for s in sets:
+                cmd += ["--set", s]
+            p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+            if p.returncode != 0:
+                raise RuntimeError("sphd --run %s exited %d: %s" % (case, p.returncode,
+                                                                   p.stderr.strip()[-500:]))
+        wall = time.time() - t0
+        with open(os.path.join(d, "result.json")) as f:
+            result = json.load(f)
+        self.runs.append({"case": case, "sets": list(sets), "wall": wall, "exit": 0,
+                          "dir": d, "reused": done})
+        print("  %s %s: %s, %.1f s" % (case, " ".join(sets), "finished earlier" if done else
+                                       "done", wall), flush=True)
+        return result, read_diag(os.path.join(d, "diag.h5")), d
+
     def check(self, what, value, tolerance, ok, how=""):
         self.checks.append({"what": what, "value": value, "tolerance": tolerance, "ok": bool(ok),
                             "how": how})
@@ -91,6 +130,15 @@ class Context:
             plt.close(fig)
             self.figures.append(name + ".png")
         self._open = []
+
+
+def read_diag(path):
+    """The diagnostics series of a job's diag.h5, {column: numpy array}, its complete rows."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        rows = int(f["rows"][0])
+        table = f["diag"][:rows]
+    return {name: table[name] for name in table.dtype.names}
 
 
 def commit(src):
@@ -147,8 +195,9 @@ def write_html(out, report):
         for f in c["figures"]:
             parts.append("<p><img src='%s/%s' alt='%s'></p>" % (e(c["name"]), e(f), e(f)))
         parts.append("<p>runs: %s</p>" % "; ".join(
-            "<code>sphd --run %s %s</code> (%.1f s)" % (e(r["case"]), e(" ".join(
-                "--set " + s for s in r["sets"])), r["wall"]) for r in c["runs"]))
+            "<code>sphd --run %s %s</code> (%s)" % (e(r["case"]), e(" ".join(
+                "--set " + s for s in r["sets"])), "finished earlier, in " + e(r["dir"])
+                if r.get("reused") else "%.1f s" % r["wall"]) for r in c["runs"]))
     parts.append("</body></html>")
     with open(os.path.join(out, "index.html"), "w") as f:
         f.write("\n".join(parts) + "\n")
@@ -162,6 +211,7 @@ def main():
     ap.add_argument("--level", choices=("full", "ci"), default="full")
     ap.add_argument("--only", action="append", help="run this case only (repeatable)")
     ap.add_argument("--threads", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--runs", help="where the long runs live and resume (default OUT/runs)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     files = sorted(glob.glob(os.path.join(HERE, "cases", "*.py")))
