@@ -11,7 +11,8 @@
  *              shell volume in 3D) over what a uniform fluid of the initial number density
  *              n0 = 1 / dx^d would put there (the paper's R_rho; 1 for an ideal gas, less near a
  *              free surface, where particles lack neighbours).
- * Serial, in the particles' order: the same figures with any number of threads.
+ * The calling thread's OpenMP threads share the pair loop (from SPH_OMP_MIN fluid particles on);
+ * the counts are integers, so the figures are the same with any number of threads.
  */
 #ifndef SPH_RPDF_H
 #define SPH_RPDF_H

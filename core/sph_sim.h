@@ -137,10 +137,16 @@ typedef struct sph_sim_wave {
  * field has no theory or fewer than 3 peaks have been seen. */
 int sph_sim_wave_fit(const sph_sim *s, double t_fit, sph_sim_wave *w);
 
+/* The binning the server reports the RPDF with (query field `rpdf`, the snapshots' group
+ * `rpdf`) and the validation prints: SPH_SIM_RPDF_BINS bins of q = r / h over
+ * [0, SPH_SIM_RPDF_QMAX), i.e. out to the kernels' support. */
+#define SPH_SIM_RPDF_BINS 40
+#define SPH_SIM_RPDF_QMAX 2.0
+
 /* The radial particle density function of the fluid now (sph_rpdf.h): nbins bins of q = r / h
  * over [0, qmax); q (bin centres), count (pairs) and density (relative to a uniform fluid at the
- * initial spacing) each get nbins values. Returns 0, SPH_ERR_INVALID (path /rpdf/bins or
- * /rpdf/qmax) or SPH_ERR_NOMEM. */
+ * initial spacing) each get nbins values (zeros with fewer than two fluid particles). Returns 0,
+ * SPH_ERR_INVALID (path /rpdf/bins or /rpdf/qmax) or SPH_ERR_NOMEM. */
 int sph_sim_rpdf(const sph_sim *s, double qmax, int nbins, double *q, double *count,
                  double *density, sph_error *err);
 

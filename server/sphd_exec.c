@@ -270,13 +270,13 @@ json_t *sphd_exec_progress(const sphd_exec *x)
                      "step", (json_int_t)d->step, "finished", x->finished, "diag", diag);
 }
 
-/* The radial particle density function of the fluid now (sph_rpdf.h): 40 bins of q = r/h over
- * [0, 2). New reference, or NULL with err. */
+/* The radial particle density function of the fluid now (sph_rpdf.h): SPH_SIM_RPDF_BINS bins of
+ * q = r/h over [0, SPH_SIM_RPDF_QMAX), as in the snapshots. New reference, or NULL with err. */
 static json_t *rpdf_json(const sph_sim *s, sph_error *err)
 {
-    enum { NB = 40 };
+    enum { NB = SPH_SIM_RPDF_BINS };
     double q[NB], count[NB], dens[NB];
-    if (sph_sim_rpdf(s, 2.0, NB, q, count, dens, err))
+    if (sph_sim_rpdf(s, SPH_SIM_RPDF_QMAX, NB, q, count, dens, err))
         return NULL;
     json_t *jq = json_array(), *jc = json_array(), *jd = json_array();
     for (int b = 0; b < NB; b++) {

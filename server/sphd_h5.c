@@ -152,6 +152,49 @@ static int write_field(hid_t file, const sphd_h5_field *f, long n, int compress)
     return rc;
 }
 
+/* One small float64 dataset (n values) with its units. */
+static int write_small(hid_t g, const char *name, const char *units, const double *v, int n)
+{
+    hsize_t dims[1] = {(hsize_t)n};
+    hid_t space = H5Screate_simple(1, dims, NULL);
+    hid_t d = H5Dcreate2(g, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    int rc = d < 0 ? -1 : 0;
+    if (rc == 0 && H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) < 0)
+        rc = -1;
+    if (rc == 0)
+        rc = sphd_h5_attr_string(d, "units", units);
+    if (d >= 0)
+        H5Dclose(d);
+    H5Sclose(space);
+    return rc;
+}
+
+/* The group /rpdf: the fluid's radial particle density function (PROTOCOL.md section 4). */
+static int write_rpdf(hid_t file, const sphd_h5_rpdf *r)
+{
+    if (r->nbins < 1)
+        return -1;
+    hid_t g = H5Gcreate2(file, "rpdf", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (g < 0)
+        return -1;
+    const int bins = r->nbins;
+    int rc = 0;
+    rc |= sphd_h5_attr_string(g, "description",
+                              "radial particle density function of the fluid: the pairs of fluid "
+                              "particles closer than qmax h, binned by q = r/h (h the smoothing "
+                              "length); density = neighbours per particle in the bin's ring over "
+                              "those of a uniform fluid at the initial spacing dx (1 for a "
+                              "uniform fluid, less near a free surface)");
+    rc |= sphd_h5_attr_number(g, "qmax", H5T_NATIVE_DOUBLE, &r->qmax);
+    rc |= sphd_h5_attr_number(g, "bins", H5T_NATIVE_INT, &bins);
+    rc |= write_small(g, "q", "1", r->q, bins);
+    rc |= write_small(g, "count", "1", r->count, bins);
+    rc |= write_small(g, "density", "1", r->density, bins);
+    if (H5Gclose(g) < 0)
+        rc = -1;
+    return rc ? -1 : 0;
+}
+
 int sphd_h5_write_snapshot(const char *path, const sphd_h5_header *hdr, const sphd_h5_field *fields,
                            int nfields, int compress, sph_error *err)
 {
@@ -187,6 +230,8 @@ int sphd_h5_write_snapshot(const char *path, const sphd_h5_header *hdr, const sp
         rc = write_field(file, &fields[i], hdr->n, compress);
     if (rc == 0)
         rc = sphd_vtkhdf_write(file, fields, nfields, hdr->n);
+    if (rc == 0 && hdr->rpdf)
+        rc = write_rpdf(file, hdr->rpdf);
     if (rc != 0) {
         sphd_h5_fail(err, "writing snapshot", tmp);
         H5Fclose(file);

@@ -5,7 +5,9 @@
  *     name, flushed to disk, then renamed, so the latest file is never a partial one. With `pos`
  *     and `id` among the fields the file also has ParaView's own layout (VTKHDF 1.0, an
  *     unstructured grid of one vertex cell per particle) in the group /VTKHDF, whose arrays are
- *     hard links to the same datasets: only the cell offsets and types are new data;
+ *     hard links to the same datasets: only the cell offsets and types are new data. The group
+ *     /rpdf holds the fluid's radial particle density function when the caller gives one (not
+ *     per particle: the XDMF and VTKHDF do not name it);
  *   - an XDMF sidecar listing every snapshot as a temporal collection of polyvertex grids (the
  *     `id` dataset as their connectivity), so ParaView, VisIt and meshio open the whole run as a
  *     time series (rewritten atomically);
@@ -34,23 +36,34 @@ typedef struct sphd_h5_field {
     const void *comp[3]; /* component arrays of n elements each */
 } sphd_h5_field;
 
+/* The fluid's radial particle density function (core/sph_rpdf.h), nbins values each. */
+typedef struct sphd_h5_rpdf {
+    int nbins;             /* bins, >= 1 */
+    double qmax;           /* the bins cover q = r / h in [0, qmax) [1] */
+    const double *q;       /* bin centres [1] */
+    const double *count;   /* pairs of fluid particles per bin [1] */
+    const double *density; /* relative to a uniform fluid at the initial spacing [1] */
+} sphd_h5_rpdf;
+
 typedef struct sphd_h5_header {
-    double t;           /* simulated time [s] */
-    long step;          /* solver step */
-    int dim;            /* 1, 2 or 3 */
-    double dx;          /* particle spacing [m] */
-    const char *kernel; /* kernel type name */
-    const char *job;    /* job id */
-    long n;             /* particles in the file */
-    long n_fluid;       /* of which fluid */
-    long n_boundary;    /* of which fixed boundary */
-    long n_body;        /* of which rigid-body */
-    double mass;        /* particle mass [kg, or kg/m in 2D]; written when > 0 */
-    double h;           /* smoothing length [m]; written when > 0 */
+    double t;                 /* simulated time [s] */
+    long step;                /* solver step */
+    int dim;                  /* 1, 2 or 3 */
+    double dx;                /* particle spacing [m] */
+    const char *kernel;       /* kernel type name */
+    const char *job;          /* job id */
+    long n;                   /* particles in the file */
+    long n_fluid;             /* of which fluid */
+    long n_boundary;          /* of which fixed boundary */
+    long n_body;              /* of which rigid-body */
+    double mass;              /* particle mass [kg, or kg/m in 2D]; written when > 0 */
+    double h;                 /* smoothing length [m]; written when > 0 */
+    const sphd_h5_rpdf *rpdf; /* written as the group /rpdf; NULL: none */
 } sphd_h5_header;
 
 /* Writes a snapshot to `path` (via path.tmp + fsync + rename). compress: 0 none, 1-9 deflate level
- * (with shuffle). With fields "pos" and "id" (an integer type) it adds the /VTKHDF group. Returns
+ * (with shuffle). With fields "pos" and "id" (an integer type) it adds the /VTKHDF group, with
+ * hdr->rpdf the /rpdf group (datasets q, count and density, not compressed). Returns
  * 0, or SPH_ERR_IO with err saying which file and why (disk full...). */
 int sphd_h5_write_snapshot(const char *path, const sphd_h5_header *hdr, const sphd_h5_field *fields,
                            int nfields, int compress, sph_error *err);

@@ -89,12 +89,47 @@ static void gather(void *dst, const void *src, const long *where, long n, size_t
         memcpy((char *)dst + (size_t)k * es, (const char *)src + (size_t)where[k] * es, es);
 }
 
+/* The fluid's RPDF with the query's binning into *r (arrays of SPH_SIM_RPDF_BINS) for a sim of
+ * nactive fluid particles (lost ones not counted). Returns 1 when there is one, 0 when there is
+ * none to write (no fluid particle, or the sim has none to give: SPH_ERR_INVALID), or -1 with
+ * err (out of memory). */
+static int fluid_rpdf(const sph_sim *s, long nactive, sphd_h5_rpdf *r, double *q, double *count,
+                      double *density, sph_error *err)
+{
+    if (nactive == 0)
+        return 0;
+    sph_error e;
+    const int rc = sph_sim_rpdf(s, SPH_SIM_RPDF_QMAX, SPH_SIM_RPDF_BINS, q, count, density, &e);
+    if (rc == SPH_ERR_INVALID)
+        return 0;
+    if (rc) {
+        if (err)
+            *err = e;
+        return -1;
+    }
+    *r = (sphd_h5_rpdf){SPH_SIM_RPDF_BINS, SPH_SIM_RPDF_QMAX, q, count, density};
+    return 1;
+}
+
 json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err)
 {
     sph_particle_view v;
     sph_sim_particles(s, &v);
     const sph_diag *d = sph_sim_diag(s);
     const long n = v.n;
+    long nfluid = 0, nactive = 0, nboundary = 0, nbody = 0;
+    for (long i = 0; i < n; i++) { /* types: 0 fluid, 1 boundary, 2 lost, 4 body (sph_sim.h) */
+        nfluid += v.type[i] == 0 || v.type[i] == 2;
+        nactive += v.type[i] == 0;
+        nboundary += v.type[i] == 1;
+        nbody += v.type[i] == 4;
+    }
+    /* before the snapshot's buffers: the RPDF's cell grid is freed by then */
+    double rq[SPH_SIM_RPDF_BINS], rcount[SPH_SIM_RPDF_BINS], rdensity[SPH_SIM_RPDF_BINS];
+    sphd_h5_rpdf rpdf = {0};
+    const int has_rpdf = fluid_rpdf(s, nactive, &rpdf, rq, rcount, rdensity, err);
+    if (has_rpdf < 0)
+        return NULL;
     const size_t nn = (size_t)(n > 0 ? n : 1);
     long *where = malloc(nn * sizeof *where);
     double *buf = malloc(nn * sizeof(double) * 9);
@@ -113,12 +148,6 @@ json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err)
     sphd_h5_field f[8];
     int nf = 0;
     const unsigned want = o->cfg.fields;
-    long nfluid = 0, nboundary = 0, nbody = 0;
-    for (long i = 0; i < n; i++) { /* types: 0 fluid, 1 boundary, 2 lost, 4 body (sph_sim.h) */
-        nfluid += v.type[i] == 0 || v.type[i] == 2;
-        nboundary += v.type[i] == 1;
-        nbody += v.type[i] == 4;
-    }
     int c = 0;
     sphd_h5_field pos = {"pos", "m", SPHD_H5_F64, v.dim, {0}};
     for (int k = 0; k < v.dim; k++) {
@@ -183,7 +212,8 @@ json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err)
                         .n_boundary = nboundary,
                         .n_body = nbody,
                         .mass = o->mass,
-                        .h = o->h};
+                        .h = o->h,
+                        .rpdf = has_rpdf ? &rpdf : NULL};
     char path[4400], xmf[4200];
     snprintf(path, sizeof path, "%s/%s", o->dir, e->file);
     snprintf(xmf, sizeof xmf, "%s/particles.xmf", o->dir);

@@ -1,6 +1,7 @@
 /*
  * sphd_outputs: a simulation job's result files in its directory (DESIGN.md section 6):
- *   snap_NNNNNN.h5   particle snapshots at the case's output cadence (particles in creation order)
+ *   snap_NNNNNN.h5   particle snapshots at the case's output cadence (particles in creation order),
+ *                    each with the fluid's RPDF (group /rpdf) when there is fluid
  *   particles.xmf    the XDMF time series over every snapshot (ParaView, VisIt)
  *   diag.h5          the diagnostics series, extendible datasets, readable while the job runs
  * Its state (the snapshots written so far, the next output time) goes into the job's checkpoints,

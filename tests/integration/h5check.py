@@ -2,8 +2,8 @@
 
     h5check.py whole DIR        every snapshot opens with its fields, the XDMF parses, the
                                 diagnostics file opens (SWMR); no snapshot is a temporary
-    h5check.py same REF DIR     DIR's snapshots and diagnostics are bitwise equal to REF's, and DIR
-                                holds no temporary file
+    h5check.py same REF DIR     DIR's snapshots (their RPDF too) and diagnostics are bitwise equal
+                                to REF's, and DIR holds no temporary file
 Exit 0 when the check holds, 1 (with the reason) when not.
 """
 import os
@@ -43,6 +43,9 @@ def same(a, b):
             for k in x:
                 if isinstance(x[k], h5py.Dataset):
                     assert np.array_equal(x[k][:], y[k][:]), (s, k)
+            assert ("rpdf" in x) == ("rpdf" in y), s
+            for k in x["rpdf"] if "rpdf" in x else ():
+                assert np.array_equal(x["rpdf"][k][:], y["rpdf"][k][:]), (s, "rpdf/" + k)
     with h5py.File(os.path.join(a, "diag.h5"), "r", libver="latest", swmr=True) as x, \
          h5py.File(os.path.join(b, "diag.h5"), "r", libver="latest", swmr=True) as y:
         for k in x:

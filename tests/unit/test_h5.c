@@ -80,6 +80,14 @@ static void test_snapshot(void **state)
     fill(P, 0.25);
     sphd_h5_field f[6];
     int nf = make_fields(P, f);
+    enum { NB = 40 };
+    double q[NB], count[NB], dens[NB];
+    for (int b = 0; b < NB; b++) {
+        q[b] = (b + 0.5) * 0.05;
+        count[b] = 3.0 * b;
+        dens[b] = 0.025 * b;
+    }
+    const sphd_h5_rpdf rpdf = {NB, 2.0, q, count, dens};
     sphd_h5_header h = {.t = 0.25,
                         .step = 1234,
                         .dim = 2,
@@ -91,7 +99,8 @@ static void test_snapshot(void **state)
                         .n_boundary = 200,
                         .n_body = 0,
                         .mass = 0.025,
-                        .h = 0.007};
+                        .h = 0.007,
+                        .rpdf = &rpdf};
     char path[512];
     snprintf(path, sizeof path, "%s/snap_000001.h5", dir);
     sph_error err;
@@ -164,6 +173,37 @@ static void test_snapshot(void **state)
     H5Dclose(d);
     assert_int_equal(off[0], 0);
     assert_int_equal(off[N], N);
+    /* the RPDF: a group of three (NB) float64 datasets with units, and what it is */
+    int bins = 0;
+    double qmax = 0;
+    a = H5Aopen_by_name(file, "rpdf", "bins", H5P_DEFAULT, H5P_DEFAULT);
+    H5Aread(a, H5T_NATIVE_INT, &bins);
+    H5Aclose(a);
+    a = H5Aopen_by_name(file, "rpdf", "qmax", H5P_DEFAULT, H5P_DEFAULT);
+    H5Aread(a, H5T_NATIVE_DOUBLE, &qmax);
+    H5Aclose(a);
+    assert_int_equal(bins, NB);
+    assert_true(qmax == 2.0);
+    assert_true(H5Aexists_by_name(file, "rpdf", "description", H5P_DEFAULT) > 0);
+    const char *names[] = {"rpdf/q", "rpdf/count", "rpdf/density"};
+    const double *want[] = {q, count, dens};
+    for (int k = 0; k < 3; k++) {
+        d = H5Dopen2(file, names[k], H5P_DEFAULT);
+        assert_true(d >= 0);
+        sp = H5Dget_space(d);
+        assert_int_equal(H5Sget_simple_extent_ndims(sp), 1);
+        H5Sget_simple_extent_dims(sp, dims, NULL);
+        assert_int_equal(dims[0], NB);
+        H5Sclose(sp);
+        double got[NB];
+        H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, got);
+        for (int b = 0; b < NB; b++)
+            assert_true(got[b] == want[k][b]);
+        assert_true(H5Aexists(d, "units") > 0);
+        H5Dclose(d);
+    }
+    /* not a field: ParaView's layout does not take it up */
+    assert_int_equal(H5Lexists(file, "VTKHDF/PointData/rpdf", H5P_DEFAULT), 0);
     H5Fclose(file);
 
     /* nothing but the final file: no *.tmp.* left */
@@ -201,6 +241,11 @@ static void test_xdmf(void **state)
         char path[1200];
         snprintf(path, sizeof path, "%s/%s", dir, e[i].file);
         assert_int_equal(sphd_h5_write_snapshot(path, &h, f, nf, 0, &err), 0);
+        if (i == 0) { /* without an RPDF, no group */
+            hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+            assert_int_equal(H5Lexists(file, "rpdf", H5P_DEFAULT), 0);
+            H5Fclose(file);
+        }
         char xmf[512];
         snprintf(xmf, sizeof xmf, "%s/particles.xmf", dir);
         assert_int_equal(sphd_xdmf_write(xmf, e, i + 1, f, nf, &err), 0);

@@ -5,6 +5,8 @@
  *     at sqrt(2) dx), and the density of the sqrt(2) dx ring is that count over the ring's
  *     expected share;
  *   - particles moved onto others (clustering) show in the first bin;
+ *   - the cell-list pair loop against an all-pairs one (2D and 3D, scattered particles, some
+ *     of them walls): the same counts in every bin;
  *   - the sim's view (fluid only: walls and ghosts never count) and the argument errors.
  */
 #include <setjmp.h>
@@ -80,6 +82,60 @@ static void test_errors(void **state)
     assert_string_equal(err.path, "/rpdf/qmax");
 }
 
+/* The obvious loop: every pair of fluid particles once, r^2 summed over the axes in order. */
+static void all_pairs(const sph_rpdf_input *in, double qmax, int nbins, double *count)
+{
+    const double rmax = qmax * in->h, dq = qmax / nbins;
+    for (int b = 0; b < nbins; b++)
+        count[b] = 0.0;
+    for (long i = 0; i < in->n; i++)
+        for (long j = i + 1; j < in->n; j++) {
+            if (in->type[i] != SPH_FLUID || in->type[j] != SPH_FLUID)
+                continue;
+            double r2 = 0.0;
+            for (int d = 0; d < in->dim; d++)
+                r2 += (in->pos[d][i] - in->pos[d][j]) * (in->pos[d][i] - in->pos[d][j]);
+            if (r2 < rmax * rmax) {
+                const long b = (long)(sqrt(r2) * (1.0 / (dq * in->h)));
+                count[b < nbins ? b : nbins - 1] += 1.0;
+            }
+        }
+}
+
+static void test_all_pairs(void **state)
+{
+    (void)state;
+    enum { M = 5000 }; /* above SPH_OMP_MIN: the threads share the loop */
+    static double px[M], py[M], pz[M];
+    static unsigned char pt[M];
+    srand(7);
+    for (int dim = 2; dim <= 3; dim++) {
+        /* a cloud 0.1 m wide (thinner in z), denser in one corner, a tenth of it walls */
+        for (int i = 0; i < M; i++) {
+            const double u = (double)rand() / RAND_MAX, v = (double)rand() / RAND_MAX;
+            px[i] = i % 3 ? 0.1 * u : 0.02 * u;
+            py[i] = i % 3 ? 0.1 * v : 0.02 * v;
+            pz[i] = 0.01 * rand() / RAND_MAX;
+            pt[i] = i % 10 == 0 ? SPH_BOUNDARY : SPH_FLUID;
+        }
+        const sph_rpdf_input in = {dim, M, {px, py, dim == 3 ? pz : NULL}, pt, 0.004, 0.0025};
+        double q[NB], count[NB], dens[NB], want[NB];
+        for (int k = 0; k < 2; k++) {
+            const double qmax = k ? 3.5 : 2.0;
+            assert_int_equal(sph_rpdf_compute(&in, qmax, NB, q, count, dens, NULL), 0);
+            all_pairs(&in, qmax, NB, want);
+            double total = 0.0;
+            for (int b = 0; b < NB; b++) {
+                if (count[b] != want[b])
+                    fail_msg("%dD, qmax %g: %g pairs in bin %d, all pairs give %g", dim, qmax,
+                             count[b], b, want[b]);
+                total += count[b];
+            }
+            assert_true(total > 1000.0); /* a test with pairs in it */
+        }
+    }
+}
+
 /* Through the sim: walls (dynamic particles) do not count, and the ghosts are never there. */
 static void test_sim(void **state)
 {
@@ -112,6 +168,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_lattice),
         cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_all_pairs),
         cmocka_unit_test(test_sim),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -78,9 +78,9 @@ int main(int argc, char **argv)
     sph_sim_wave w;
     sph_sim_wave_fit(s, 0.0, &w); /* the theory only, for the end time */
     c.t_end = periods * w.period_theory;
-    enum { NB = 40 };
+    enum { NB = SPH_SIM_RPDF_BINS };
     double q[NB], c0[NB], d0[NB], c1[NB], d1[NB];
-    if (sph_sim_rpdf(s, 2.0, NB, q, c0, d0, &err)) {
+    if (sph_sim_rpdf(s, SPH_SIM_RPDF_QMAX, NB, q, c0, d0, &err)) {
         fprintf(stderr, "FAIL: %s\n", err.message);
         return 1;
     }
@@ -103,7 +103,7 @@ int main(int argc, char **argv)
     if (f)
         fclose(f);
     if (rpdf && (f = fopen(rpdf, "w")) != NULL) {
-        if (sph_sim_rpdf(s, 2.0, NB, q, c1, d1, &err)) {
+        if (sph_sim_rpdf(s, SPH_SIM_RPDF_QMAX, NB, q, c1, d1, &err)) {
             fprintf(stderr, "FAIL: %s\n", err.message);
             return 1;
         }
