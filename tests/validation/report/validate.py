@@ -13,7 +13,8 @@ A case is one Python file in cases/ (loaded in name order) defining
     TITLE = "..."                    one line
     def run(ctx): ... return None    runs sphd through ctx, records checks and figures on ctx
 ctx gives: ctx.level ("full" or "ci"), ctx.src, ctx.out (the case's own directory),
-ctx.reference(NAME) (a file of tests/validation/reference/), ctx.sphd_run(CASE, sets) (runs
+ctx.reference(NAME) (a file of tests/validation/reference/), ctx.reference_table(NAME) (its first
+two columns as an (n, 2) array), ctx.sphd_run(CASE, sets) (runs
 `sphd --run` with `--set` items, returns (events, job directory); its wall time and its sets are
 recorded), ctx.sphd_run_long(CASE, sets, job) (a run of hours that survives an interruption: it
 lives in RUNS/JOB (--runs, default OUT/runs), continues from its checkpoint when it was killed and
@@ -57,6 +58,19 @@ class Context:
         base = os.environ.get("SPH_REFERENCE_DIR") or os.path.join(self.src, "tests", "validation",
                                                                    "reference")
         return os.path.join(base, name)
+
+    def reference_table(self, name):
+        """The first two columns of a reference CSV (its header and # lines skipped), as an
+        (n, 2) numpy array."""
+        import numpy as np
+        rows = []
+        with open(self.reference(name)) as f:
+            for line in f:
+                if line.startswith("#") or not line[0].isdigit():
+                    continue
+                c = line.strip().split(",")
+                rows.append((float(c[0]), float(c[1])))
+        return np.array(rows)
 
     def sphd_run(self, case, sets=(), job=None):
         job = job or os.path.splitext(os.path.basename(case))[0]

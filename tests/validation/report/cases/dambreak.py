@@ -21,20 +21,9 @@ FRONT_BOUND = 0.10         # RMS of (X - Z)/Z
 HEIGHT_BOUND = 0.10        # RMS of (H_sph - H_M&M), in units of the initial height
 
 
-def table(path):
-    rows = []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#") or not line[0].isdigit():
-                continue
-            c = line.strip().split(",")
-            rows.append((float(c[0]), float(c[1])))
-    return np.array(rows)
-
-
 def run(ctx):
-    ref = table(ctx.reference("dambreak_front_MartinMoyce1952_table2_n2eq2.csv"))
-    ref6 = table(ctx.reference("dambreak_height_MartinMoyce1952_table6_n2eq2.csv"))
+    ref = ctx.reference_table("dambreak_front_MartinMoyce1952_table2_n2eq2.csv")
+    ref6 = ctx.reference_table("dambreak_height_MartinMoyce1952_table6_n2eq2.csv")
     scale, tau_scale = math.sqrt(2 * G / D), math.sqrt(G / D)
     figf = ctx.figure("front", figsize=(6.5, 4.2))
     axf = figf.add_subplot(111)

@@ -25,19 +25,8 @@ RESOLUTION = {"full": "D/dx = 22 (dx = 5 mm, 20,000 fluid particles) and 44 (dx 
               "ci": "D/dx = 11 (dx = 10 mm, 5,000 fluid particles)"}
 
 
-def table(path):
-    rows = []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#") or not line[0].isdigit():
-                continue
-            c = line.strip().split(",")
-            rows.append((float(c[0]), float(c[1])))
-    return np.array(rows)
-
-
 def run(ctx):
-    ref = table(ctx.reference("water_entry_GreenhowLin1983_rho500.csv"))
+    ref = ctx.reference_table("water_entry_GreenhowLin1983_rho500.csv")
     sel = ref[(ref[:, 0] >= TAU[0]) & (ref[:, 0] <= TAU[1])]
     scale = math.sqrt(G / D)
     fig = ctx.figure("penetration", figsize=(6.5, 4.2))
