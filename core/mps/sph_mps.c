@@ -72,6 +72,7 @@ sph_mps_config sph_mps_config_default(void)
     m.relax = 1.0;
     m.collision = 0.0;
     m.restitution = 0.2;
+    m.surface = 0; /* p = 0 at the surface particles' centres (Koshizuka & Oka 1996) */
     return m;
 }
 
@@ -88,6 +89,7 @@ typedef struct mps_state {
     unsigned char *kind_by_id;   /* SPH_MPS_WALL or _DUMMY of each boundary particle, by id */
     unsigned char *kind;         /* SPH_MPS_* in the current order */
     unsigned char *surface;      /* free-surface flags of the latest step */
+    double *ghost;               /* mps.surface 1: surface particles' ghost diagonal [1/m^2] */
     double *vx0, *vy0;           /* collision model: velocities before it */
     double *gvx, *gvy;           /* Neumann walls: (rho / dt) u* of the fluid particles [Pa/m] */
     double *tvx, *tvy;           /* Neumann walls: (rho / dt) u of the fluid particles [Pa/m] */
@@ -135,6 +137,9 @@ static int mps_check(const sph_config *c, sph_error *err)
     if (!(m->relax > 0.0 && m->relax <= 1.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/mps/relaxation",
                              "relaxation must be in (0, 1]: got %g", m->relax);
+    if (m->surface != 0 && m->surface != 1)
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/surface",
+                             "unknown free-surface condition %d", m->surface);
     if (!(m->collision >= 0.0 && m->collision < 1.0) ||
         !(m->restitution >= 0.0 && m->restitution <= 1.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/mps/collision",
@@ -205,6 +210,7 @@ static void mps_destroy(sph_sim *s)
     free(m->kind_by_id);
     free(m->kind);
     free(m->surface);
+    free(m->ghost);
     free(m->vx0);
     free(m->vy0);
     free(m->gvx);
@@ -259,6 +265,7 @@ static int mps_init(sph_sim *s, sph_error *err)
     m->kind_by_id = calloc((size_t)n, 1);
     m->kind = calloc((size_t)n, 1);
     m->surface = calloc((size_t)n, 1);
+    m->ghost = calloc((size_t)n, sizeof(double));
     m->gvx = calloc((size_t)n, sizeof(double));
     m->gvy = calloc((size_t)n, sizeof(double));
     m->tvx = calloc((size_t)n, sizeof(double));
@@ -269,8 +276,9 @@ static int mps_init(sph_sim *s, sph_error *err)
         m->vx0 = calloc((size_t)n, sizeof(double));
         m->vy0 = calloc((size_t)n, sizeof(double));
     }
-    if (!m->kind_by_id || !m->kind || !m->surface || !m->gvx || !m->gvy || !m->tvx || !m->tvy ||
-        !m->normal_by_id || !m->normal || (c->mps.collision > 0.0 && (!m->vx0 || !m->vy0)))
+    if (!m->kind_by_id || !m->kind || !m->surface || !m->ghost || !m->gvx || !m->gvy || !m->tvx ||
+        !m->tvy || !m->normal_by_id || !m->normal ||
+        (c->mps.collision > 0.0 && (!m->vx0 || !m->vy0)))
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for %ld particles", n);
     /* walls or dummies by depth outside the tank's inner faces (particles are in creation
      * order here: id = index) */
@@ -432,6 +440,7 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
     number_density(s, m);
     const long na = s->nactive;
     double *rhs = P->drho;
+    const int ghosts = c->mps.surface == 1;
     const double src = c->mps.relax * c->rho0 / (dt * dt * m->n0);
     if (c->mps.source == SPH_MPS_SOURCE_MIXED) {
         /* Tanaka & Masunaga 2010: lap p = (rho / dt) div u* - relax (rho / dt^2) (n* - n0) / n0,
@@ -441,10 +450,26 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
                                  div);
         const double sd = c->rho0 / dt;
         for (long i = 0; i < na; i++)
-            rhs[i] = src * (P->pr[i] - m->n0) - sd * div[i];
+            rhs[i] = ghosts && m->surface[i] ? 0.0 : src * (P->pr[i] - m->n0) - sd * div[i];
     } else {
         for (long i = 0; i < na; i++)
-            rhs[i] = src * (P->pr[i] - m->n0);
+            rhs[i] = ghosts && m->surface[i] ? 0.0 : src * (P->pr[i] - m->n0);
+    }
+    if (ghosts) {
+        /* p = 0 on the water line, dx/2 beyond a surface particle's centre (the face of its
+         * volume) along the surface's normal: the missing neighbours v of surface particle i
+         * hold p_v = p_i (1 - d_v / (dx/2)) (d_v their distance beyond i along the normal,
+         * linear extrapolation through p = 0 on the water line, Gibou et al. 2002), whose share
+         * of the Laplacian (3.5), coef sum_v w_v (p_v - p_i), is -coef p_i sum_v w_v d_v /
+         * (dx/2), and sum_v w_v d_v = |sum_j w_ij (r_j - r_i)| (a full lattice has no first
+         * moment): a term on the diagonal. Their source is 0 (the row is the extrapolation
+         * condition: with the one-sided velocity divergence in it the surface row went odd-even
+         * unstable within 0.2 s in still water; their n* says where the surface is, not how
+         * compressed they are). */
+        sph_mps_moment(&m->L, P->x, P->y, &m->wn, m->ghost);
+        const double gc = m->lap_coef / (0.5 * c->dx);
+        for (long i = 0; i < na; i++)
+            m->ghost[i] = m->surface[i] ? gc * m->ghost[i] : 0.0;
     }
     s->timing.active = na;
     s->timing.pairs = m->L.entries / 2;
@@ -464,8 +489,8 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
     }
     const sph_mps_ghost G = {m->gvx, m->gvy, m->tvx, m->tvy, m->normal};
     sph_mps_neumann_rhs(&m->L, P->x, P->y, m->kind, &m->wn, m->lap_coef, &G, rhs);
-    if (sph_mps_ppe_assemble_kinds(&m->ppe, &m->L, P->x, P->y, m->kind, m->surface, &m->wn,
-                                   m->lap_coef, SPH_MPS_FLUID))
+    if (sph_mps_ppe_assemble_kinds(&m->ppe, &m->L, P->x, P->y, m->kind, m->surface,
+                                   ghosts ? m->ghost : NULL, &m->wn, m->lap_coef, SPH_MPS_FLUID))
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the pressure equation");
     const int rc = sph_mps_ppe_solve(&m->ppe, rhs, P->p, (sph_mps_precond)c->mps.precond,
                                      c->mps.tol, c->mps.maxit, &m->cg);

@@ -123,6 +123,37 @@ void sph_mps_number_density(const sph_mps_nbr *L, const double *x, const double 
 #undef ND
 }
 
+static inline __attribute__((always_inline)) void
+moment_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
+               const double *restrict y, const sph_kernel *k, double *restrict m)
+{
+    const long np = L->n;
+    const double re2 = k->support * k->support;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (np >= SPH_OMP_MIN)
+    for (long i = 0; i < np; i++) {
+        double sx = 0.0, sy = 0.0;
+        for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
+            const long j = L->j[e];
+            const double dx = x[j] - x[i], dy = y[j] - y[i];
+            const double r2 = dx * dx + dy * dy;
+            if (r2 < re2) {
+                const double w = weight(T, k, sqrt(r2));
+                sx += w * dx;
+                sy += w * dy;
+            }
+        }
+        m[i] = sqrt(sx * sx + sy * sy);
+    }
+}
+
+void sph_mps_moment(const sph_mps_nbr *L, const double *x, const double *y, const sph_kernel *k,
+                    double *m)
+{
+#define MOM(T) moment_generic(T, L, x, y, k, m)
+    SPH_KERNEL_DISPATCH(k->type, MOM);
+#undef MOM
+}
+
 /* ---- Laplacian (3.5) ----------------------------------------------------------------------- */
 
 static inline __attribute__((always_inline)) void

@@ -54,6 +54,12 @@ double sph_mps_lambda_integral(const sph_kernel *k, int dim);
 void sph_mps_number_density(const sph_mps_nbr *L, const double *x, const double *y,
                             const sph_kernel *k, double *n);
 
+/* m[i] = |sum_j w_ij (r_j - r_i)| [m] over every neighbour within re (as the number density):
+ * the first moment of i's neighbourhood, 0 on a full lattice; at a free surface it equals the
+ * first moment of the missing neighbours along the surface's normal. */
+void sph_mps_moment(const sph_mps_nbr *L, const double *x, const double *y, const sph_kernel *k,
+                    double *m);
+
 /* out[i] = coef sum_j (phi_j - phi_i) w_ij over the neighbours j whose kind is not above
  * max_kind (SPH_MPS_WALL: fluid and walls; SPH_MPS_DUMMY: dummies too), coef = 2d/(lambda n0);
  * for the particles of kind fluid (others get 0). */

@@ -438,8 +438,8 @@ static void test_neumann_hydrostatic(void **state)
         const double c = 4.0 / (lam * n0);
         const sph_mps_ghost G = {gvx, gvy, NULL, NULL, NULL};
         sph_mps_neumann_rhs(&tk.L, tk.P.x, tk.P.y, tk.kind, &k, c, &G, b);
-        assert_int_equal(sph_mps_ppe_assemble_kinds(&S, &tk.L, tk.P.x, tk.P.y, tk.kind, surf, &k, c,
-                                                    SPH_MPS_FLUID),
+        assert_int_equal(sph_mps_ppe_assemble_kinds(&S, &tk.L, tk.P.x, tk.P.y, tk.kind, surf, NULL,
+                                                    &k, c, SPH_MPS_FLUID),
                          0);
         assert_int_equal(S.n, 12 * 14); /* the fluid below the top row, no wall */
         /* A p = b on every row whose neighbourhood is complete (more than re below the top
