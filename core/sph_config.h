@@ -91,6 +91,11 @@ typedef struct sph_mps_config {
                      * Masunaga 2010: velocity divergence plus relax times the density term) */
     double relax;   /* coefficient of the number-density term relax rho (n* - n0) / (n0 dt^2) [-] */
     int corrected;  /* 1: gradient with the corrective matrix (Khayyer & Gotoh 2011) [-] */
+    int surface;    /* free-surface condition: 0 p = 0 at the surface particles' centres
+                     * (Koshizuka & Oka 1996); 1 p = 0 on the water line dx/2 beyond them, the
+                     * surface particles unknowns with the missing neighbours' pressures
+                     * extrapolated linearly to it (the ghost-fluid Dirichlet condition of Gibou
+                     * et al. 2002, J. Comput. Phys. 176); sph_mps.c [-] */
     double collision;   /* collision distance in dx, 0 = no collision model [-] */
     double restitution; /* coefficient of restitution of the collision model [-] */
 } sph_mps_config;

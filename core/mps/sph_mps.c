@@ -22,20 +22,25 @@
  *
  * Walls: the tank's boundary particles are fixed; all count in the number density (the outer
  * ones, "dummies", only there). In the pressure equation they are a Neumann boundary, not
- * unknowns: wall j seen from fluid particle i holds the ghost pressure p_i + (rho/dt) u*_i .
- * (r_j - r_i), the pressure gradient that stops i's predicted velocity at the wall (rho g at rest:
- * hydrostatic), in the Laplacian of the equation (its share goes to the right-hand side, the
- * matrix stays symmetric) and in the gradient alike; the velocity-divergence source counts fluid
- * neighbours only (the walls' share is the ghosts'). A linear hydrostatic pressure is then an
- * exact solution next to the walls too. The first version (Koshizuka & Oka's: the inner wall
- * layers as unknowns with their own source) left the wall pressures off hydrostatic near the
- * floor corners and above the contact line (a wall column above the water is a chain of unknowns
- * with a number-density deficit): the fluid column next to each side wall slid down at 1-2% of
- * sqrt(gH) and drove a circulation that never settled (issue 12, test_mps_still).
+ * unknowns: wall j seen from fluid particle i holds the ghost pressure p_i + G_ij . (r_j - r_i),
+ * G_ij the pressure gradient that stops i's predicted velocity through j's wall: (rho/dt) u*_i
+ * on the wall's normal, and along the wall only the body forces' rho (u*_i - u_i)/dt (rho g at
+ * rest: hydrostatic; sph_mps_ops.h), in the Laplacian of the equation (its share goes to the
+ * right-hand side, the matrix stays symmetric) and in the gradient alike; the velocity-divergence
+ * source counts fluid neighbours only (the walls' share is the ghosts'). A linear hydrostatic
+ * pressure is then an exact solution next to the walls too. The first version (Koshizuka & Oka's:
+ * the inner wall layers as unknowns with their own source) left the wall pressures off hydrostatic
+ * near the floor corners and above the contact line (a wall column above the water is a chain of
+ * unknowns with a number-density deficit): the fluid column next to each side wall slid down at
+ * 1-2% of sqrt(gH) and drove a circulation that never settled (issue 12, test_mps_still). The
+ * second (G_ij = (rho/dt) u*_i in every direction) also stopped the tangential motion along a wall
+ * with a gain rho/dt: an odd-even mode of the columns next to a side wall under the free surface
+ * grew from it (faster with a smaller dt), and blew the Koshizuka weight up at dx = H/40.
  *
  * The handle's arrays: P.p the pressure (kept across steps for the warm start: permuted here
  * when the particles are sorted), P.rho = rho0 n* / n0 (what a view shows as density); P.ax,
- * P.ay, P.pr (n*) and P.drho (the source term) are scratch.
+ * P.ay, P.pr (n*) and P.drho (the source term) are scratch, P.ax0, P.ay0 the velocity at the
+ * start of the step (scratch that the sort permutes).
  */
 #include "sph_mps.h"
 
@@ -67,28 +72,33 @@ sph_mps_config sph_mps_config_default(void)
     m.relax = 1.0;
     m.collision = 0.0;
     m.restitution = 0.2;
+    m.surface = 0; /* p = 0 at the surface particles' centres (Koshizuka & Oka 1996) */
     return m;
 }
 
 typedef struct mps_state {
-    sph_kernel wn;             /* weight of the number density and the Laplacian (radius re) */
-    sph_kernel wg;             /* weight of the gradient (radius re_grad) */
-    double n0;                 /* lattice number density of wn [-] */
-    double n0g;                /* lattice number density of wg [-] */
-    double lambda;             /* lattice lambda of wn, eq. (3.6) [m^2] */
-    double lap_coef;           /* 2d / (lambda n0) [1/m^2] */
-    double grad_coef;          /* d / n0g [-] */
-    double rc;                 /* neighbour-list radius max(re, re_grad) [m] */
-    int wall_layers;           /* boundary layers within reach of the fluid's gradient [-] */
-    unsigned char *kind_by_id; /* SPH_MPS_WALL or _DUMMY of each boundary particle, by id */
-    unsigned char *kind;       /* SPH_MPS_* in the current order */
-    unsigned char *surface;    /* free-surface flags of the latest step */
-    double *vx0, *vy0;         /* collision model: velocities before it */
-    double *gvx, *gvy;         /* Neumann walls: (rho / dt) u* of the fluid particles [Pa/m] */
-    sph_mps_nbr L;             /* neighbour lists */
-    sph_mps_ppe ppe;           /* the Poisson system */
-    sph_mps_cg_stats cg;       /* the latest solve */
-    long nsurface;             /* free-surface particles of the latest step */
+    sph_kernel wn;               /* weight of the number density and the Laplacian (radius re) */
+    sph_kernel wg;               /* weight of the gradient (radius re_grad) */
+    double n0;                   /* lattice number density of wn [-] */
+    double n0g;                  /* lattice number density of wg [-] */
+    double lambda;               /* lattice lambda of wn, eq. (3.6) [m^2] */
+    double lap_coef;             /* 2d / (lambda n0) [1/m^2] */
+    double grad_coef;            /* d / n0g [-] */
+    double rc;                   /* neighbour-list radius max(re, re_grad) [m] */
+    int wall_layers;             /* boundary layers within reach of the fluid's gradient [-] */
+    unsigned char *kind_by_id;   /* SPH_MPS_WALL or _DUMMY of each boundary particle, by id */
+    unsigned char *kind;         /* SPH_MPS_* in the current order */
+    unsigned char *surface;      /* free-surface flags of the latest step */
+    double *ghost;               /* mps.surface 1: surface particles' ghost diagonal [1/m^2] */
+    double *vx0, *vy0;           /* collision model: velocities before it */
+    double *gvx, *gvy;           /* Neumann walls: (rho / dt) u* of the fluid particles [Pa/m] */
+    double *tvx, *tvy;           /* Neumann walls: (rho / dt) u of the fluid particles [Pa/m] */
+    unsigned char *normal_by_id; /* SPH_MPS_NORMAL_* of each boundary particle's wall, by id */
+    unsigned char *normal;       /* the same in the current order */
+    sph_mps_nbr L;               /* neighbour lists */
+    sph_mps_ppe ppe;             /* the Poisson system */
+    sph_mps_cg_stats cg;         /* the latest solve */
+    long nsurface;               /* free-surface particles of the latest step */
 } mps_state;
 
 static int mps_check(const sph_config *c, sph_error *err)
@@ -127,6 +137,9 @@ static int mps_check(const sph_config *c, sph_error *err)
     if (!(m->relax > 0.0 && m->relax <= 1.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/mps/relaxation",
                              "relaxation must be in (0, 1]: got %g", m->relax);
+    if (m->surface != 0 && m->surface != 1)
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/surface",
+                             "unknown free-surface condition %d", m->surface);
     if (!(m->collision >= 0.0 && m->collision < 1.0) ||
         !(m->restitution >= 0.0 && m->restitution <= 1.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/mps/collision",
@@ -181,6 +194,9 @@ static int sort_and_list(sph_sim *s, mps_state *m, sph_error *err)
                      : P->type[i] == SPH_FLUID    ? SPH_MPS_FLUID
                      : P->type[i] == SPH_BOUNDARY ? m->kind_by_id[P->id[i]]
                                                   : SPH_MPS_OFF;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++)
+        m->normal[i] = P->type[i] == SPH_BOUNDARY ? m->normal_by_id[P->id[i]] : 0;
     if (sph_mps_nbr_build(&m->L, &s->cells, P->x, P->y, na, m->rc))
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the neighbour lists");
     return 0;
@@ -194,10 +210,15 @@ static void mps_destroy(sph_sim *s)
     free(m->kind_by_id);
     free(m->kind);
     free(m->surface);
+    free(m->ghost);
     free(m->vx0);
     free(m->vy0);
     free(m->gvx);
     free(m->gvy);
+    free(m->tvx);
+    free(m->tvy);
+    free(m->normal_by_id);
+    free(m->normal);
     sph_mps_nbr_free(&m->L);
     sph_mps_ppe_free(&m->ppe);
     free(m);
@@ -244,13 +265,19 @@ static int mps_init(sph_sim *s, sph_error *err)
     m->kind_by_id = calloc((size_t)n, 1);
     m->kind = calloc((size_t)n, 1);
     m->surface = calloc((size_t)n, 1);
+    m->ghost = calloc((size_t)n, sizeof(double));
     m->gvx = calloc((size_t)n, sizeof(double));
     m->gvy = calloc((size_t)n, sizeof(double));
+    m->tvx = calloc((size_t)n, sizeof(double));
+    m->tvy = calloc((size_t)n, sizeof(double));
+    m->normal_by_id = calloc((size_t)n, 1);
+    m->normal = calloc((size_t)n, 1);
     if (c->mps.collision > 0.0) {
         m->vx0 = calloc((size_t)n, sizeof(double));
         m->vy0 = calloc((size_t)n, sizeof(double));
     }
-    if (!m->kind_by_id || !m->kind || !m->surface || !m->gvx || !m->gvy ||
+    if (!m->kind_by_id || !m->kind || !m->surface || !m->ghost || !m->gvx || !m->gvy || !m->tvx ||
+        !m->tvy || !m->normal_by_id || !m->normal ||
         (c->mps.collision > 0.0 && (!m->vx0 || !m->vy0)))
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for %ld particles", n);
     /* walls or dummies by depth outside the tank's inner faces (particles are in creation
@@ -261,6 +288,11 @@ static int mps_init(sph_sim *s, sph_error *err)
         const double depth =
             fmax(fmax(t->min[0] - P->x[i], P->x[i] - t->max[0]), t->min[1] - P->y[i]);
         m->kind_by_id[P->id[i]] = depth < m->wall_layers * dx ? SPH_MPS_WALL : SPH_MPS_DUMMY;
+        /* the normal of the wall a boundary particle belongs to: x beside the tank, y below
+         * its floor (both in the floor's corners) */
+        m->normal_by_id[P->id[i]] =
+            (P->x[i] < t->min[0] || P->x[i] > t->max[0] ? SPH_MPS_NORMAL_X : 0) |
+            (P->y[i] < t->min[1] ? SPH_MPS_NORMAL_Y : 0);
         s->P.p[i] = 0.0;
     }
     if (sort_and_list(s, m, err))
@@ -376,6 +408,8 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
     for (long i = 0; i < np; i++) {
         if (P->type[i] != SPH_FLUID)
             continue;
+        P->ax0[i] = P->vx[i]; /* u^n, for the walls' ghosts (permuted with the particles) */
+        P->ay0[i] = P->vy[i];
         const double vx = P->vx[i] + dt * (gx + (visc ? nu * P->ax[i] : 0.0));
         const double vy = P->vy[i] + dt * (gy + (visc ? nu * P->ay[i] : 0.0));
         const double x = P->x[i] + dt * vx, y = P->y[i] + dt * vy;
@@ -406,6 +440,7 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
     number_density(s, m);
     const long na = s->nactive;
     double *rhs = P->drho;
+    const int ghosts = c->mps.surface == 1;
     const double src = c->mps.relax * c->rho0 / (dt * dt * m->n0);
     if (c->mps.source == SPH_MPS_SOURCE_MIXED) {
         /* Tanaka & Masunaga 2010: lap p = (rho / dt) div u* - relax (rho / dt^2) (n* - n0) / n0,
@@ -415,10 +450,26 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
                                  div);
         const double sd = c->rho0 / dt;
         for (long i = 0; i < na; i++)
-            rhs[i] = src * (P->pr[i] - m->n0) - sd * div[i];
+            rhs[i] = ghosts && m->surface[i] ? 0.0 : src * (P->pr[i] - m->n0) - sd * div[i];
     } else {
         for (long i = 0; i < na; i++)
-            rhs[i] = src * (P->pr[i] - m->n0);
+            rhs[i] = ghosts && m->surface[i] ? 0.0 : src * (P->pr[i] - m->n0);
+    }
+    if (ghosts) {
+        /* p = 0 on the water line, dx/2 beyond a surface particle's centre (the face of its
+         * volume) along the surface's normal: the missing neighbours v of surface particle i
+         * hold p_v = p_i (1 - d_v / (dx/2)) (d_v their distance beyond i along the normal,
+         * linear extrapolation through p = 0 on the water line, Gibou et al. 2002), whose share
+         * of the Laplacian (3.5), coef sum_v w_v (p_v - p_i), is -coef p_i sum_v w_v d_v /
+         * (dx/2), and sum_v w_v d_v = |sum_j w_ij (r_j - r_i)| (a full lattice has no first
+         * moment): a term on the diagonal. Their source is 0 (the row is the extrapolation
+         * condition: with the one-sided velocity divergence in it the surface row went odd-even
+         * unstable within 0.2 s in still water; their n* says where the surface is, not how
+         * compressed they are). */
+        sph_mps_moment(&m->L, P->x, P->y, &m->wn, m->ghost);
+        const double gc = m->lap_coef / (0.5 * c->dx);
+        for (long i = 0; i < na; i++)
+            m->ghost[i] = m->surface[i] ? gc * m->ghost[i] : 0.0;
     }
     s->timing.active = na;
     s->timing.pairs = m->L.entries / 2;
@@ -430,12 +481,16 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
     const double f = c->rho0 / dt;
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (na >= SPH_OMP_MIN)
     for (long i = 0; i < na; i++) {
-        m->gvx[i] = m->kind[i] == SPH_MPS_FLUID ? f * P->vx[i] : 0.0;
-        m->gvy[i] = m->kind[i] == SPH_MPS_FLUID ? f * P->vy[i] : 0.0;
+        const int fl = m->kind[i] == SPH_MPS_FLUID;
+        m->gvx[i] = fl ? f * P->vx[i] : 0.0;
+        m->gvy[i] = fl ? f * P->vy[i] : 0.0;
+        m->tvx[i] = fl ? f * P->ax0[i] : 0.0;
+        m->tvy[i] = fl ? f * P->ay0[i] : 0.0;
     }
-    sph_mps_neumann_rhs(&m->L, P->x, P->y, m->kind, &m->wn, m->lap_coef, m->gvx, m->gvy, rhs);
-    if (sph_mps_ppe_assemble_kinds(&m->ppe, &m->L, P->x, P->y, m->kind, m->surface, &m->wn,
-                                   m->lap_coef, SPH_MPS_FLUID))
+    const sph_mps_ghost G = {m->gvx, m->gvy, m->tvx, m->tvy, m->normal};
+    sph_mps_neumann_rhs(&m->L, P->x, P->y, m->kind, &m->wn, m->lap_coef, &G, rhs);
+    if (sph_mps_ppe_assemble_kinds(&m->ppe, &m->L, P->x, P->y, m->kind, m->surface,
+                                   ghosts ? m->ghost : NULL, &m->wn, m->lap_coef, SPH_MPS_FLUID))
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the pressure equation");
     const int rc = sph_mps_ppe_solve(&m->ppe, rhs, P->p, (sph_mps_precond)c->mps.precond,
                                      c->mps.tol, c->mps.maxit, &m->cg);
@@ -457,7 +512,7 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
      * only with the plain gradient (with the corrective matrix it drives a row-sliding mode in
      * still water) */
     sph_mps_gradient_neumann(&m->L, P->x, P->y, m->kind, &m->wg, m->grad_coef, !c->mps.corrected,
-                             c->mps.corrected, P->p, m->gvx, m->gvy, P->ax, P->ay);
+                             c->mps.corrected, P->p, &G, P->ax, P->ay);
     const double k = -dt / c->rho0;
     double vmax2 = 0.0;
     bad = 0;

@@ -76,6 +76,23 @@ double sph_mps_lambda_integral(const sph_kernel *k, int dim)
     return num / den;
 }
 
+/* The ghost pressure gradient of wall particle j seen from fluid particle i (sph_mps_neumann_rhs):
+ * G_i, less the tangential part of T_i where j's wall has a normal mask. */
+static inline __attribute__((always_inline)) void ghost_grad(const sph_mps_ghost *G, long i, long j,
+                                                             double *gx, double *gy)
+{
+    double x = G->gx[i], y = G->gy[i];
+    if (G->tx) {
+        const int nm = G->normal[j];
+        if (!(nm & SPH_MPS_NORMAL_X))
+            x -= G->tx[i];
+        if (!(nm & SPH_MPS_NORMAL_Y))
+            y -= G->ty[i];
+    }
+    *gx = x;
+    *gy = y;
+}
+
 /* ---- number density ---------------------------------------------------------------------- */
 
 static inline __attribute__((always_inline)) void
@@ -104,6 +121,37 @@ void sph_mps_number_density(const sph_mps_nbr *L, const double *x, const double 
 #define ND(T) nd_generic(T, L, x, y, k, n)
     SPH_KERNEL_DISPATCH(k->type, ND);
 #undef ND
+}
+
+static inline __attribute__((always_inline)) void
+moment_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
+               const double *restrict y, const sph_kernel *k, double *restrict m)
+{
+    const long np = L->n;
+    const double re2 = k->support * k->support;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (np >= SPH_OMP_MIN)
+    for (long i = 0; i < np; i++) {
+        double sx = 0.0, sy = 0.0;
+        for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
+            const long j = L->j[e];
+            const double dx = x[j] - x[i], dy = y[j] - y[i];
+            const double r2 = dx * dx + dy * dy;
+            if (r2 < re2) {
+                const double w = weight(T, k, sqrt(r2));
+                sx += w * dx;
+                sy += w * dy;
+            }
+        }
+        m[i] = sqrt(sx * sx + sy * sy);
+    }
+}
+
+void sph_mps_moment(const sph_mps_nbr *L, const double *x, const double *y, const sph_kernel *k,
+                    double *m)
+{
+#define MOM(T) moment_generic(T, L, x, y, k, m)
+    SPH_KERNEL_DISPATCH(k->type, MOM);
+#undef MOM
 }
 
 /* ---- Laplacian (3.5) ----------------------------------------------------------------------- */
@@ -151,8 +199,7 @@ static inline __attribute__((always_inline)) void
 grad_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
              const double *restrict y, const unsigned char *restrict kind, const sph_kernel *k,
              double coef, int local_min, int corrected, const double *restrict phi,
-             const double *restrict gvx, const double *restrict gvy, double *restrict gx,
-             double *restrict gy)
+             const sph_mps_ghost *G, double *restrict gx, double *restrict gy)
 {
     const long np = L->n;
     const double re2 = k->support * k->support;
@@ -168,7 +215,7 @@ grad_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
             for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
                 const long j = L->j[e];
                 const double dx = x[j] - xi, dy = y[j] - yi;
-                if ((gvx ? kind[j] == SPH_MPS_FLUID : kind[j] <= SPH_MPS_WALL) &&
+                if ((G ? kind[j] == SPH_MPS_FLUID : kind[j] <= SPH_MPS_WALL) &&
                     dx * dx + dy * dy < re2 && phi[j] < pmin)
                     pmin = phi[j];
             }
@@ -183,9 +230,13 @@ grad_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
                 continue;
             const double rmin = SPH_MPS_RMIN * k->support;
             const double wr = weight(T, k, sqrt(r2)) / (r2 > rmin * rmin ? r2 : rmin * rmin);
-            /* Neumann walls (gvx set): the ghost pressure of wall j seen from i */
-            const double pj =
-                gvx && kind[j] != SPH_MPS_FLUID ? phi[i] + gvx[i] * dx + gvy[i] * dy : phi[j];
+            /* Neumann walls (G set): the ghost pressure of wall j seen from i */
+            double pj = phi[j];
+            if (G && kind[j] != SPH_MPS_FLUID) {
+                double ggx, ggy;
+                ghost_grad(G, i, j, &ggx, &ggy);
+                pj = phi[i] + ggx * dx + ggy * dy;
+            }
             const double f = (pj - pmin) * wr;
             sx += f * dx;
             sy += f * dy;
@@ -263,8 +314,7 @@ void sph_mps_divergence_fluid(const sph_mps_nbr *L, const double *x, const doubl
 static inline __attribute__((always_inline)) void
 neumann_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
                 const double *restrict y, const unsigned char *restrict kind, const sph_kernel *k,
-                double coef, const double *restrict gvx, const double *restrict gvy,
-                double *restrict b)
+                double coef, const sph_mps_ghost *G, double *restrict b)
 {
     const long np = L->n;
     const double re2 = k->support * k->support;
@@ -279,8 +329,11 @@ neumann_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict 
                 continue;
             const double dx = x[j] - x[i], dy = y[j] - y[i];
             const double r2 = dx * dx + dy * dy;
-            if (r2 < re2)
-                s += (gvx[i] * dx + gvy[i] * dy) * weight(T, k, sqrt(r2));
+            if (r2 < re2) {
+                double ggx, ggy;
+                ghost_grad(G, i, j, &ggx, &ggy);
+                s += (ggx * dx + ggy * dy) * weight(T, k, sqrt(r2));
+            }
         }
         b[i] += coef * s;
     }
@@ -288,9 +341,9 @@ neumann_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict 
 
 void sph_mps_neumann_rhs(const sph_mps_nbr *L, const double *x, const double *y,
                          const unsigned char *kind, const sph_kernel *k, double coef,
-                         const double *gvx, const double *gvy, double *b)
+                         const sph_mps_ghost *G, double *b)
 {
-#define NEU(T) neumann_generic(T, L, x, y, kind, k, coef, gvx, gvy, b)
+#define NEU(T) neumann_generic(T, L, x, y, kind, k, coef, G, b)
     SPH_KERNEL_DISPATCH(k->type, NEU);
 #undef NEU
 }
@@ -299,18 +352,17 @@ void sph_mps_gradient(const sph_mps_nbr *L, const double *x, const double *y,
                       const unsigned char *kind, const sph_kernel *k, double coef, int local_min,
                       int corrected, const double *phi, double *gx, double *gy)
 {
-#define GRAD(T)                                                                                    \
-    grad_generic(T, L, x, y, kind, k, coef, local_min, corrected, phi, NULL, NULL, gx, gy)
+#define GRAD(T) grad_generic(T, L, x, y, kind, k, coef, local_min, corrected, phi, NULL, gx, gy)
     SPH_KERNEL_DISPATCH(k->type, GRAD);
 #undef GRAD
 }
 
 void sph_mps_gradient_neumann(const sph_mps_nbr *L, const double *x, const double *y,
                               const unsigned char *kind, const sph_kernel *k, double coef,
-                              int local_min, int corrected, const double *phi, const double *gvx,
-                              const double *gvy, double *gx, double *gy)
+                              int local_min, int corrected, const double *phi,
+                              const sph_mps_ghost *G, double *gx, double *gy)
 {
-#define GRAD(T) grad_generic(T, L, x, y, kind, k, coef, local_min, corrected, phi, gvx, gvy, gx, gy)
+#define GRAD(T) grad_generic(T, L, x, y, kind, k, coef, local_min, corrected, phi, G, gx, gy)
     SPH_KERNEL_DISPATCH(k->type, GRAD);
 #undef GRAD
 }

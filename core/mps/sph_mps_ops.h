@@ -54,6 +54,12 @@ double sph_mps_lambda_integral(const sph_kernel *k, int dim);
 void sph_mps_number_density(const sph_mps_nbr *L, const double *x, const double *y,
                             const sph_kernel *k, double *n);
 
+/* m[i] = |sum_j w_ij (r_j - r_i)| [m] over every neighbour within re (as the number density):
+ * the first moment of i's neighbourhood, 0 on a full lattice; at a free surface it equals the
+ * first moment of the missing neighbours along the surface's normal. */
+void sph_mps_moment(const sph_mps_nbr *L, const double *x, const double *y, const sph_kernel *k,
+                    double *m);
+
 /* out[i] = coef sum_j (phi_j - phi_i) w_ij over the neighbours j whose kind is not above
  * max_kind (SPH_MPS_WALL: fluid and walls; SPH_MPS_DUMMY: dummies too), coef = 2d/(lambda n0);
  * for the particles of kind fluid (others get 0). */
@@ -80,23 +86,35 @@ void sph_mps_divergence(const sph_mps_nbr *L, const double *x, const double *y,
                         const double *ux, const double *uy, double *div);
 
 /* Walls as a Neumann boundary of the pressure (the alternative to walls as unknowns): a wall or
- * dummy neighbour j of fluid particle i holds the ghost pressure p_i + G_i . (r_j - r_i), with
- * G_i = (rho / dt) u*_i the gradient that stops i's predicted velocity at the wall (rho g at
- * rest: hydrostatic). Then
- *   sph_mps_neumann_rhs:      b[i] += coef sum_walls G_i . (r_j - r_i) w_ij (coef = 2d/(lambda
+ * dummy neighbour j of fluid particle i holds the ghost pressure p_i + G_ij . (r_j - r_i), G_ij
+ * the pressure gradient that stops i's motion through j's wall. In a projection step that is
+ * dp/dn = (rho / dt) u*_i . n on the wall's normal n (u* the predicted velocity; rho g at rest:
+ * hydrostatic) and, along the wall, the gradient of the body forces alone, rho (u*_i - u_i) / dt
+ * (the wall does not stop a tangential motion, it only supports the fluid's weight): Adami, Hu &
+ * Adams 2012's wall pressure extrapolation, dp/dn = rho (g - a_wall) . n, with the projection's
+ * velocity term on the normal. sph_mps_ghost holds G = (rho / dt) u* per fluid particle and
+ * T = (rho / dt) u, taken off G along the directions that are not j's normal (normal[j]:
+ * SPH_MPS_NORMAL_X | _Y; a floor corner has both); T NULL: G in every direction. Then
+ *   sph_mps_neumann_rhs:      b[i] += coef sum_walls G_ij . (r_j - r_i) w_ij (coef = 2d/(lambda
  *                             n0)), the ghosts' share of row i of A p = b, A assembled with
  *                             sph_mps_ppe_assemble_kinds(..., SPH_MPS_FLUID);
  *   sph_mps_gradient_neumann: the gradient of sph_mps_gradient with the walls' values the
- *                             ghosts (G = (gvx, gvy)) and the local minimum over fluid only;
+ *                             ghosts and the local minimum over fluid only;
  *   sph_mps_divergence_fluid: the divergence over fluid neighbours only (the walls' share of the
  *                             source is the ghosts'). */
+enum { SPH_MPS_NORMAL_X = 1, SPH_MPS_NORMAL_Y = 2 };
+typedef struct sph_mps_ghost {
+    const double *gx, *gy;       /* (rho / dt) u* of the fluid particles [Pa/m] */
+    const double *tx, *ty;       /* (rho / dt) u of the fluid particles, or NULL [Pa/m] */
+    const unsigned char *normal; /* per wall particle: SPH_MPS_NORMAL_* of its wall's normal */
+} sph_mps_ghost;
 void sph_mps_neumann_rhs(const sph_mps_nbr *L, const double *x, const double *y,
                          const unsigned char *kind, const sph_kernel *k, double coef,
-                         const double *gvx, const double *gvy, double *b);
+                         const sph_mps_ghost *G, double *b);
 void sph_mps_gradient_neumann(const sph_mps_nbr *L, const double *x, const double *y,
                               const unsigned char *kind, const sph_kernel *k, double coef,
-                              int local_min, int corrected, const double *phi, const double *gvx,
-                              const double *gvy, double *gx, double *gy);
+                              int local_min, int corrected, const double *phi,
+                              const sph_mps_ghost *G, double *gx, double *gy);
 void sph_mps_divergence_fluid(const sph_mps_nbr *L, const double *x, const double *y,
                               const unsigned char *kind, const sph_kernel *k, double coef,
                               const double *ux, const double *uy, double *div);

@@ -87,8 +87,8 @@ static inline __attribute__((always_inline)) double weight(sph_kernel_type T, co
 
 static inline __attribute__((always_inline)) void
 fill_generic(sph_kernel_type T, sph_mps_ppe *S, const sph_mps_nbr *L, const double *restrict x,
-             const double *restrict y, const unsigned char *restrict kind, const sph_kernel *k,
-             double c, int maxk)
+             const double *restrict y, const unsigned char *restrict kind,
+             const double *restrict ghost, const sph_kernel *k, double c, int maxk)
 {
     const long n = S->n;
     const double re2 = k->support * k->support;
@@ -107,7 +107,7 @@ fill_generic(sph_kernel_type T, sph_mps_ppe *S, const sph_mps_nbr *L, const doub
                 e++;
             }
         })
-        S->diag[u] = d;
+        S->diag[u] = d + (ghost ? ghost[i] : 0.0);
         /* the lists are in ascending particle order and unknowns are numbered in particle
          * order, so the columns are ascending: the lower part is a prefix */
         long le = S->ptr[u];
@@ -121,13 +121,13 @@ int sph_mps_ppe_assemble(sph_mps_ppe *S, const sph_mps_nbr *L, const double *x, 
                          const unsigned char *kind, const unsigned char *surface,
                          const sph_kernel *k, double c)
 {
-    return sph_mps_ppe_assemble_kinds(S, L, x, y, kind, surface, k, c, SPH_MPS_WALL);
+    return sph_mps_ppe_assemble_kinds(S, L, x, y, kind, surface, NULL, k, c, SPH_MPS_WALL);
 }
 
 int sph_mps_ppe_assemble_kinds(sph_mps_ppe *S, const sph_mps_nbr *L, const double *x,
                                const double *y, const unsigned char *kind,
-                               const unsigned char *surface, const sph_kernel *k, double c,
-                               int maxk)
+                               const unsigned char *surface, const double *ghost,
+                               const sph_kernel *k, double c, int maxk)
 {
     const long np = L->n;
     const double re2 = k->support * k->support;
@@ -144,7 +144,7 @@ int sph_mps_ppe_assemble_kinds(sph_mps_ppe *S, const sph_mps_nbr *L, const doubl
     for (long i = 0; i < np; i++) {
         flag[i] = 0;
         if (kind[i] <= maxk)
-            flag[i] = surface[i] ? F_SURF : F_CAND;
+            flag[i] = surface[i] && !(ghost && ghost[i] > 0.0) ? F_SURF : F_CAND;
         nsurf += surface[i] && kind[i] <= maxk;
     }
     /* breadth-first search from the seeds over candidate-candidate edges (serial, in particle
@@ -154,14 +154,16 @@ int sph_mps_ppe_assemble_kinds(sph_mps_ppe *S, const sph_mps_nbr *L, const doubl
     for (long i = 0; i < np; i++) {
         if (!(flag[i] & F_CAND))
             continue;
-        int seed = 0;
-        FOR_PRESSURE_NEIGHBOURS(L, i, {
-            (void)r2;
-            if (flag[j] & F_SURF) {
-                seed = 1;
-                break;
-            }
-        })
+        int seed = ghost && surface[i] && ghost[i] > 0.0; /* a row of its own dominance */
+        if (!seed) {
+            FOR_PRESSURE_NEIGHBOURS(L, i, {
+                (void)r2;
+                if (flag[j] & F_SURF) {
+                    seed = 1;
+                    break;
+                }
+            })
+        }
         if (seed) {
             flag[i] |= F_SEEN;
             queue[tail++] = (int)i;
@@ -211,7 +213,7 @@ int sph_mps_ppe_assemble_kinds(sph_mps_ppe *S, const sph_mps_nbr *L, const doubl
         return -1;
     S->n = n;
     S->nnz = S->ptr[n];
-#define FILL(T) fill_generic(T, S, L, x, y, kind, k, c, maxk)
+#define FILL(T) fill_generic(T, S, L, x, y, kind, ghost, k, c, maxk)
     SPH_KERNEL_DISPATCH(k->type, FILL);
 #undef FILL
     return 0;

@@ -76,11 +76,15 @@ int sph_mps_ppe_assemble(sph_mps_ppe *S, const sph_mps_nbr *L, const double *x, 
 
 /* The same with the pressure particles those of kind <= maxk: SPH_MPS_WALL (the above: walls are
  * unknowns), or SPH_MPS_FLUID (walls are no unknowns and drop out of A altogether, diagonal
- * included: the caller puts their Neumann terms in b). */
+ * included: the caller puts their Neumann terms in b). ghost: NULL, or per particle the
+ * diagonal term [1/m^2] of a surface particle's missing neighbours whose pressures are
+ * extrapolated to p = 0 beyond it (sph_mps.c): a surface particle with ghost[i] > 0 is then an
+ * unknown with that term added to A_ii (its row strictly diagonally dominant, like the rows
+ * next to a Dirichlet node), one with ghost[i] <= 0 stays a Dirichlet node. */
 int sph_mps_ppe_assemble_kinds(sph_mps_ppe *S, const sph_mps_nbr *L, const double *x,
                                const double *y, const unsigned char *kind,
-                               const unsigned char *surface, const sph_kernel *k, double c,
-                               int maxk);
+                               const unsigned char *surface, const double *ghost,
+                               const sph_kernel *k, double c, int maxk);
 
 /* Solves A p = b for the latest assembly; rhs and p are per particle. p holds the starting
  * guess on entry (its unknowns' entries; warm start), the solution on return, and 0 for every

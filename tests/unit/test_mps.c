@@ -436,9 +436,10 @@ static void test_neumann_hydrostatic(void **state)
         sph_mps_ppe S;
         memset(&S, 0, sizeof S);
         const double c = 4.0 / (lam * n0);
-        sph_mps_neumann_rhs(&tk.L, tk.P.x, tk.P.y, tk.kind, &k, c, gvx, gvy, b);
-        assert_int_equal(sph_mps_ppe_assemble_kinds(&S, &tk.L, tk.P.x, tk.P.y, tk.kind, surf, &k, c,
-                                                    SPH_MPS_FLUID),
+        const sph_mps_ghost G = {gvx, gvy, NULL, NULL, NULL};
+        sph_mps_neumann_rhs(&tk.L, tk.P.x, tk.P.y, tk.kind, &k, c, &G, b);
+        assert_int_equal(sph_mps_ppe_assemble_kinds(&S, &tk.L, tk.P.x, tk.P.y, tk.kind, surf, NULL,
+                                                    &k, c, SPH_MPS_FLUID),
                          0);
         assert_int_equal(S.n, 12 * 14); /* the fluid below the top row, no wall */
         /* A p = b on every row whose neighbourhood is complete (more than re below the top
@@ -462,8 +463,7 @@ static void test_neumann_hydrostatic(void **state)
         assert_true(rows >= 12 * 12 && walled >= 2 * 12); /* the floor rows at least */
         free(xu);
         free(yu);
-        sph_mps_gradient_neumann(&tk.L, tk.P.x, tk.P.y, tk.kind, &k, 2.0 / n0, 0, 1, p, gvx, gvy,
-                                 gx, gy);
+        sph_mps_gradient_neumann(&tk.L, tk.P.x, tk.P.y, tk.kind, &k, 2.0 / n0, 0, 1, p, &G, gx, gy);
         for (long i = 0; i < n; i++) {
             if (tk.kind[i] != SPH_MPS_FLUID)
                 continue;
