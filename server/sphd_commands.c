@@ -424,6 +424,8 @@ static int op_hello(sphd_request *r, json_t **result, sphd_err *e)
         ops, "methods", methods, "limits", "max_msg_size", (json_int_t)d->opts.max_msg_size,
         "threads", d->opts.threads, "max_jobs", d->opts.max_jobs, "diag_rate", d->opts.diag_rate,
         "pid", (json_int_t)getpid(), "uptime", sphd_now() - d->started_at);
+    /* how the sockets are secured: "curve" (sphd --curve: authenticated and encrypted) */
+    json_object_set_new(*result, "security", json_string(d->curve ? "curve" : "none"));
     /* what the physics options mean where a job's figures depend on them */
     json_object_set_new(
         *result, "physics",

@@ -105,6 +105,8 @@ def main():
             if r:
                 break
         f.check(r and r["ok"], "alice's hello over CURVE", r)
+        f.check(r and r["result"].get("security") == "curve", "hello says the sockets use CURVE",
+                r)
         # subscribe first, then submit and start: every event of the job arrives, encrypted
         sub, _ = sock(zmq.SUB, stream, (alice_pub, alice_sec), b"db")
         bob_sub, bob_sub_mon = sock(zmq.SUB, stream, (bob_pub, bob_sec), b"")

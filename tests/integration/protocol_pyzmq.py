@@ -26,6 +26,7 @@ try:
     # -- hello, envelopes
     h = d.ok("hello")
     F.check(h["stream"] == d.stream, "hello names the stream endpoint", h)
+    F.check(h.get("security") == "none", "hello says the sockets are not secured", h)
     F.check(h["ops"] == ["hello", "ping", "submit", "start", "step", "pause", "resume", "query",
                          "stop", "list", "shutdown", "results", "fetch", "export"],
             "hello lists the ops", h["ops"])
