@@ -93,9 +93,17 @@
  *       right-hand side less coef rho (u* - u)/dt . sum_j w_ij r_ij, a lagged first-order
  *       correction of (3.5)), on every row or only next to the surface: blows up at 1.92 s /
  *       48% at 2 s.
+ *   The hypothesis checked: the energy-conserving pair gradient -(2/S) sum_j (p_i + p_j) dw/dr
+ *   (r_j - r_i)/r (S the lattice sum of -r dw/dr; exact for a linear pressure on a lattice; the
+ *   force minus the derivative of sum_k p_k n_k) in place of the corrected one, surface 0,
+ *   koshizuka dx 0.005 at cfl 0.05 (blows up at 1.08 s with the corrected gradient): no blow-up,
+ *   vmax 1.1-1.6e-2 m/s at 1.25-1.5 s and not growing. But it is not a fix as it stands: its
+ *   p_i sum_j dw/dr term pushes the rows whose neighbourhood is cut by the surface (5-8% of
+ *   sqrt(gH) in the first 0.5 s, the free-surface set flickering), which needs the missing
+ *   neighbours' ghost pressures in the pair sum (for surface 1: computable from the present
+ *   neighbours' sums and the lattice's, as the Laplacian's ghost diagonal is).
  *   Next: what is left is the number-density term against a gradient that is not its adjoint.
- *   Candidates: a conservative pressure gradient for the density part (the pair form with
- *   p_i + p_j and dw/dr, whose force is minus the derivative of a number-density energy), or
+ *   Candidates: that conservative gradient with the surface's ghost pairs, or
  *   Koshizuka & Oka's own radii (n* and the gradient at 2.1 dx, the Laplacian at 4 dx: the wide
  *   Laplacian couples the 2 dx neighbours that n* sees; needs 8 wall layers and the surface
  *   condition for the rows whose stencil crosses the water line, see below), or a dt-independent
