@@ -101,7 +101,12 @@
  *   p_i sum_j dw/dr term pushes the rows whose neighbourhood is cut by the surface (5-8% of
  *   sqrt(gH) in the first 0.5 s, the free-surface set flickering), which needs the missing
  *   neighbours' ghost pressures in the pair sum (for surface 1: computable from the present
- *   neighbours' sums and the lattice's, as the Laplacian's ghost diagonal is).
+ *   neighbours' sums and the lattice's, as the Laplacian's ghost diagonal is). Tried that too
+ *   (the missing pairs from the present sums: Dirichlet ghosts on surface rows, p_i + rho (u* -
+ *   u)/dt . r below them): blows up by 0.2 s (dx 0.01, either surface condition), starting at
+ *   the floor: the pair gradient of the solved pressure is 0.6% off the corrected one on the
+ *   bottom row (-9883 against -9828 Pa/m), i.e. it is not the gradient the pressure equation's
+ *   Laplacian was solved for; a projection consistent with it needs its own Laplacian.
  *   Next: what is left is the number-density term against a gradient that is not its adjoint.
  *   Candidates: that conservative gradient with the surface's ghost pairs, or
  *   Koshizuka & Oka's own radii (n* and the gradient at 2.1 dx, the Laplacian at 4 dx: the wide
