@@ -466,10 +466,7 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
          * condition: with the one-sided velocity divergence in it the surface row went odd-even
          * unstable within 0.2 s in still water; their n* says where the surface is, not how
          * compressed they are). */
-        sph_mps_moment(&m->L, P->x, P->y, &m->wn, m->ghost);
-        const double gc = m->lap_coef / (0.5 * c->dx);
-        for (long i = 0; i < na; i++)
-            m->ghost[i] = m->surface[i] ? gc * m->ghost[i] : 0.0;
+        sph_mps_surface_ghost(&m->L, P->x, P->y, &m->wn, m->lap_coef, c->dx, m->surface, m->ghost);
     }
     s->timing.active = na;
     s->timing.pairs = m->L.entries / 2;

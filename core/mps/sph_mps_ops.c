@@ -154,6 +154,16 @@ void sph_mps_moment(const sph_mps_nbr *L, const double *x, const double *y, cons
 #undef MOM
 }
 
+void sph_mps_surface_ghost(const sph_mps_nbr *L, const double *x, const double *y,
+                           const sph_kernel *k, double coef, double dx,
+                           const unsigned char *surface, double *ghost)
+{
+    sph_mps_moment(L, x, y, k, ghost);
+    const double gc = coef / (0.5 * dx);
+    for (long i = 0; i < L->n; i++)
+        ghost[i] = surface[i] ? gc * ghost[i] : 0.0;
+}
+
 /* ---- Laplacian (3.5) ----------------------------------------------------------------------- */
 
 static inline __attribute__((always_inline)) void

@@ -60,6 +60,15 @@ void sph_mps_number_density(const sph_mps_nbr *L, const double *x, const double 
 void sph_mps_moment(const sph_mps_nbr *L, const double *x, const double *y, const sph_kernel *k,
                     double *m);
 
+/* The free-surface condition mps.surface = 1 (sph_mps.c): ghost[i] = coef |sum_j w_ij (r_j - r_i)|
+ * / (dx/2) [1/m^2] for the particles flagged in surface, 0 for the others: the diagonal term
+ * with which p = 0 on the water line, dx/2 beyond a surface particle's centre along the surface's
+ * normal, enters that particle's row of the Poisson equation (coef the Laplacian's 2d/(lambda
+ * n0)). Exact for a pressure linear along the normal on a lattice. */
+void sph_mps_surface_ghost(const sph_mps_nbr *L, const double *x, const double *y,
+                           const sph_kernel *k, double coef, double dx,
+                           const unsigned char *surface, double *ghost);
+
 /* out[i] = coef sum_j (phi_j - phi_i) w_ij over the neighbours j whose kind is not above
  * max_kind (SPH_MPS_WALL: fluid and walls; SPH_MPS_DUMMY: dummies too), coef = 2d/(lambda n0);
  * for the particles of kind fluid (others get 0). */
