@@ -8,9 +8,10 @@
 # --keep-going: go on after a crash, a timeout or running out of memory (libFuzzer's fork mode:
 # every finding is kept in build-fuzz/artifacts/NAME/ and counted in the log; for long runs).
 # --no-build: run what build-fuzz/ holds (several runs at once share one build).
-# --seed S: libFuzzer's random seed (default 0, a new one each run). With a fixed seed a run
-# tries the same inputs in the same order from the same corpus, so a short run (CI's) is the
-# start of a longer one: scripts/test.sh fixes it, so CI never fails on a first-time find.
+# --seed S: libFuzzer's random seed (default 0, a new one each run). A fixed seed starts every
+# run from the same random state and corpus, so runs stay close to one another (not exactly: how
+# far a run gets, and some of libFuzzer's choices, depend on its speed); scripts/test.sh fixes
+# it so that CI tries about the same inputs each time rather than new ones by chance.
 # --fresh: start from the seed corpus only, not from what earlier runs in build-fuzz/ found.
 # Usage: scripts/fuzz.sh [--seconds S] [--seed S] [--fresh] [--keep-going]
 #                        [--build-only | --no-build] [TARGET ...]

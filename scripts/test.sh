@@ -4,8 +4,8 @@
 # integration tests under them; then build with clang and run the unit tests; then the build
 # types that are not built above (scripts/build-matrix.sh), so that gcc and clang each build
 # Release, RelWithDebInfo and Debug without a warning; last, each fuzz target runs for 30 s
-# from its seed corpus with a fixed random seed (SPH_FUZZ_SEED, default 1): the same inputs each
-# run, so a find fails the run that brought it, not a later one by chance.
+# from its seed corpus with a fixed random seed (SPH_FUZZ_SEED, default 1): about the same inputs
+# each run, so a find most likely fails the change that brought it, not a later one by chance.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
