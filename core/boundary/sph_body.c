@@ -355,31 +355,27 @@ void sph_bodies_free(sph_bodies *B)
     B->owner = NULL;
 }
 
-/* Position and velocity of body particle q (q = id - first) from its body's state. The
- * rotated offset is computed from theta afresh, so the body stays rigid to round-off. */
-static inline void particle_of(const sph_bodies *B, long q, double *x, double *v)
+/* Places body particle q (q = id - first) at row i of P: position and velocity from its body's
+ * state. The rotated offset is computed from theta afresh, so the body stays rigid to
+ * round-off. */
+static inline void place(const sph_bodies *B, long q, sph_particles *P, long i)
 {
     const sph_body_state *s = &B->b[B->owner[q]].s;
     const double c = cos(s->theta), sn = sin(s->theta);
     const double u = B->local[2 * q], w = B->local[2 * q + 1];
     const double rx = c * u - sn * w, ry = sn * u + c * w;
-    x[0] = s->x[0] + rx;
-    x[1] = s->x[1] + ry;
-    v[0] = s->v[0] - s->omega * ry;
-    v[1] = s->v[1] + s->omega * rx;
+    P->x[i] = s->x[0] + rx;
+    P->y[i] = s->x[1] + ry;
+    P->vx[i] = s->v[0] - s->omega * ry;
+    P->vy[i] = s->v[1] + s->omega * rx;
 }
 
 void sph_bodies_fill(const sph_bodies *B, const sph_config *c, sph_particles *P)
 {
     for (long q = 0; q < B->np; q++) {
         const long i = B->first + q;
-        double x[2], v[2];
-        particle_of(B, q, x, v);
-        P->x[i] = x[0];
-        P->y[i] = x[1];
-        P->vx[i] = v[0];
-        P->vy[i] = v[1];
-        P->rho[i] = sph_geometry_hydrostatic_density(c, x[0], x[1]);
+        place(B, q, P, i);
+        P->rho[i] = sph_geometry_hydrostatic_density(c, P->x[i], P->y[i]);
         P->type[i] = SPH_BODY;
         P->id[i] = (int)i;
     }
@@ -397,12 +393,7 @@ void sph_bodies_move(const sph_bodies *B, sph_particles *P, long n)
         const long q = P->id[i] - first;
         if (q < 0 || q >= np)
             continue;
-        double x[2], v[2];
-        particle_of(B, q, x, v);
-        P->x[i] = x[0];
-        P->y[i] = x[1];
-        P->vx[i] = v[0];
-        P->vy[i] = v[1];
+        place(B, q, P, i);
     }
 }
 
