@@ -31,16 +31,10 @@ typedef struct {
     sph_envelope wave; /* the kinetic-energy peaks so far (initial fields with a theory) */
 } sim_header;
 
-/* The per-particle arrays that persist across steps, in the method's fixed order. */
-static int persistent_arrays(const sph_sim *s, double **d, int maxd)
-{
-    return s->ops->arrays(s, d, maxd);
-}
-
 int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
 {
     double *arrays[32];
-    const int na = persistent_arrays(s, arrays, 32);
+    const int na = s->ops->arrays(s, arrays, 32);
     const size_t n = (size_t)s->P.n;
     const size_t nbs = (size_t)s->bodies.n;
     const size_t size = sizeof(sim_header) + (size_t)na * n * sizeof(double) +
@@ -113,7 +107,7 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
     if (!s)
         return NULL;
     double *arrays[32];
-    const int na = persistent_arrays(s, arrays, 32);
+    const int na = s->ops->arrays(s, arrays, 32);
     const size_t n = (size_t)s->P.n;
     const size_t nbs = (size_t)s->bodies.n;
     if (h.n != s->P.n || (s->P.txx != NULL) != (h.sps != 0) || h.nbodies != s->bodies.n ||

@@ -81,11 +81,6 @@ void sph_geometry_count(const sph_config *c, long *nfluid, long *nboundary)
     }
 }
 
-double sph_geometry_eos_density(const sph_config *c, double p)
-{
-    return sph_eos_density(c, p);
-}
-
 /* Hydrostatic density at (x, y): the deepest fluid box above it (within `margin` in x). */
 static double initial_density(const sph_config *c, double x, double y, double margin)
 {
@@ -98,7 +93,7 @@ static double initial_density(const sph_config *c, double x, double y, double ma
                 f->max[1] - y > depth)
                 depth = f->max[1] - y;
         }
-    return sph_geometry_eos_density(c, c->rho0 * g * depth);
+    return sph_eos_density(c, c->rho0 * g * depth);
 }
 
 double sph_geometry_hydrostatic_density(const sph_config *c, double x, double y)

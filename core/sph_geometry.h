@@ -24,7 +24,4 @@ void sph_geometry_fill(const sph_config *c, sph_particles *P);
 /* The hydrostatic density at (x, y) under the deepest fluid box above it [kg/m^3]. */
 double sph_geometry_hydrostatic_density(const sph_config *c, double x, double y);
 
-/* Density at which the configuration's EOS gives pressure p [kg/m^3]. */
-double sph_geometry_eos_density(const sph_config *c, double p);
-
 #endif

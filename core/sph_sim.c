@@ -146,8 +146,7 @@ int sph_sim_check(const sph_config *c, sph_error *err)
         return sph_error_set(err, SPH_ERR_INVALID, "/dx", "dx must be a positive number");
     if (!(c->h_over_dx >= SPH_H_OVER_DX_MIN && c->h_over_dx <= SPH_H_OVER_DX_MAX))
         return sph_error_set(err, SPH_ERR_INVALID, "/kernel/h_over_dx",
-                             "h_over_dx must be in [%g, %g]", SPH_H_OVER_DX_MIN,
-                             SPH_H_OVER_DX_MAX);
+                             "h_over_dx must be in [%g, %g]", SPH_H_OVER_DX_MIN, SPH_H_OVER_DX_MAX);
     if ((unsigned)c->kernel.type >= SPH_KERNEL_COUNT)
         return sph_error_set(err, SPH_ERR_INVALID, "/kernel/type", "unknown kernel");
     if (c->nfluid < 0 || c->nfluid > SPH_CONFIG_MAX_BOXES)
@@ -287,7 +286,8 @@ int sph_sim_rpdf(const sph_sim *s, double qmax, int nbins, double *q, double *co
     return sph_rpdf_compute(&in, qmax, nbins, q, count, density, err);
 }
 
-/* Kinetic energy of the fluid [J]: a serial sum in the particles' order, as sph_diag's. */
+/* Kinetic energy of the fluid [J], a serial sum in the particles' order (0.5 m sum v^2: the
+ * same value as sph_diag's ekin up to rounding). */
 static double fluid_ekin(const sph_sim *s)
 {
     const sph_particles *P = &s->P;

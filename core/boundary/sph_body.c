@@ -14,8 +14,6 @@
 /* Counting stops past this many particles: more than any simulation may hold (2e9). */
 #define SPH_BODY_COUNT_CAP 2100000000L
 
-#define SPH_PI 3.14159265358979323846
-
 /* More body particles than this is refused (the checks below visit them all). */
 #define SPH_BODY_MAX_PARTICLES 50000000L
 
@@ -27,7 +25,7 @@
 static double shape_area(const sph_body_spec *b)
 {
     if (b->shape == SPH_SHAPE_CIRCLE)
-        return 0.25 * SPH_PI * b->diameter * b->diameter;
+        return 0.25 * M_PI * b->diameter * b->diameter;
     return b->size[0] * b->size[1];
 }
 
@@ -92,7 +90,7 @@ static long shape_points(const sph_body_spec *b, double dx, double *xy)
                 }
                 break;
             }
-            long m = lround(2.0 * SPH_PI * r / dx);
+            long m = lround(2.0 * M_PI * r / dx);
             m = m < 3 ? 3 : m;
             if (!xy) { /* counted, not visited: a fuzzed state's absurd circle returns at once */
                 n += m;
@@ -100,14 +98,10 @@ static long shape_points(const sph_body_spec *b, double dx, double *xy)
                     return n;
                 continue;
             }
-            for (long j = 0; j < m; j++) {
-                if (xy) {
-                    const double phi =
-                        2.0 * SPH_PI * ((double)j + 0.5 * (double)(k % 2)) / (double)m;
-                    xy[2 * n] = r * cos(phi);
-                    xy[2 * n + 1] = r * sin(phi);
-                }
-                n++;
+            for (long j = 0; j < m; j++, n++) {
+                const double phi = 2.0 * M_PI * ((double)j + 0.5 * (double)(k % 2)) / (double)m;
+                xy[2 * n] = r * cos(phi);
+                xy[2 * n + 1] = r * sin(phi);
             }
         }
         return n;
@@ -125,10 +119,8 @@ static long shape_points(const sph_body_spec *b, double dx, double *xy)
             depth = ny - 1 - j < depth ? ny - 1 - j : depth;
             if (depth >= L)
                 continue;
-            if (xy) {
-                xy[2 * n] = -0.5 * (double)nx * dx + ((double)i + 0.5) * dx;
-                xy[2 * n + 1] = -0.5 * (double)ny * dx + ((double)j + 0.5) * dx;
-            }
+            xy[2 * n] = -0.5 * (double)nx * dx + ((double)i + 0.5) * dx;
+            xy[2 * n + 1] = -0.5 * (double)ny * dx + ((double)j + 0.5) * dx;
             n++;
         }
     return n;
@@ -239,8 +231,6 @@ int sph_body_check(const sph_config *c, sph_error *err)
                                       "must be at least 2 dx = %g m",
                                       name, b->size[d], 2.0 * dx);
                 }
-        if (b->shape != SPH_SHAPE_CIRCLE && b->shape != SPH_SHAPE_BOX)
-            return body_error(err, i, "shape", "unknown shape");
         double ext[2];
         shape_half_extent(b, b->angle, ext);
         for (int d = 0; d < 2; d++)
@@ -356,12 +346,23 @@ void sph_bodies_free(sph_bodies *B)
 }
 
 /* Places body particle q (q = id - first) at row i of P: position and velocity from its body's
- * state. The rotated offset is computed from theta afresh, so the body stays rigid to
- * round-off. */
-static inline void place(const sph_bodies *B, long q, sph_particles *P, long i)
+ * state and the cosine and sine of its angle (cs[body], rotation_of). The rotated offset is
+ * computed from theta afresh, so the body stays rigid to round-off. */
+/* cos and sin of every body's angle, once per placement of its particles. */
+static void rotation_of(const sph_bodies *B, double cs[][2])
 {
-    const sph_body_state *s = &B->b[B->owner[q]].s;
-    const double c = cos(s->theta), sn = sin(s->theta);
+    for (int k = 0; k < B->n; k++) {
+        cs[k][0] = cos(B->b[k].s.theta);
+        cs[k][1] = sin(B->b[k].s.theta);
+    }
+}
+
+static inline void place(const sph_bodies *B, const double (*cs)[2], long q, sph_particles *P,
+                         long i)
+{
+    const int k = B->owner[q];
+    const sph_body_state *s = &B->b[k].s;
+    const double c = cs[k][0], sn = cs[k][1];
     const double u = B->local[2 * q], w = B->local[2 * q + 1];
     const double rx = c * u - sn * w, ry = sn * u + c * w;
     P->x[i] = s->x[0] + rx;
@@ -372,9 +373,11 @@ static inline void place(const sph_bodies *B, long q, sph_particles *P, long i)
 
 void sph_bodies_fill(const sph_bodies *B, const sph_config *c, sph_particles *P)
 {
+    double cs[SPH_CONFIG_MAX_BODIES][2];
+    rotation_of(B, cs);
     for (long q = 0; q < B->np; q++) {
         const long i = B->first + q;
-        place(B, q, P, i);
+        place(B, (const double(*)[2])cs, q, P, i);
         P->rho[i] = sph_geometry_hydrostatic_density(c, P->x[i], P->y[i]);
         P->type[i] = SPH_BODY;
         P->id[i] = (int)i;
@@ -386,6 +389,8 @@ void sph_bodies_move(const sph_bodies *B, sph_particles *P, long n)
     if (B->n == 0)
         return;
     const long first = B->first, np = B->np;
+    double cs[SPH_CONFIG_MAX_BODIES][2];
+    rotation_of(B, cs);
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++) {
         if (P->type[i] != SPH_BODY)
@@ -393,7 +398,7 @@ void sph_bodies_move(const sph_bodies *B, sph_particles *P, long n)
         const long q = P->id[i] - first;
         if (q < 0 || q >= np)
             continue;
-        place(B, q, P, i);
+        place(B, (const double(*)[2])cs, q, P, i);
     }
 }
 

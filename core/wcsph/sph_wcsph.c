@@ -245,7 +245,7 @@ static void prepare(sph_sim *s)
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++) {
         const double rho = P->rho[i];
-        const double p = sph_eos(cfg, rho);
+        const double p = sph_eos_pressure(cfg, rho);
         P->p[i] = p;
         P->pr[i] = p / (rho * rho);
         P->ax[i] = 0.0;

@@ -8,12 +8,6 @@
 #include "sph_eos.h"
 #include "sph_sim_impl.h"
 
-/* The equation of state: pressure [Pa] at density rho [kg/m^3] (sph_eos.h). */
-static inline double sph_eos(const sph_config *c, double rho)
-{
-    return sph_eos_pressure(c, rho);
-}
-
 /* sph_wcsph.c: builds the ghosts of free-slip walls, sorts the particles by cell, computes p,
  * then the accelerations (gravity included, zero for boundary particles) and density rates into
  * P.ax, P.ay, P.drho, and removes the ghosts again. Returns 0, or -1 when out of memory for the

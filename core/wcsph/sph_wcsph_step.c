@@ -231,7 +231,7 @@ static void wcsph_pressure(const sph_sim *s)
 {
     const sph_particles *P = &s->P;
     for (long i = 0; i < P->n; i++)
-        P->p[i] = sph_eos(&s->cfg, P->rho[i]);
+        P->p[i] = sph_eos_pressure(&s->cfg, P->rho[i]);
 }
 
 /* What lives from one step to the next: the state and the previous rates of the corrector. */
