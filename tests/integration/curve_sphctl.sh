@@ -19,7 +19,7 @@ mkdir -p "$srv/clients" "$nobody"
 expect_rc "keygen for the server" 0 "$SPHCTL" keygen --out "$srv/server"
 check "the server's secret key is private" test "$(stat -c %a "$srv/server.key")" = 600
 check "its public key is readable" test "$(stat -c %a "$srv/server.pub")" = 644
-check "keygen prints the public key" grep -qxF "$(cat "$srv/server.pub")" "$tmp/out"
+check "keygen prints the public key" grep -qxF -e "$(cat "$srv/server.pub")" "$tmp/out"
 expect_rc "keygen keeps existing keys" 73 "$SPHCTL" keygen --out "$srv/server"
 expect_rc "alice's keys in her config dir" 0 env XDG_CONFIG_HOME="$alice" "$SPHCTL" keygen
 check "alice's secret key is private" test "$(stat -c %a "$alice/sphctl/client.key")" = 600
