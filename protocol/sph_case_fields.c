@@ -159,7 +159,8 @@ const sph_case_field sph_case_fields[] = {
      .doc = "array of 0-8 rigid bodies of boundary particles (section 1.4); absent: none"},
     {.path = "/bodies/*/name", .type = SPH_CF_STRING, .methods = SPH_CF_WCSPH,
      .required = SPH_CF_WCSPH, BODY(name),
-     .doc = "the body's name, 1-31 characters, distinct: its key in diag events"},
+     .doc = "the body's name, 1-31 letters, digits, '_' or '-', distinct: its key in diag "
+            "events and its series' prefix in diag.h5"},
     {.path = "/bodies/*/shape", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
      .required = SPH_CF_WCSPH, .names = shape_names, .values = shape_values, BODY(shape),
      .doc = "circle (diameter) or box (size)"},

@@ -22,7 +22,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#define DIAG_MAX_COLUMNS 64
+#define DIAG_MAX_COLUMNS SPHD_DIAG_MAX_COLUMNS
 #define DIAG_CHUNK       256
 
 struct sphd_diagfile {
@@ -408,7 +408,7 @@ int sphd_diagfile_export_csv(const char *path, FILE *out, sph_error *err)
     H5Pclose(fapl);
     if (f < 0)
         return sphd_h5_fail(err, "opening diagnostics file", path);
-    char list[4096] = "";
+    char list[DIAG_MAX_COLUMNS * 64] = "";
     hid_t a = H5Aopen(f, "columns", H5P_DEFAULT);
     if (a >= 0) {
         hid_t t = H5Aget_type(a);

@@ -84,6 +84,9 @@ int sphd_xdmf_write(const char *path, const sphd_xdmf_entry *entries, int nentri
 /* Diagnostics time series: one table, plus one dataset per column, SWMR (sphd_diagfile.c). */
 typedef struct sphd_diagfile sphd_diagfile;
 
+/* The most series a diagnostics file holds after "step": the fixed ones and 10 per rigid body. */
+#define SPHD_DIAG_MAX_COLUMNS 128
+
 /* A series after "step": its name, units ("m", "1" for counts) and whether it holds integers. */
 typedef struct sphd_diag_column {
     const char *name;

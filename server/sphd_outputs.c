@@ -20,8 +20,18 @@ static const sphd_diag_column diag_columns_2d[] = {{"t", "s", 0},
                                                    {"rho_max", "kg/m^3", 0},
                                                    {"front_x", "m", 0},
                                                    {"height_left", "m", 0},
-                                                   {"lost", "1", 1}};
+                                                   {"lost", "1", 1},
+                                                   {"penetration", "m", 0}};
 #define NDIAG ((int)(sizeof diag_columns_2d / sizeof diag_columns_2d[0]))
+
+/* Each rigid body's series, as "<name>.<member>" after the fixed ones, in the order of the
+ * case's bodies (the members of sph_body_diag; 2D). */
+static const sphd_diag_column body_columns_2d[] = {
+    {"x", "m", 0},       {"y", "m", 0},          {"vx", "m/s", 0}, {"vy", "m/s", 0},
+    {"angle", "rad", 0}, {"omega", "rad/s", 0},  {"fx", "N/m", 0}, {"fy", "N/m", 0},
+    {"torque", "N", 0},  {"penetration", "m", 0}};
+#define NBODYCOL     ((int)(sizeof body_columns_2d / sizeof body_columns_2d[0]))
+#define NCOLUMNS_MAX (NDIAG + SPH_CONFIG_MAX_BODIES * NBODYCOL)
 
 struct sphd_outputs {
     char dir[4096];
@@ -33,6 +43,9 @@ struct sphd_outputs {
     double h;    /* smoothing length [m] */
     char kernel[32];
     sphd_diagfile *diag;
+    int ncolumns; /* the diag series after "step" */
+    int nbodies;  /* bodies with series in diag.h5 */
+    char body_names[SPH_CONFIG_MAX_BODIES * NBODYCOL][SPH_BODY_NAME_MAX + 16];
     sphd_xdmf_entry *entries; /* snapshots written */
     int nentries, capentries;
 };
@@ -56,11 +69,21 @@ sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case
     sphd_remove_stale_temps(dir); /* left by a crashed run in this directory */
     char path[4200];
     snprintf(path, sizeof path, "%s/diag.h5", dir);
-    sphd_diag_column cols[NDIAG];
-    memcpy(cols, diag_columns_2d, sizeof cols);
+    sphd_diag_column cols[NCOLUMNS_MAX];
+    memcpy(cols, diag_columns_2d, sizeof diag_columns_2d);
     if (c->sim.dim != 2) /* energies [J] in 3D */
         cols[2].units = cols[3].units = "J";
-    o->diag = sphd_diagfile_open(path, cols, NDIAG, resume_step, err);
+    o->nbodies = c->sim.nbodies;
+    o->ncolumns = NDIAG + o->nbodies * NBODYCOL;
+    for (int b = 0; b < o->nbodies; b++)
+        for (int m = 0; m < NBODYCOL; m++) {
+            const int k = b * NBODYCOL + m;
+            snprintf(o->body_names[k], sizeof o->body_names[k], "%s.%s", c->sim.bodies[b].name,
+                     body_columns_2d[m].name);
+            cols[NDIAG + k] = body_columns_2d[m];
+            cols[NDIAG + k].name = o->body_names[k];
+        }
+    o->diag = sphd_diagfile_open(path, cols, o->ncolumns, resume_step, err);
     if (!o->diag) {
         free(o);
         return NULL;
@@ -70,8 +93,17 @@ sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case
 
 int sphd_outputs_diag(sphd_outputs *o, const sph_diag *d, sph_error *err)
 {
-    const double v[NDIAG] = {d->t,       d->dt,      d->ekin,    d->epot,        d->vmax,
-                             d->rho_min, d->rho_max, d->front_x, d->height_left, (double)d->lost};
+    double v[NCOLUMNS_MAX] = {d->t,           d->dt,           d->ekin,       d->epot,
+                              d->vmax,        d->rho_min,      d->rho_max,    d->front_x,
+                              d->height_left, (double)d->lost, d->penetration};
+    for (int k = 0; k < o->nbodies; k++) {
+        const sph_body_diag *b = &d->body[k];
+        const int have = k < d->nbodies;
+        const double m[NBODYCOL] = {b->x[0],  b->x[1],     b->v[0],     b->v[1],   b->angle,
+                                    b->omega, b->force[0], b->force[1], b->torque, b->penetration};
+        for (int j = 0; j < NBODYCOL; j++)
+            v[NDIAG + k * NBODYCOL + j] = have ? m[j] : NAN;
+    }
     return sphd_diagfile_append(o->diag, d->step, v, err);
 }
 

@@ -204,6 +204,11 @@ int sph_body_check(const sph_config *c, sph_error *err)
         if (!name[0] || strnlen(name, SPH_BODY_NAME_MAX) >= SPH_BODY_NAME_MAX)
             return body_error(err, i, "name", "a body needs a name of 1 to %d characters",
                               SPH_BODY_NAME_MAX - 1);
+        if (name[strspn(name, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-")])
+            return body_error(err, i, "name",
+                              "the body name '%s' may hold only letters, digits, '_' and '-' (it "
+                              "names the body's series in diag.h5)",
+                              name);
         for (int j = 0; j < i; j++)
             if (strcmp(c->bodies[j].name, name) == 0)
                 return body_error(err, i, "name", "two bodies are named '%s'", name);

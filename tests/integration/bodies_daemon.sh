@@ -64,6 +64,31 @@ import json, sys
 ev = [json.loads(l) for l in open(sys.argv[1])]
 diags = [e for e in ev if e.get("type") == "diag"]
 sys.exit(0 if diags and all("cylinder" in e.get("bodies", {}) for e in diags) else 1)' "$tmp/out"
+check "diag.h5 keeps the body's series, equal to the diag events" "$PY" -c '
+import json, sys, h5py, math
+ev = [json.loads(l) for l in open(sys.argv[1])]
+diags = {e["step"]: e for e in ev if e.get("type") == "diag"}
+with h5py.File(sys.argv[2], "r", libver="latest", swmr=True) as f:
+    n = int(f["rows"][0]); tab = f["diag"][:n]
+    cols = f.attrs["columns"]
+    cols = cols.decode() if isinstance(cols, bytes) else cols
+    units = dict(zip(tab.dtype.names, [u.decode() for u in f["diag"].attrs["units"]]))
+names = ("x", "y", "vx", "vy", "angle", "omega", "fx", "fy", "torque", "penetration")
+ok = all("cylinder." + m in tab.dtype.names and "cylinder." + m in cols.split(",") for m in names)
+ok = ok and units["cylinder.fy"] == "N/m" and units["cylinder.penetration"] == "m"
+seen = 0
+for row in tab:
+    e = diags.get(int(row["step"]))
+    if not e:
+        continue
+    b = e["bodies"]["cylinder"]
+    want = b["x"] + b["v"] + [b["angle"], b["omega"]] + b["force"] + [b["torque"], b["penetration"]]
+    got = [float(row["cylinder." + m]) for m in names]
+    ok = ok and all(abs(g - w) <= 1e-9 * max(abs(w), 1e-12) for g, w in zip(got, want))
+    ok = ok and abs(float(row["penetration"]) - e["penetration"]) <= 1e-9 * abs(e["penetration"]) + 1e-15
+    seen += 1
+print("rows compared with events:", seen, "of", n)
+sys.exit(0 if ok and seen >= 3 else 1)' "$tmp/out" "$STATE/jobs/we/diag.h5"
 check "the log says it resumed from a checkpoint" grep -q "resumed from" "$tmp/sphd.log"
 expect_rc "query the finished job" 0 "$SPHCTL" --json query we
 check "the result counts the body's particles" jtrue "$tmp/out" \
