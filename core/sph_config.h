@@ -58,6 +58,12 @@ enum {
 /* Shapes of rigid bodies (boundary/sph_body.h). */
 typedef enum { SPH_SHAPE_CIRCLE = 0, SPH_SHAPE_BOX } sph_shape_type;
 
+/* Where a rigid body's particles take their pressure from (boundary/sph_body_pressure.c). */
+typedef enum {
+    SPH_BODY_PRESSURE_FLUID = 0, /* the fluid around them (Adami, Hu & Adams 2012) */
+    SPH_BODY_PRESSURE_CONTINUITY /* their own density by continuity, as dynamic walls */
+} sph_body_pressure;
+
 /* Degrees of freedom of a rigid body (mask bits). */
 enum { SPH_DOF_X = 1 << 0, SPH_DOF_Y = 1 << 1, SPH_DOF_ROTATION = 1 << 2, SPH_DOF_ALL = 7 };
 
@@ -76,6 +82,7 @@ typedef struct sph_body_spec {
     double mass;                  /* [kg] (per metre in 2D), 0 when the density is given */
     int layers;                   /* layers of particles inside the surface, 0: filled [-] */
     unsigned free;                /* SPH_DOF_* mask of the free degrees of freedom */
+    sph_body_pressure pressure;   /* its particles' pressure: from the fluid or continuity */
 } sph_body_spec;
 
 /* The MPS method's fields (Koshizuka & Oka 1996; Sheu, Chiao & Huang 2011): defaults from

@@ -40,6 +40,8 @@ static const int probe_bits[] = {SPH_PROBE_FRONT_X,    SPH_PROBE_HEIGHT_LEFT, 0,
                                  SPH_PROBE_PENETRATION};
 static const char *const shape_names[] = {"circle", "box", NULL};
 static const int shape_values[] = {SPH_SHAPE_CIRCLE, SPH_SHAPE_BOX};
+static const char *const body_pressure_names[] = {"fluid", "continuity", NULL};
+static const int body_pressure_values[] = {SPH_BODY_PRESSURE_FLUID, SPH_BODY_PRESSURE_CONTINUITY};
 static const char *const dof_names[] = {"x", "y", "rotation", NULL};
 static const int dof_bits[] = {SPH_DOF_X, SPH_DOF_Y, SPH_DOF_ROTATION};
 static const char *const field_names[] = {"pos", "vel", "rho", "p", "type", "id", "mass", NULL};
@@ -195,6 +197,12 @@ const sph_case_field sph_case_fields[] = {
      .names = dof_names, .values = dof_bits, .def_mask = SPH_DOF_ALL, BODY(free),
      .doc = "the degrees of freedom the forces move, from x, y, rotation; the others keep "
             "their initial velocity"},
+    {.path = "/bodies/*/pressure", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
+     .names = body_pressure_names, .values = body_pressure_values, .has_def = 1, .def = 0,
+     BODY(pressure),
+     .doc = "where its particles' pressure comes from: fluid: the fluid around each, with the "
+            "body's acceleration (Adami et al. 2012); continuity: their own density, as dynamic "
+            "walls"},
     {.path = "/physics", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
      .required = SPH_CF_SIMS, .doc = "the fluid and its models"},
     {.path = "/physics/rho0", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS, .lo = 1e-3,

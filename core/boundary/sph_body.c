@@ -321,6 +321,7 @@ int sph_bodies_init(sph_bodies *B, const sph_config *c, long first)
         b->mass = bs->mass > 0.0 ? bs->mass : bs->density * area;
         b->inertia = shape_inertia(bs, b->mass);
         b->free = bs->free;
+        b->from_fluid = bs->pressure == SPH_BODY_PRESSURE_FLUID;
         b->first = first + p;
         b->np = shape_points(bs, c->dx, B->local + 2 * p);
         for (long q = 0; q < b->np; q++) {

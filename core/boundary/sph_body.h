@@ -10,9 +10,10 @@
  * uniform solid shape, analytically (circle M = rho pi D^2/4, I = M D^2/8; box M = rho w h,
  * I = M (w^2 + h^2)/12), whatever the particles that represent its surface.
  *
- * In the pair loops body particles are boundary particles that move: their density follows
- * continuity (so they carry the EOS pressure), and they interact with fluid, walls and other
- * bodies, but not with the particles of their own body. What a body particle receives from a
+ * In the pair loops body particles are boundary particles that move: their pressure is the
+ * fluid's around them (sph_body_pressure.c; or, with `pressure` "continuity", their density
+ * follows continuity and they carry the EOS pressure), and they interact with fluid, walls and
+ * other bodies, but not with the particles of their own body. What a body particle receives from a
  * pair is the opposite of what its partner receives, so the force and torque the fluid puts on a
  * body are exactly what the body takes from the fluid: each force evaluation sums m a over the
  * body's particles (sph_bodies_gather). The body then moves as one (Newton-Euler, 2D: x, y and
@@ -30,8 +31,10 @@
 #ifndef SPH_BODY_H
 #define SPH_BODY_H
 
+#include "sph_cells.h"
 #include "sph_config.h"
 #include "sph_error.h"
+#include "sph_kernel.h"
 #include "sph_particles.h"
 
 /* The state of one body that lives from one step to the next (what a checkpoint saves). */
@@ -51,6 +54,7 @@ typedef struct sph_body {
     double inertia; /* about the centre of mass [kg m^2] (per metre in 2D) */
     double rmax;    /* farthest particle from the centre [m] */
     unsigned free;  /* SPH_DOF_* mask of the free degrees of freedom */
+    int from_fluid; /* its particles' pressure from the fluid (sph_bodies_pressure), or 0 */
     long first, np; /* the body's particles: ids [first, first + np) */
     sph_body_state s;
     double a0[3];  /* within a step: the acceleration before it [m/s^2] */
@@ -108,6 +112,12 @@ void sph_bodies_correct(sph_bodies *B, double dt);
  * force / mass + gravity and torque / inertia on the free degrees of freedom, 0 on the others.
  * Serial, in the particles' order: the same whatever the number of threads. */
 void sph_bodies_gather(sph_bodies *B, const sph_particles *P, long n, double m);
+
+/* Sets the pressure, density and p / rho^2 of every body particle among P's first n (sorted
+ * into the cells g, the fluid's p and rho current) from the fluid around it (Adami et al. 2012;
+ * sph_body_pressure.c). */
+void sph_bodies_pressure(const sph_bodies *B, const sph_config *c, const sph_kernel *k,
+                         const sph_cells *g, sph_particles *P, long n);
 
 /* The largest speed and acceleration of a body particle [m/s], [m/s^2]. */
 double sph_bodies_vmax(const sph_bodies *B);

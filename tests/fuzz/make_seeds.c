@@ -208,6 +208,7 @@ static const sim_fault sim_faults[] = {
     {"body_particle_typed_fluid", 1, "bad particle types"},
     {"body_type_on_fluid", 1, "bad particle types"},
     {"ghost_type_saved", 1, "bad particle types"},
+    {"h_over_dx_huge", 0, "h_over_dx must be in"},
 };
 
 /* Applies the named fault to a copy of the valid state. */
@@ -227,6 +228,9 @@ static bytes apply_sim_fault(const char *name, const bytes *valid, const state_l
     } else if (strcmp(name, "probe_far_position") == 0) { /* front probe: double to long */
         const double v = 1e300;
         put(&s, L->x + (size_t)L->fluid * sizeof(double), &v, sizeof v);
+    } else if (strcmp(name, "h_over_dx_huge") == 0) { /* front probe's gap: double to long */
+        const double v = 7e30;
+        put(&s, offsetof(sim_header, cfg) + offsetof(sph_config, h_over_dx), &v, sizeof v);
     } else if (strcmp(name, "body_particle_typed_fluid") == 0) {
         put(&s, L->types + (size_t)L->body, &fluid, 1);
     } else if (strcmp(name, "body_type_on_fluid") == 0) { /* bodies' tables read by id */
