@@ -3,8 +3,8 @@
  * entering still water), for a fixed number of steps from the entry, with 1 and 2 threads.
  * Prints, per run: particles (fluid, walls, body), particle-steps per second (all particles), the
  * time per step split into neighbour search / interactions / integration, and the share of the
- * wall time the body coupling takes (forces summed over the body's particles, the body moved, its
- * particles placed: sph_timing.bodies). The pair loop's own extra work for body particles is part
+ * wall time the body coupling takes (the body particles' pressure from the fluid, forces summed
+ * over the body's particles, the body moved, its particles placed: sph_timing.bodies). The pair loop's own extra work for body particles is part
  * of the interactions. Never fails on time.
  *
  * Usage: bench_water_entry SOURCE_DIR [--steps N] [--threads "1 2"] [--dx DX]

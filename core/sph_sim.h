@@ -80,8 +80,9 @@ typedef struct sph_timing {
     double neighbours;   /* cell list build and particle reordering [s] */
     double interactions; /* pair loops [s] */
     double integration;  /* time integration, checks, diagnostics [s] */
-    double bodies;       /* rigid bodies: forces summed, bodies moved, particles placed [s]
-                            (part of interactions and integration) */
+    double bodies;       /* rigid bodies: their particles' pressure from the fluid, forces
+                            summed, bodies moved, particles placed [s] (part of interactions
+                            and integration) */
     double solve;        /* MPS: the pressure equation's assembly and solve [s] */
     long pairs;          /* interacting pairs (r < support) in the latest force evaluation */
     long active;         /* particles in the latest force evaluation */

@@ -309,8 +309,11 @@ int sph_wcsph_forces(sph_sim *s)
     s->timing.neighbours += t1 - t0;
 
     prepare(s);
-    if (s->bodies.n > 0)
+    if (s->bodies.n > 0) { /* the body particles' pressure from the fluid around them */
+        const double tb = omp_get_wtime();
         sph_bodies_pressure(&s->bodies, cfg, &s->kernel, &s->cells, P, s->nactive);
+        s->timing.bodies += omp_get_wtime() - tb;
+    }
     const double alpha =
         cfg->visc == SPH_VISC_MONAGHAN ? sph_config_monaghan_alpha(cfg) : cfg->alpha;
     const unsigned flags = (cfg->visc == SPH_VISC_LAMINAR ? F_LAMINAR : 0) |
