@@ -360,6 +360,10 @@ double sph_sim_time(const sph_sim *s)
 {
     return s->t;
 }
+double sph_sim_h(const sph_sim *s)
+{
+    return s->h;
+}
 const sph_config *sph_sim_config(const sph_sim *s)
 {
     return &s->cfg;

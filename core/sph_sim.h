@@ -111,6 +111,8 @@ int sph_sim_step(sph_sim *s, long nsteps, sph_error *err);
 
 const sph_diag *sph_sim_diag(const sph_sim *s);
 double sph_sim_time(const sph_sim *s);
+/* The smoothing length h [m] (MPS: half the larger effective radius). */
+double sph_sim_h(const sph_sim *s);
 const sph_config *sph_sim_config(const sph_sim *s);
 /* A view of the particle arrays (valid until the next step); the pressures are computed from
  * the densities when it is taken. */

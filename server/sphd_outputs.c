@@ -40,7 +40,6 @@ struct sphd_outputs {
     int dim;
     double dx;   /* [m] */
     double mass; /* particle mass [kg] (per metre in 2D) */
-    double h;    /* smoothing length [m] */
     char kernel[32];
     sphd_diagfile *diag;
     int ncolumns; /* the diag series after "step" */
@@ -65,7 +64,6 @@ sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case
     o->dim = c->sim.dim;
     o->dx = c->sim.dx;
     o->mass = c->sim.rho0 * pow(c->sim.dx, c->sim.dim);
-    o->h = c->sim.h_over_dx * c->sim.dx;
     sphd_remove_stale_temps(dir); /* left by a crashed run in this directory */
     char path[4200];
     snprintf(path, sizeof path, "%s/diag.h5", dir);
@@ -244,7 +242,7 @@ json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err)
                         .n_boundary = nboundary,
                         .n_body = nbody,
                         .mass = o->mass,
-                        .h = o->h,
+                        .h = sph_sim_h(s),
                         .rpdf = has_rpdf ? &rpdf : NULL};
     char path[4400], xmf[4200];
     snprintf(path, sizeof path, "%s/%s", o->dir, e->file);
