@@ -64,7 +64,8 @@ static const char usage_text[] =
     "  --version          print the version\n"
     "\n"
     "Exit codes (--run): 0 the job is done, 1 it failed, 64 usage, 65 invalid case,\n"
-    "66 case file not found, 73 cannot create the output directory.\n"
+    "66 case file not found, 73 cannot create the output directory, 75 interrupted by\n"
+    "SIGINT or SIGTERM (a checkpoint was written: --resume continues).\n"
     "Exit codes (daemon): 0 stopped cleanly (SIGINT, SIGTERM or 'sphctl shutdown'), 64 usage,\n"
     "69 cannot bind an endpoint, 73 cannot create a directory, 75 another sphd already serves\n"
     "the endpoints or the state directory, 78 the --curve keys are missing or unsafe.\n";

@@ -12,6 +12,7 @@
 #include <math.h>
 #include <errno.h>
 #include <omp.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,6 +24,17 @@ typedef struct emitter {
 } emitter;
 
 /* Prints one event (stolen reference) as a line on stdout. */
+/* Steps per call of the solver: the run looks for a stop signal between two calls. */
+#define SPHD_RUN_CHUNK 100
+
+/* SIGINT or SIGTERM received: the run writes a checkpoint and exits 75. */
+static volatile sig_atomic_t run_interrupted;
+
+static void on_stop_signal(int sig)
+{
+    run_interrupted = sig;
+}
+
 static void emit(emitter *em, const char *type, json_t *body)
 {
     json_t *ev = sph_event_new(em->job, ++em->seq, type);
@@ -151,10 +163,32 @@ int sphd_run(const sphd_run_opts *o)
     if (o->ckpt_interval > 0)
         sphd_exec_set_checkpoint_policy(x, o->ckpt_interval, 1);
     emit_state(&em, "running", NULL);
-    sphd_exec_status st;
-    while ((st = sphd_exec_advance(x, 1000, INFINITY, on_event, &em, &err)) == SPHD_EXEC_RUNNING)
+    /* SIGINT, SIGTERM: stop between two chunks of steps, with a checkpoint (--resume) */
+    struct sigaction sa = {0};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    sphd_exec_status st = SPHD_EXEC_RUNNING;
+    while (!run_interrupted && (st = sphd_exec_advance(x, SPHD_RUN_CHUNK, INFINITY, on_event, &em,
+                                                       &err)) == SPHD_EXEC_RUNNING)
         ;
-    if (st == SPHD_EXEC_DONE) {
+    if (run_interrupted && st == SPHD_EXEC_RUNNING) {
+        const int sig = (int)run_interrupted;
+        if (sphd_exec_checkpoint(x, &err) == 0) {
+            emit_state(&em, "paused",
+                       sig == SIGINT ? "interrupted by SIGINT" : "interrupted by SIGTERM");
+            fprintf(stderr, "sphd: %s interrupted (%s); checkpoint written: --resume continues\n",
+                    job, sig == SIGINT ? "SIGINT" : "SIGTERM");
+            rc = SPHD_EX_TEMPFAIL;
+        } else {
+            char reason[SPH_ERROR_TEXT_MAX + 64];
+            snprintf(reason, sizeof reason, "interrupted, and the checkpoint failed: %s: %s",
+                     sph_error_code_name(err.code), err.message);
+            emit_state(&em, "failed", reason);
+            rc = SPHD_EX_FAILED;
+        }
+    } else if (st == SPHD_EXEC_DONE) {
         emit_state(&em, "done", NULL);
     } else {
         char reason[SPH_ERROR_TEXT_MAX + 32];
@@ -163,7 +197,8 @@ int sphd_run(const sphd_run_opts *o)
         rc = SPHD_EX_FAILED;
     }
     sphd_exec_free(x);
-    fprintf(stderr, "sphd: %s %s; outputs in %s\n", job, rc == 0 ? "done" : "failed", outdir);
+    if (rc != SPHD_EX_TEMPFAIL)
+        fprintf(stderr, "sphd: %s %s; outputs in %s\n", job, rc == 0 ? "done" : "failed", outdir);
     free(c);
     json_decref(root);
     return rc;
