@@ -384,7 +384,10 @@ void sph_bodies_fill(const sph_bodies *B, const sph_config *c, sph_particles *P)
     for (long q = 0; q < B->np; q++) {
         const long i = B->first + q;
         place(B, (const double(*)[2])cs, q, P, i);
-        P->rho[i] = sph_geometry_hydrostatic_density(c, P->x[i], P->y[i]);
+        /* with the pressure from the fluid, the density is the contact's alone (rho0 at rest) */
+        P->rho[i] = B->b[B->owner[q]].from_fluid
+                        ? c->rho0
+                        : sph_geometry_hydrostatic_density(c, P->x[i], P->y[i]);
         P->type[i] = SPH_BODY;
         P->id[i] = (int)i;
     }

@@ -43,7 +43,9 @@ typedef struct fctx {
     const unsigned char *type;
     const int *id;    /* creation index (F_BODY: which body a body particle belongs to) */
     const int *owner; /* F_BODY: body of body particle id, at owner[id - body0] */
-    long body0;       /* F_BODY: id of the first body particle */
+    unsigned char from_fluid[SPH_CONFIG_MAX_BODIES]; /* F_BODY: the body's pressure from the
+                                                        fluid: its continuity skips fluid pairs */
+    long body0;                                      /* F_BODY: id of the first body particle */
     double *ax, *ay, *drho;
     double *gxx, *gxy, *gyy;
     const double *txx, *txy, *tyy;
@@ -102,10 +104,17 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
         const double vr = dvx * dx + dvy * dy;
         const double rhoj = rho[j];
 
-        /* Yang et al. 2014, eq. (12): continuity; the same for both particles */
+        /* Yang et al. 2014, eq. (12): continuity; the same for both particles, except that the
+         * particles of a body that takes its pressure from the fluid count only solid
+         * neighbours (walls, other bodies): their density is the contact's */
         const double dd = m * vr * fw;
-        ai->drho += dd;
-        drho[j] += dd;
+        const int skip_i = (F & F_BODY) && oi >= 0 && c->from_fluid[oi] && c->type[j] == SPH_FLUID;
+        const int skip_j = (F & F_BODY) && fi && c->type[j] == SPH_BODY &&
+                           c->from_fluid[c->owner[c->id[j] - c->body0]];
+        if (!skip_i)
+            ai->drho += dd;
+        if (!skip_j)
+            drho[j] += dd;
 
         /* the viscous terms between fluid and dynamic wall particles are scaled by the case's
          * boundary.viscosity_factor (DualSPHysics' ViscoBoundFactor); ghosts are not walls here */
@@ -321,38 +330,40 @@ int sph_wcsph_forces(sph_sim *s)
                            (cfg->turb == SPH_TURB_SPS ? F_SPS : 0) |
                            (cfg->delta_sph > 0.0 ? F_DELTA : 0) | (ghosts ? F_GHOST : 0) |
                            (s->bodies.n > 0 ? F_BODY : 0);
-    const fctx c = {.x = P->x,
-                    .y = P->y,
-                    .vx = P->vx,
-                    .vy = P->vy,
-                    .rho = P->rho,
-                    .pr = P->pr,
-                    .type = P->type,
-                    .id = P->id,
-                    .owner = s->bodies.owner,
-                    .body0 = s->bodies.first,
-                    .ax = P->ax,
-                    .ay = P->ay,
-                    .drho = P->drho,
-                    .gxx = P->gxx,
-                    .gxy = P->gxy,
-                    .gyy = P->gyy,
-                    .txx = P->txx,
-                    .txy = P->txy,
-                    .tyy = P->tyy,
-                    .start = s->cells.start,
-                    .nx = s->cells.nx,
-                    .ny = s->cells.ny,
-                    .k = &s->kernel,
-                    .m = s->mass,
-                    .h = s->h,
-                    .eta2 = 0.01 * s->h * s->h,
-                    .support2 = s->kernel.support * s->kernel.support,
-                    .tiny = 1e-12 * s->h,
-                    .alpha_c0 = alpha * cfg->c0,
-                    .mu8 = 8.0 * cfg->rho0 * cfg->nu,
-                    .wall_visc = cfg->wall_viscosity,
-                    .dcoef = 2.0 * cfg->delta_sph * s->h * cfg->c0 * s->mass};
+    fctx c = {.x = P->x,
+              .y = P->y,
+              .vx = P->vx,
+              .vy = P->vy,
+              .rho = P->rho,
+              .pr = P->pr,
+              .type = P->type,
+              .id = P->id,
+              .owner = s->bodies.owner,
+              .body0 = s->bodies.first,
+              .ax = P->ax,
+              .ay = P->ay,
+              .drho = P->drho,
+              .gxx = P->gxx,
+              .gxy = P->gxy,
+              .gyy = P->gyy,
+              .txx = P->txx,
+              .txy = P->txy,
+              .tyy = P->tyy,
+              .start = s->cells.start,
+              .nx = s->cells.nx,
+              .ny = s->cells.ny,
+              .k = &s->kernel,
+              .m = s->mass,
+              .h = s->h,
+              .eta2 = 0.01 * s->h * s->h,
+              .support2 = s->kernel.support * s->kernel.support,
+              .tiny = 1e-12 * s->h,
+              .alpha_c0 = alpha * cfg->c0,
+              .mu8 = 8.0 * cfg->rho0 * cfg->nu,
+              .wall_visc = cfg->wall_viscosity,
+              .dcoef = 2.0 * cfg->delta_sph * s->h * cfg->c0 * s->mass};
+    for (int k = 0; k < s->bodies.n; k++)
+        c.from_fluid[k] = (unsigned char)s->bodies.b[k].from_fluid;
     strip_fn fn = NULL;
 #define SPH_PICK(T) fn = strips_##T[flags]
     SPH_KERNEL_DISPATCH(s->kernel.type, SPH_PICK);
