@@ -137,6 +137,11 @@ static json_t *diag_json(const sph_diag *d, const sph_config *c)
         json_object_set_new(b, "penetration", num(d->penetration));
     if (d->nbodies > 0)
         json_object_set_new(b, "bodies", bodies_json(d, c));
+    if (c->method == SPH_METHOD_MPS) { /* the pressure solve of the latest step */
+        json_object_set_new(b, "cg_iterations", json_integer(d->cg_iterations));
+        json_object_set_new(b, "cg_residual", num(d->cg_residual));
+        json_object_set_new(b, "free_surface", json_integer(d->free_surface));
+    }
     return b;
 }
 
