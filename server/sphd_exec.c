@@ -243,10 +243,11 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
     if ((x->last_diag != d->step && emit_diag(x, emit, ud, err)) ||
         outputs_due(x, 1, emit, ud, err))
         return SPHD_EXEC_FAILED;
-    json_t *res = json_pack("{s:s, s:I, s:o, s:o, s:{s:I, s:I, s:I}, s:O}", "method", "wcsph",
-                            "steps", (json_int_t)d->step, "t", num(d->t), "wall_time", num(x->wall),
-                            "particles", "fluid", (json_int_t)d->nfluid, "boundary",
-                            (json_int_t)d->nboundary, "lost", (json_int_t)d->lost, "diag", x->diag);
+    json_t *res = json_pack("{s:s, s:I, s:o, s:o, s:{s:I, s:I, s:I}, s:O}", "method",
+                            sph_method_name(x->c.method), "steps", (json_int_t)d->step, "t",
+                            num(d->t), "wall_time", num(x->wall), "particles", "fluid",
+                            (json_int_t)d->nfluid, "boundary", (json_int_t)d->nboundary, "lost",
+                            (json_int_t)d->lost, "diag", x->diag);
     if (res && d->nbody > 0) /* the bodies' particles, when there are bodies */
         json_object_set_new(json_object_get(res, "particles"), "body", json_integer(d->nbody));
     result_physics(res, x->sim);
