@@ -11,11 +11,8 @@ const sph_method_ops *sph_method_ops_of(sph_method m)
     switch (m) {
     case SPH_METHOD_WCSPH:
         return &sph_wcsph_ops;
-#ifdef SPH_EXPERIMENTAL_MPS
-    case SPH_METHOD_MPS: /* not validated yet (issue 12): only in -DSPH_EXPERIMENTAL_MPS=ON builds
-                          */
+    case SPH_METHOD_MPS:
         return &sph_mps_ops;
-#endif
     default:
         return NULL;
     }

@@ -426,11 +426,16 @@ static int parse_row(const json_t *root, const sph_case_field *f, const json_t *
     case SPH_CF_TEXT:
         return sph_json_string(obj, parent, key, 0, &str, err);
     case SPH_CF_NUMBER:
-        if (sph_json_number(obj, parent, key, 1, f->lo_open ? -INFINITY : f->lo, f->hi, &num, err))
+        /* open bounds are checked below, with a message that says which end is open */
+        if (sph_json_number(obj, parent, key, 1, f->lo_open || f->hi_open ? -INFINITY : f->lo,
+                            f->hi_open ? INFINITY : f->hi, &num, err))
             return SPH_ERR_INVALID;
-        if (f->lo_open && !(num > f->lo))
+        if (f->lo_open && !f->hi_open && !(num > f->lo))
             return sph_error_set(err, SPH_ERR_INVALID, f->path,
                                  "'%s' must be greater than %g, got %g", key, f->lo, num);
+        if (f->hi_open && !((f->lo_open ? num > f->lo : num >= f->lo) && num < f->hi))
+            return sph_error_set(err, SPH_ERR_INVALID, f->path, "'%s' must be in %c%g, %g), got %g",
+                                 key, f->lo_open ? '(' : '[', f->lo, f->hi, num);
         *(double *)dst = num;
         return 0;
     case SPH_CF_INTEGER:
@@ -602,7 +607,7 @@ json_t *sph_case_fields_json(void)
         if (f->type == SPH_CF_NUMBER || f->type == SPH_CF_INTEGER || f->type == SPH_CF_VECTOR ||
             f->type == SPH_CF_ARRAY) {
             json_object_set_new(row, f->lo_open ? "exclusive_min" : "min", json_real(f->lo));
-            json_object_set_new(row, "max", json_real(f->hi));
+            json_object_set_new(row, f->hi_open ? "exclusive_max" : "max", json_real(f->hi));
         }
         json_t *names = NULL;
         if (f->names) {

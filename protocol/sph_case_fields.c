@@ -17,6 +17,10 @@
 #define BODY(member)                                                                               \
     .dst = SPH_CF_CFG, .off = offsetof(sph_body_spec, member),                                     \
     .size = sizeof(((sph_body_spec *)0)->member)
+/* A field of the MPS method's settings. */
+#define MPS(member)                                                                                \
+    .dst = SPH_CF_CFG, .off = offsetof(sph_config, mps.member),                                    \
+    .size = sizeof(((sph_config *)0)->mps.member)
 #define OUT(member)                                                                                \
     .dst = SPH_CF_OUT, .off = offsetof(sph_output_config, member),                                 \
     .size = sizeof(((sph_output_config *)0)->member)
@@ -44,6 +48,11 @@ static const char *const body_pressure_names[] = {"fluid", "continuity", NULL};
 static const int body_pressure_values[] = {SPH_BODY_PRESSURE_FLUID, SPH_BODY_PRESSURE_CONTINUITY};
 static const char *const dof_names[] = {"x", "y", "rotation", NULL};
 static const int dof_bits[] = {SPH_DOF_X, SPH_DOF_Y, SPH_DOF_ROTATION};
+/* the MPS method's choices, in the order of their values in sph_mps_config (sph_config.h) */
+static const char *const precond_names[] = {"none", "jacobi", "ic0", NULL}; /* sph_mps_precond */
+static const char *const source_names[] = {"density", "mixed", NULL};
+static const char *const gradient_names[] = {"minimum", "corrected", NULL};
+static const char *const surface_names[] = {"particles", "water_line", NULL};
 static const char *const field_names[] = {"pos", "vel", "rho", "p", "type", "id", "mass", NULL};
 static const int field_bits[] = {SPH_FIELD_POS,  SPH_FIELD_VEL, SPH_FIELD_RHO, SPH_FIELD_P,
                                  SPH_FIELD_TYPE, SPH_FIELD_ID,  SPH_FIELD_MASS};
@@ -110,21 +119,22 @@ const sph_case_field sph_case_fields[] = {
      .doc = "what to run"},
     {.path = "/dim", .type = SPH_CF_INTEGER, .methods = SPH_CF_SIMS, .lo = 1, .hi = 3,
      .has_def = 1, .def = 2, CFG(dim), .doc = "dimensions; only 2 in this version"},
-    {.path = "/kernel", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
-     .doc = "the kernel (section 1.1) and the smoothing length"},
+    {.path = "/kernel", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS, .required = SPH_CF_MPS,
+     .doc = "the kernel (section 1.1) and, for wcsph, the smoothing length"},
     {.path = "/kernel/type", .type = SPH_CF_ENUM, .methods = SPH_CF_SIMS,
      .required = SPH_CF_SIMS, .names = kernel_names, .has_def = 1,
      .def = SPH_KERNEL_WENDLAND_C2, CFG(kernel.type),
-     .doc = "kernel type; wcsph takes the SPH kernels, not koshizuka or sheu_quartic"},
-    {.path = "/kernel/kappa", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .doc = "kernel type; wcsph takes the SPH kernels, mps the MPS weights koshizuka and "
+            "sheu_quartic"},
+    {.path = "/kernel/kappa", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
      .when = "/kernel/type=double_cosine", .lo = SPH_KERNEL_KAPPA_MIN,
      .hi = SPH_KERNEL_KAPPA_MAX, .has_def = 1, .def = SPH_KERNEL_KAPPA_DEFAULT,
      CFG(kernel.kappa), .doc = "double_cosine: support radius in units of h"},
-    {.path = "/kernel/radius", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+    {.path = "/kernel/radius", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
      .when = "/kernel/type=gaussian", .lo = SPH_KERNEL_GAUSS_RADIUS_MIN,
      .hi = SPH_KERNEL_GAUSS_RADIUS_MAX, .has_def = 1, .def = SPH_KERNEL_GAUSS_RADIUS,
      CFG(kernel.radius), .doc = "gaussian: truncation radius in units of h"},
-    {.path = "/kernel/h_over_dx", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS, .lo = SPH_H_OVER_DX_MIN,
+    {.path = "/kernel/h_over_dx", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH, .lo = SPH_H_OVER_DX_MIN,
      .hi = SPH_H_OVER_DX_MAX, .has_def = 1, .def = 1.414, CFG(h_over_dx),
      .doc = "smoothing length h = h_over_dx dx (paper 001: dx/h = 0.5 and 2/9, i.e. 2 and 4.5)"},
     {.path = "/dx", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS, .required = SPH_CF_SIMS,
@@ -136,8 +146,8 @@ const sph_case_field sph_case_fields[] = {
      .parse = parse_fluid, CFG(fluid),
      .doc = "array of 1-16 {\"box\": {\"min\", \"max\"}}: blocks of water at spacing dx, inside "
             "the domain"},
-    {.path = "/boundary", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
-     .doc = "the walls; absent: none"},
+    {.path = "/boundary", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS, .required = SPH_CF_MPS,
+     .doc = "the walls; absent: none (mps needs a tank of dynamic walls)"},
     {.path = "/boundary/type", .type = SPH_CF_ENUM, .methods = SPH_CF_SIMS,
      .names = boundary_names, .values = boundary_values, .has_def = 1, .def = 0, CFG(boundary),
      .doc = "dynamic: fixed boundary particles, density by continuity (Yang et al. 2.3); ghost: "
@@ -152,7 +162,7 @@ const sph_case_field sph_case_fields[] = {
      .doc = "factor on the viscous terms between fluid and wall particles (DualSPHysics' "
             "ViscoBoundFactor); 0: the walls exert no viscous friction"},
     {.path = "/boundary/tank", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS,
-     .parse = parse_tank, CFG(tank),
+     .required = SPH_CF_MPS, .parse = parse_tank, CFG(tank),
      .doc = "{\"min\", \"max\"}: inner faces of a tank with bottom, left and right walls (open "
             "top) [m]"},
     {.path = "/bodies", .type = SPH_CF_ARRAY, .methods = SPH_CF_WCSPH, .lo = 0,
@@ -219,13 +229,14 @@ const sph_case_field sph_case_fields[] = {
      .required = SPH_CF_WCSPH, .lo = 1e-3, .hi = 1e5, CFG(c0),
      .doc = "numerical speed of sound [m/s]; >= 10 x the largest expected speed"},
     {.path = "/physics/viscosity", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
-     .doc = "the viscous term"},
+     .required = SPH_CF_MPS, .doc = "the viscous term"},
     {.path = "/physics/viscosity/type", .type = SPH_CF_ENUM, .methods = SPH_CF_SIMS,
      .required = SPH_CF_SIMS, .names = visc_names, .values = visc_values, .has_def = 1,
      .def = 0, CFG(visc),
      .doc = "artificial: Monaghan's (Macia et al.); laminar: eq. (14) with mu = rho0 nu; "
-            "monaghan: Monaghan's term on every pair, alpha = 2 (d + 2) nu / (h c0)"},
-    {.path = "/physics/viscosity/alpha", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+            "monaghan: Monaghan's term on every pair, alpha = 2 (d + 2) nu / (h c0); mps: "
+            "laminar only (the Laplacian model (3.5))"},
+    {.path = "/physics/viscosity/alpha", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
      .when = "/physics/viscosity/type=artificial", .lo = 0.0, .hi = 10.0, .has_def = 1,
      .def = 0.01, CFG(alpha), .doc = "artificial viscosity coefficient"},
     {.path = "/physics/viscosity/nu", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
@@ -263,6 +274,51 @@ const sph_case_field sph_case_fields[] = {
      .has_def = 1, .def = 0.2, CFG(cfl), .doc = "CFL number of the adaptive time step"},
     {.path = "/time/dt", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS, .lo = 1e-12, .hi = 1.0,
      CFG(dt_fixed), .doc = "a fixed time step [s]; absent: adaptive"},
+    {.path = "/mps", .type = SPH_CF_OBJECT, .methods = SPH_CF_MPS,
+     .doc = "the MPS method's settings (Koshizuka & Oka 1996; Sheu et al. 2011 section 3)"},
+    {.path = "/mps/re", .type = SPH_CF_NUMBER, .methods = SPH_CF_MPS, .lo = 1.0, .lo_open = 1,
+     .hi = 6.0, .has_def = 1, .def = 2.1, MPS(re),
+     .doc = "effective radius of the number density and the Laplacian, in units of dx (more "
+            "than the spacing; Koshizuka & Oka 2.1, Sheu et al. 2)"},
+    {.path = "/mps/re_grad", .type = SPH_CF_NUMBER, .methods = SPH_CF_MPS, .lo = 1.0,
+     .lo_open = 1, .hi = 6.0, .has_def = 1, .def = 2.1, MPS(re_grad),
+     .doc = "effective radius of the gradient, in units of dx"},
+    {.path = "/mps/beta", .type = SPH_CF_NUMBER, .methods = SPH_CF_MPS, .lo = 0.0, .lo_open = 1,
+     .hi = 1.0, .hi_open = 1, .has_def = 1, .def = 0.97, MPS(beta),
+     .doc = "free-surface particles: number density below beta n0"},
+    {.path = "/mps/tol", .type = SPH_CF_NUMBER, .methods = SPH_CF_MPS, .lo = 0.0, .lo_open = 1,
+     .hi = 1.0, .hi_open = 1, .has_def = 1, .def = 1e-8, MPS(tol),
+     .doc = "conjugate gradient: relative residual ||b - A p|| / ||b|| to reach"},
+    {.path = "/mps/max_iterations", .type = SPH_CF_INTEGER, .methods = SPH_CF_MPS, .lo = 1,
+     .hi = 1e9, .has_def = 1, .def = 5000, MPS(maxit),
+     .doc = "conjugate gradient: iterations beyond which the job fails as unstable"},
+    {.path = "/mps/preconditioner", .type = SPH_CF_ENUM, .methods = SPH_CF_MPS,
+     .names = precond_names, .has_def = 1, .def = 2, MPS(precond),
+     .doc = "of the conjugate gradient: none, jacobi or ic0 (incomplete Cholesky)"},
+    {.path = "/mps/source", .type = SPH_CF_ENUM, .methods = SPH_CF_MPS, .names = source_names,
+     .has_def = 1, .def = 0, MPS(source),
+     .doc = "source of the pressure equation: density, relaxation rho (n* - n0) / (n0 dt^2) "
+            "(Koshizuka & Oka 1996); mixed, the velocity divergence plus that term (Tanaka & "
+            "Masunaga 2010)"},
+    {.path = "/mps/relaxation", .type = SPH_CF_NUMBER, .methods = SPH_CF_MPS, .lo = 0.0,
+     .lo_open = 1, .hi = 1.0, .has_def = 1, .def = 1.0, MPS(relax),
+     .doc = "coefficient of the number-density term of the source"},
+    {.path = "/mps/gradient", .type = SPH_CF_ENUM, .methods = SPH_CF_MPS,
+     .names = gradient_names, .has_def = 1, .def = 0, MPS(corrected),
+     .doc = "pressure gradient: minimum, model (3.4) with the local minimum pressure (Koshizuka "
+            "& Oka); corrected, with the corrective matrix and without it (Khayyer & Gotoh 2011)"},
+    {.path = "/mps/surface", .type = SPH_CF_ENUM, .methods = SPH_CF_MPS, .names = surface_names,
+     .has_def = 1, .def = 0, MPS(surface),
+     .doc = "free-surface condition: particles, p = 0 on the surface particles (Koshizuka & "
+            "Oka); water_line, p = 0 dx/2 beyond them by ghost-fluid extrapolation (Gibou et al. "
+            "2002)"},
+    {.path = "/mps/collision", .type = SPH_CF_NUMBER, .methods = SPH_CF_MPS, .lo = 0.0,
+     .hi = 1.0, .hi_open = 1, .has_def = 1, .def = 0.0, MPS(collision),
+     .doc = "collision model: pairs closer than this many dx that approach exchange momentum; "
+            "0: off"},
+    {.path = "/mps/restitution", .type = SPH_CF_NUMBER, .methods = SPH_CF_MPS, .lo = 0.0,
+     .hi = 1.0, .has_def = 1, .def = 0.2, MPS(restitution),
+     .doc = "collision model: coefficient of restitution"},
     {.path = "/output", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
      .doc = "particle snapshots; absent: none"},
     {.path = "/output/every", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,

@@ -52,6 +52,7 @@ typedef struct sph_case_field {
                                * /path (given or default) is a or b */
     double lo, hi;            /* inclusive bounds of numbers, integers, vector components */
     int lo_open;              /* numbers: lo itself is excluded (x > lo) */
+    int hi_open;              /* numbers: hi itself is excluded (x < hi) */
     const char *const *names; /* enum and names: the accepted names, NULL-terminated */
     const int *values;        /* enum: value per name; names: mask bit per name (NULL: k, 1<<k) */
     int has_def;              /* 1 if absent means def */
@@ -77,7 +78,8 @@ int sph_case_parse_sim(const json_t *root, sph_method m, sph_config *c, sph_outp
                        sph_error *err);
 
 /* The table as JSON (new reference): an array of {"path", "type", "methods": [...],
- * "required": [...], "when", "min", "max", "names", "default", "doc"}. */
+ * "required": [...], "when", "min" or "exclusive_min", "max" or "exclusive_max", "names",
+ * "default", "doc"}. */
 json_t *sph_case_fields_json(void);
 
 #endif

@@ -137,6 +137,11 @@ static json_t *diag_json(const sph_diag *d, const sph_config *c)
         json_object_set_new(b, "penetration", num(d->penetration));
     if (d->nbodies > 0)
         json_object_set_new(b, "bodies", bodies_json(d, c));
+    if (c->method == SPH_METHOD_MPS) { /* the pressure solve of the latest step */
+        json_object_set_new(b, "cg_iterations", json_integer(d->cg_iterations));
+        json_object_set_new(b, "cg_residual", num(d->cg_residual));
+        json_object_set_new(b, "free_surface", json_integer(d->free_surface));
+    }
     return b;
 }
 
@@ -238,10 +243,11 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
     if ((x->last_diag != d->step && emit_diag(x, emit, ud, err)) ||
         outputs_due(x, 1, emit, ud, err))
         return SPHD_EXEC_FAILED;
-    json_t *res = json_pack("{s:s, s:I, s:o, s:o, s:{s:I, s:I, s:I}, s:O}", "method", "wcsph",
-                            "steps", (json_int_t)d->step, "t", num(d->t), "wall_time", num(x->wall),
-                            "particles", "fluid", (json_int_t)d->nfluid, "boundary",
-                            (json_int_t)d->nboundary, "lost", (json_int_t)d->lost, "diag", x->diag);
+    json_t *res = json_pack("{s:s, s:I, s:o, s:o, s:{s:I, s:I, s:I}, s:O}", "method",
+                            sph_method_name(x->c.method), "steps", (json_int_t)d->step, "t",
+                            num(d->t), "wall_time", num(x->wall), "particles", "fluid",
+                            (json_int_t)d->nfluid, "boundary", (json_int_t)d->nboundary, "lost",
+                            (json_int_t)d->lost, "diag", x->diag);
     if (res && d->nbody > 0) /* the bodies' particles, when there are bodies */
         json_object_set_new(json_object_get(res, "particles"), "body", json_integer(d->nbody));
     result_physics(res, x->sim);

@@ -110,12 +110,12 @@ static int mps_check(const sph_config *c, sph_error *err)
                              "koshizuka or sheu_quartic",
                              sph_kernel_type_name(c->kernel.type));
     if (!(m->re > 1.0) || !(m->re <= 6.0))
-        return sph_error_set(err, SPH_ERR_INVALID, "/kernel/re",
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/re",
                              "re (in units of dx) must exceed the particle spacing and be at most "
                              "6: got %g (Koshizuka & Oka use 2.1)",
                              m->re);
     if (!(m->re_grad > 1.0) || !(m->re_grad <= 6.0))
-        return sph_error_set(err, SPH_ERR_INVALID, "/kernel/re_grad",
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/re_grad",
                              "re_grad (in units of dx) must exceed the particle spacing and be at "
                              "most 6: got %g (Koshizuka & Oka use 2.1)",
                              m->re_grad);
@@ -137,19 +137,33 @@ static int mps_check(const sph_config *c, sph_error *err)
     if (!(m->relax > 0.0 && m->relax <= 1.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/mps/relaxation",
                              "relaxation must be in (0, 1]: got %g", m->relax);
+    if (m->corrected != 0 && m->corrected != 1)
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/gradient", "unknown gradient model %d",
+                             m->corrected);
     if (m->surface != 0 && m->surface != 1)
         return sph_error_set(err, SPH_ERR_INVALID, "/mps/surface",
                              "unknown free-surface condition %d", m->surface);
-    if (!(m->collision >= 0.0 && m->collision < 1.0) ||
-        !(m->restitution >= 0.0 && m->restitution <= 1.0))
+    if (!(m->collision >= 0.0 && m->collision < 1.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/mps/collision",
-                             "the collision distance must be in [0, 1) dx and the restitution in "
-                             "[0, 1]");
-    if (!c->has_tank || c->boundary != SPH_BOUNDARY_DYNAMIC)
+                             "the collision distance must be in [0, 1) dx: got %g", m->collision);
+    if (!(m->restitution >= 0.0 && m->restitution <= 1.0))
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/restitution",
+                             "the restitution must be in [0, 1]: got %g", m->restitution);
+    if (c->boundary != SPH_BOUNDARY_DYNAMIC)
+        return sph_error_set(err, SPH_ERR_INVALID, "/boundary/type",
+                             "the MPS method needs walls of wall particles (\"type\": "
+                             "\"dynamic\"), not %s",
+                             c->boundary == SPH_BOUNDARY_GHOST ? "ghost walls" : "none");
+    if (!c->has_tank)
         return sph_error_set(
-            err, SPH_ERR_INVALID, "/boundary",
+            err, SPH_ERR_INVALID, "/boundary/tank",
             "the MPS method needs walls: a tank of wall particles "
             "(\"boundary\": {\"type\": \"dynamic\", \"layers\": 4, \"tank\": ...})");
+    if (c->visc != SPH_VISC_LAMINAR)
+        return sph_error_set(err, SPH_ERR_INVALID, "/physics/viscosity/type",
+                             "the MPS method takes the laminar viscosity (the Laplacian model "
+                             "(3.5)): {\"type\": \"laminar\", \"nu\": ...}, not %s",
+                             c->visc == SPH_VISC_ARTIFICIAL ? "artificial" : "monaghan");
     const double rmax = m->re > m->re_grad ? m->re : m->re_grad;
     const int need = 2 * (int)floor(rmax);
     if (c->layers < need)

@@ -41,6 +41,19 @@ def node_at(method, path):
     return resolve(node) if node is not True else True, parent
 
 
+def never_default(row, method):
+    """Whether a row's default can never apply to a method: the row and every object above it
+    are required for it (e.g. mps requires kernel, and a kernel its type)."""
+    if method not in row["required"] or row["when"] is not None:
+        return False
+    parts = row["path"].strip("/").split("/")
+    for k in range(1, len(parts)):
+        up = next((r for r in rows if r["path"] == "/" + "/".join(parts[:k])), None)
+        if up is None or method not in up["required"]:
+            return False
+    return True
+
+
 KIND = {"number": "number", "integer": "integer", "object": "object", "vector": "array",
         "names": "array", "box": "object", "array": "array", "string": "string"}
 methods = sorted({m for r in rows for m in r["methods"]})
@@ -69,11 +82,17 @@ for r in rows:
                 expect(node.get("exclusiveMinimum") == r["exclusive_min"], f"{where}: exclusiveMinimum")
             else:
                 expect(node.get("minimum") == r["min"], f"{where}: minimum {node.get('minimum')} vs {r['min']}")
-            expect(node.get("maximum") == r["max"], f"{where}: maximum {node.get('maximum')} vs {r['max']}")
+            if "exclusive_max" in r:
+                expect(node.get("exclusiveMaximum") == r["exclusive_max"], f"{where}: exclusiveMaximum")
+            else:
+                expect(node.get("maximum") == r["max"], f"{where}: maximum {node.get('maximum')} vs {r['max']}")
         if t == "array":
             expect(node.get("minItems") == r["min"] and node.get("maxItems") == r["max"],
                    f"{where}: items {node.get('minItems')}..{node.get('maxItems')} vs {r['min']}..{r['max']}")
-        if "default" in r and t != "object":
+        if "default" in r and t != "object" and never_default(r, m):
+            expect("default" not in node, f"{where}: no default in the schema (the field and its "
+                   "objects are required for this method, so the table's default never applies)")
+        elif "default" in r and t != "object":
             expect(node.get("default") == r["default"],
                    f"{where}: default {node.get('default')} vs {r['default']}")
         if parent is not None and r["when"] is None:

@@ -36,7 +36,8 @@ beyond_schema = {"at_outside", "domain_reversed", "no_interior", "duplicate_key"
                  "wcsph_fluid_outside", "wcsph_no_particles", "wcsph_mps_kernel",
                  "wcsph_body_outside", "wcsph_body_overlap", "wcsph_body_in_wall",
                  "wcsph_body_too_small", "wcsph_body_same_name", "wcsph_body_ghost_walls",
-                 "wcsph_ghost_tilted_gravity", "wcsph_wave_half_tank", "wcsph_wave_wavelength"}
+                 "wcsph_ghost_tilted_gravity", "wcsph_wave_half_tank", "wcsph_wave_wavelength",
+                 "mps_layers"}
 for f in sorted(glob.glob(os.path.join(src, "tests", "cases", "invalid", "*.json"))):
     name = os.path.basename(f)[:-5]
     if name in beyond_schema:

@@ -102,6 +102,47 @@ static void test_shipped_cases_valid(void **state)
     assert_true(count >= 1);
 }
 
+/* The mps object lands in sph_config.mps, names as their values, defaults where absent. */
+static void test_mps_fields(void **state)
+{
+    (void)state;
+    sph_error err;
+    json_t *root = json_loads(
+        "{\"method\": \"mps\", \"kernel\": {\"type\": \"sheu_quartic\"}, \"dx\": 0.01, "
+        "\"domain\": {\"min\": [0, 0], \"max\": [1, 1]}, "
+        "\"fluid\": [{\"box\": {\"min\": [0, 0], \"max\": [0.2, 0.2]}}], "
+        "\"boundary\": {\"layers\": 4, \"tank\": {\"min\": [0, 0], \"max\": [1, 0.5]}}, "
+        "\"physics\": {\"viscosity\": {\"type\": \"laminar\", \"nu\": 1e-6}}, "
+        "\"mps\": {\"re\": 2.0, \"re_grad\": 2.5, \"beta\": 0.95, \"tol\": 1e-6, "
+        "\"max_iterations\": 300, \"preconditioner\": \"jacobi\", \"source\": \"mixed\", "
+        "\"relaxation\": 0.01, \"gradient\": \"corrected\", \"surface\": \"water_line\", "
+        "\"collision\": 0.5, \"restitution\": 0.1}, \"time\": {\"end\": 0.1}}",
+        0, NULL);
+    assert_non_null(root);
+    sph_case *c = calloc(1, sizeof *c);
+    assert_non_null(c);
+    if (sph_case_from_json(root, c, &err))
+        fail_msg("%s (at %s)", err.message, err.path);
+    const sph_mps_config *m = &c->sim.mps;
+    assert_int_equal(c->method, SPH_METHOD_MPS);
+    assert_int_equal(c->sim.kernel.type, SPH_KERNEL_SHEU_QUARTIC);
+    assert_true(m->re == 2.0 && m->re_grad == 2.5 && m->beta == 0.95 && m->tol == 1e-6);
+    assert_int_equal(m->maxit, 300);
+    assert_int_equal(m->precond, 1);
+    assert_int_equal(m->source, 1);
+    assert_true(m->relax == 0.01);
+    assert_int_equal(m->corrected, 1);
+    assert_int_equal(m->surface, 1);
+    assert_true(m->collision == 0.5 && m->restitution == 0.1);
+    json_object_del(root, "mps"); /* the defaults: Koshizuka & Oka's */
+    if (sph_case_from_json(root, c, &err))
+        fail_msg("%s (at %s)", err.message, err.path);
+    const sph_mps_config def = sph_mps_config_default();
+    assert_memory_equal(&c->sim.mps, &def, sizeof def);
+    free(c);
+    json_decref(root);
+}
+
 static void test_apply_set(void **state)
 {
     (void)state;
@@ -194,9 +235,8 @@ static void test_table_defaults(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_invalid_cases),
-        cmocka_unit_test(test_shipped_cases_valid),
-        cmocka_unit_test(test_apply_set),
+        cmocka_unit_test(test_invalid_cases),  cmocka_unit_test(test_shipped_cases_valid),
+        cmocka_unit_test(test_mps_fields),     cmocka_unit_test(test_apply_set),
         cmocka_unit_test(test_table_defaults),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

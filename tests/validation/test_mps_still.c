@@ -1,20 +1,34 @@
 /*
- * MPS still water (issue 12): a tank of water H deep at rest, both MPS kernels. After 2 s the
- * largest speed must be below 1% of sqrt(g H) and the mean pressure of the bottom fluid row
- * within 5% of rho0 g H (the row's centres are dx/2 above the floor: rho0 g (H - dx/2) is what
- * it should hold; the issue's tolerance is against rho0 g H, so both are printed and the
- * hydrostatic value of the row is also held to 5%).
+ * MPS still water (issue 12): a tank of water H = 0.2 m deep and 0.4 m wide at rest, both MPS
+ * kernels. After 2 s the largest speed must be below 1% of sqrt(g H) and the mean pressure of the
+ * bottom fluid row within 5% of rho0 g H (the row's centres are dx/2 above the floor: rho0 g (H -
+ * dx/2) is what it should hold; the issue's tolerance is against rho0 g H, so both are printed and
+ * the hydrostatic value of the row is also held to 5%).
  *
- * Usage: test_mps_still [DX [KERNEL [SURFACE]]] (default 0.01 m: 20 x 40 particles, seconds;
- * KERNEL koshizuka or sheu_quartic for one only; SURFACE the mps.surface condition). Prints the
- * figures at 0.5, 1 and 1.5 s too. Built only with -DSPH_EXPERIMENTAL_MPS=ON.
+ * The ctest (validation_mps_still) runs it without arguments: dx = 0.005 m = H/40 (80 x 40
+ * particles, 7924 steps each, about a minute for both kernels on one core), mps.surface 0
+ * (Koshizuka & Oka's p = 0 at the surface particles' centres, the case default), the Koshizuka
+ * weight with re = 2.1 dx (Koshizuka & Oka 1996) and the quartic with re = 2.0 dx (Sheu et al.
+ * 2011: re = 2h, h the spacing). Figures there after 2 s (vmax in % of sqrt(gH) / bottom row in %
+ * of rho0 g H): koshizuka 0.25 / -3.74, sheu_quartic 0.002 / -2.58. Both pass, but the Koshizuka
+ * run is not at rest: a checkerboard mode under the surface near the side walls grows at about 4/s
+ * from 1 s (vmax 0.006% at 1 s, 0.026% at 1.5 s, 0.25% at 2 s; the bottom row -2.62% until 1.5 s,
+ * then pulled off by the mode); at that rate it would cross the 1% bound near 2.35 s (an
+ * extrapolation, not run). See below for what it is and what was tried. At dx = 0.01 (H/20)
+ * the Koshizuka weight misses the bottom-row bound by 0.02% (-5.02%: p = 0 on the top row's
+ * centres is a -dx/(2H) bias), so the test does not run there; mps.surface 1 removes that bias
+ * but makes the mode blow the Koshizuka weight up at dx = 0.005 (below).
+ *
+ * Usage: test_mps_still [DX [KERNEL [SURFACE]]] (default 0.005 m; KERNEL koshizuka or
+ * sheu_quartic for one only, `both` for both; SURFACE the mps.surface condition, default the
+ * case default 0). Prints the figures at 0.5, 1 and 1.5 s too.
  *
  * Settings: mixed source (Tanaka & Masunaga) with relax 0.005, corrected gradient (without the
  * local minimum), dt = 0.1 dx / sqrt(2 g H) (the method's CFL limit with cfl 0.1), nu = 1e-6.
  *
  * State (issue 12, third session): passes at dx 0.01 with sheu_quartic and at dx 0.005 with both
  * kernels; koshizuka at dx 0.01 misses the bottom-row bound by 0.02% (the p = 0 placement below).
- * Not yet a ctest. Figures after 2 s (vmax in % of sqrt(gH), bottom row in % of rho0 g H):
+ * Figures after 2 s (vmax in % of sqrt(gH), bottom row in % of rho0 g H):
  *
  *                         koshizuka 0.01  sheu 0.01     koshizuka 0.005     sheu 0.005
  *   before (2nd session)  0.04   -5.02    0.12  -4.93   blow-up at 1.74 s   0.04  -2.59
@@ -118,6 +132,14 @@
  *   quartic); extending the extrapolation to every row whose stencil crosses the line (Gibou et
  *   al. do it for every crossing link) is not done (koshizuka with re = 2.5 dx misses more and
  *   is stable, so it is not the mode's cause).
+ * Fifth session (issue 12): the dam break (cases/mps_dambreak.json) does not run with this test's
+ *   settings: mixed source, relaxation 0.005, corrected gradient blows up at t = 0.13 s at
+ *   dx = L/20 (the density error grows to 17%; with the collision model too, at 0.15 s, and at
+ *   0.09 s at L/40). It runs with Koshizuka & Oka's (density source, relaxation 1, the local
+ *   minimum) and the collision model of Koshizuka's codes (0.5 dx), and its front then follows
+ *   their MPS result within 1-5% RMS; but under those settings still water is far from rest
+ *   (dx 0.01, 2 s: vmax 44% of sqrt(gH) with koshizuka, 46% with sheu_quartic). One set of
+ *   settings for both is still to be found.
  * Earlier sessions: the first (walls as unknowns of the pressure equation): vmax after 2 s
  *   0.11-0.4 m/s (8-29% of sqrt(gH)) over every option tried: the fluid column next to each side
  *   wall slid down and drove a circulation that never settled. Walls as a Neumann boundary cured
@@ -222,7 +244,7 @@ static int run(sph_kernel_type type, double dx, int surface)
 
 int main(int argc, char **argv)
 {
-    const double dx = argc > 1 ? atof(argv[1]) : 0.01;
+    const double dx = argc > 1 ? atof(argv[1]) : 0.005;
     const char *only = argc > 2 && strcmp(argv[2], "both") ? argv[2] : NULL; /* one kernel */
     const int surface = argc > 3 ? atoi(argv[3]) : -1;
     int rc = 0;

@@ -1,0 +1,168 @@
+/*
+ * bench_mps_dambreak: the MPS method's speed on Koshizuka & Oka's dam break
+ * (cases/mps_dambreak.json: a column L = 0.146 m wide and 2L high in a tank 4L long) at three
+ * resolutions (L/20, L/40, L/80: 800, 3,200 and 12,800 fluid particles), 1 and 2 threads, against
+ * WCSPH on the same dam break. Each run advances the first `--time` simulated seconds (default 0.1
+ * s, T = 1.2: the column collapsing, the front on the floor). Prints per run: particles, steps, the
+ * mean time step, particle-steps per second (all particles), ms per step, for MPS the share of the
+ * step spent in the pressure equation (assembly and CG) and the mean CG iterations per step, and
+ * the wall time per simulated second, the figure that compares the methods (MPS takes steps about
+ * ten times longer than WCSPH's acoustic ones, each costing a linear solve).
+ *
+ * MPS: the case's settings (Koshizuka weight, re = 2.1 dx, number-density source, relaxation 1,
+ * local-minimum gradient, collision 0.5 dx, IC(0)-preconditioned CG to 1e-8, cfl 0.1).
+ * WCSPH: cases/dambreak.json's (Wendland C2, h = 1.414 dx, alpha = 0.1, delta-SPH 0.1, wall
+ * viscosity factor 0, cfl 0.2) with c0 = 25 m/s (10 sqrt(2 g 2L)). Never fails on time.
+ *
+ * Figures (this 2-core machine shared with two other long runs, load about 3.5, OMP_WAIT_POLICY
+ * =passive; 1 thread), MPS / WCSPH: wall seconds per simulated second 4.8 / 2.1 at L/20, 34 / 18
+ * at L/40, 268 / 137 at L/80; MPS steps 3.8 times longer, each 9 times dearer, 53-60% of it in
+ * the pressure equation; CG iterations per step 24, 29, 35 (IC(0)). 2 threads gave nothing
+ * there (the cores were busy), and with the default (active) wait policy they were 50 times
+ * slower at L/40 (237 ms per step against 4.9 with one thread: threads spinning at the
+ * barriers of the many short parallel loops while the machine's other work held the second
+ * core); measure the thread scaling on an idle machine.
+ *
+ * Usage: bench_mps_dambreak [--time T] [--threads "1 2"] [--sizes "20 40 80"] [--methods "mps
+ * wcsph"]
+ */
+#include "sph_sim.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define L_COLUMN 0.146 /* [m] */
+
+static sph_config dambreak(int mps, int n)
+{
+    const double L = L_COLUMN;
+    sph_config c = sph_config_default();
+    c.dx = L / n;
+    c.domain = (sph_box){{0, 0, 0}, {4 * L, 0.6, 0}};
+    c.nfluid = 1;
+    c.fluid[0] = (sph_box){{0, 0, 0}, {L, 2 * L, 0}};
+    c.boundary = SPH_BOUNDARY_DYNAMIC;
+    c.has_tank = 1;
+    c.tank = (sph_box){{0, 0, 0}, {4 * L, 3 * L, 0}};
+    c.t_end = 1.0;
+    if (mps) {
+        c.method = SPH_METHOD_MPS;
+        c.kernel = sph_kernel_spec_default(SPH_KERNEL_KOSHIZUKA);
+        c.layers = 4;
+        c.visc = SPH_VISC_LAMINAR;
+        c.nu = 1e-6;
+        c.cfl = 0.1;
+        c.mps.collision = 0.5;
+    } else {
+        c.kernel = sph_kernel_spec_default(SPH_KERNEL_WENDLAND_C2);
+        c.h_over_dx = 1.414;
+        c.layers = 3;
+        c.wall_viscosity = 0.0;
+        c.eos = SPH_EOS_LINEAR;
+        c.c0 = 25.0;
+        c.visc = SPH_VISC_ARTIFICIAL;
+        c.alpha = 0.1;
+        c.delta_sph = 0.1;
+        c.cfl = 0.2;
+    }
+    return c;
+}
+
+static int one(int mps, int n, int threads, double t_sim)
+{
+    omp_set_num_threads(threads);
+    sph_config c = dambreak(mps, n);
+    sph_error err;
+    sph_sim *s = sph_sim_create(&c, &err);
+    if (!s) {
+        fprintf(stderr, "bench_mps_dambreak: %s\n", err.message);
+        return -1;
+    }
+    sph_timing t0, t1;
+    sph_sim_timing(s, &t0);
+    long cg = 0;
+    const double w0 = omp_get_wtime();
+    while (sph_sim_time(s) < t_sim) { /* one step at a time: the CG count is per step */
+        if (sph_sim_advance(s, 1, t_sim, &err)) {
+            fprintf(stderr, "bench_mps_dambreak: %s\n", err.message);
+            sph_sim_destroy(s);
+            return -1;
+        }
+        cg += sph_sim_diag(s)->cg_iterations;
+    }
+    const double wall = omp_get_wtime() - w0;
+    sph_sim_timing(s, &t1);
+    const sph_diag *d = sph_sim_diag(s);
+    const long np = d->nfluid + d->nboundary, steps = d->step;
+    const double solve = t1.solve - t0.solve;
+    printf("%6s %5d %7ld %7ld %7d %6ld %9.2e %10.3f %8.3f", mps ? "mps" : "wcsph", n, d->nfluid, np,
+           threads, steps, d->t / (double)steps, (double)np * (double)steps / wall / 1e6,
+           1e3 * wall / (double)steps);
+    if (mps)
+        printf(" %6.0f%% %7.1f", 100.0 * solve / wall, (double)cg / (double)steps);
+    else
+        printf(" %7s %7s", "-", "-");
+    printf(" %9.1f\n", wall / d->t);
+    fflush(stdout);
+    sph_sim_destroy(s);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    double t_sim = 0.1;
+    const char *threads = "1 2", *sizes = "20 40 80", *methods = "mps wcsph";
+    for (int i = 1; i + 1 < argc; i += 2) {
+        if (strcmp(argv[i], "--time") == 0)
+            t_sim = atof(argv[i + 1]);
+        else if (strcmp(argv[i], "--threads") == 0)
+            threads = argv[i + 1];
+        else if (strcmp(argv[i], "--sizes") == 0)
+            sizes = argv[i + 1];
+        else if (strcmp(argv[i], "--methods") == 0)
+            methods = argv[i + 1];
+        else {
+            fprintf(stderr,
+                    "usage: %s [--time T] [--threads LIST] [--sizes LIST] [--methods LIST]\n",
+                    argv[0]);
+            return 64;
+        }
+    }
+    if (!(t_sim > 0.0 && t_sim <= 10.0)) {
+        fprintf(stderr, "bench_mps_dambreak: --time must be in (0, 10] s\n");
+        return 64;
+    }
+    printf("Koshizuka & Oka's dam break (L = %.3f m), the first %.3g s; sizes are L/dx\n", L_COLUMN,
+           t_sim);
+    printf("%6s %5s %7s %7s %7s %6s %9s %10s %8s %7s %7s %9s\n", "method", "L/dx", "fluid", "total",
+           "threads", "steps", "dt [s]", "Mpart-st/s", "ms/step", "solve", "CG/step", "s per s");
+    char sz[128];
+    snprintf(sz, sizeof sz, "%s", sizes);
+    for (char *sp = NULL, *sv = strtok_r(sz, " ,", &sp); sv; sv = strtok_r(NULL, " ,", &sp)) {
+        const int n = atoi(sv);
+        if (n < 4 || n > 1000) {
+            fprintf(stderr, "bench_mps_dambreak: sizes are L/dx in [4, 1000], not %s\n", sv);
+            return 64;
+        }
+        char ml[64];
+        snprintf(ml, sizeof ml, "%s", methods);
+        for (char *mp = NULL, *mv = strtok_r(ml, " ,", &mp); mv; mv = strtok_r(NULL, " ,", &mp)) {
+            const int mps = strcmp(mv, "mps") == 0;
+            if (!mps && strcmp(mv, "wcsph") != 0) {
+                fprintf(stderr, "bench_mps_dambreak: methods are mps and wcsph, not %s\n", mv);
+                return 64;
+            }
+            char th[64];
+            snprintf(th, sizeof th, "%s", threads);
+            for (char *tp = NULL, *tv = strtok_r(th, " ,", &tp); tv; tv = strtok_r(NULL, " ,", &tp))
+                if (one(mps, n, atoi(tv), t_sim))
+                    return 1;
+        }
+    }
+    printf("solve: the share of the wall time in the pressure equation's assembly and CG; s per s: "
+           "wall seconds per simulated second. Timings on a shared machine are noisy.\n");
+    return 0;
+}
