@@ -166,6 +166,7 @@ int sphd_run(const sphd_run_opts *o)
     /* SIGINT, SIGTERM: stop between two chunks of steps, with a checkpoint (--resume) */
     struct sigaction sa = {0};
     sa.sa_handler = on_stop_signal;
+    sa.sa_flags = SA_RESETHAND; /* a second signal stops it at once */
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);

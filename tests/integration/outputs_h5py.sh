@@ -9,7 +9,8 @@
 set -eu
 sphd=$1; src=$2
 tmp=$(mktemp -d); pid=
-trap '[ -n "$pid" ] && kill $pid 2>/dev/null || true; rm -rf "$tmp"' EXIT
+# (sphd --run stops on SIGTERM after a checkpoint: wait for it before removing its directory)
+trap '[ -n "$pid" ] && kill $pid 2>/dev/null && wait $pid 2>/dev/null; rm -rf "$tmp"' EXIT
 PY=/usr/bin/python3
 
 # 1. a finished job (coarse, quick)
@@ -172,5 +173,6 @@ assert len(seen) >= 3 and seen == sorted(seen), seen
 f.close()
 print("rows seen while the job ran:", seen)
 PYEOF
-kill $pid 2>/dev/null || true
+kill $pid 2>/dev/null && wait $pid 2>/dev/null || true
+pid=
 echo "outputs via h5py: 3 passed, 0 failed"
