@@ -15,50 +15,18 @@ CASE="$SRC/cases/water_entry.json"
 # even when each sphctl call is slow (ASan, a loaded machine): the kills must find it running
 sets=(--set dx=0.01 --set time.end=0.15 --set output.every=0.05 --set diagnostics.every=5)
 
-# the uninterrupted reference, in batch mode
-"$SPHD" --run "$CASE" --threads 1 "${sets[@]}" --out "$tmp/ref/we" >"$tmp/ref.jsonl" 2>/dev/null
-check "the reference run is done" jlast "$tmp/ref.jsonl" 'd.get("state")=="done"'
-t0=$(date +%s.%N)
-"$SPHD" --run "$CASE" --threads 1 "${sets[@]}" --out "$tmp/timing/we" >/dev/null 2>&1
-runtime=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { print b - a }')
-# the same with 2 threads (5,000 fluid particles: the parallel loops run), bitwise
-"$SPHD" --run "$CASE" --threads 2 "${sets[@]}" --out "$tmp/two/we" >/dev/null 2>&1
-check "2 threads: bitwise the 1-thread run" "$PY" "$(dirname "$0")/h5check.py" same "$tmp/ref/we" \
-  "$tmp/two/we"
+# the uninterrupted reference in batch mode, timed, and with 2 threads (5,000 fluid particles:
+# the parallel loops run), bitwise
+batch_reference we "${sets[@]}"
 
 start_sphd --threads 1
-expect_rc "submit the water entry, not started" 0 "$SPHCTL" submit "$CASE" --id we --no-start \
-  "${sets[@]}"
-expect_rc "step 7" 0 "$SPHCTL" step we 7
-for _ in $(seq 1 500); do
-  "$SPHCTL" --json status we >"$tmp/st" 2>/dev/null
-  jtrue "$tmp/st" 'd["state"]=="paused" and not d.get("pending_step")' && break
-  sleep 0.02
-done
-check "seven steps, then paused" jtrue "$tmp/st" 'd["state"]=="paused" and d["progress"]["steps"]==7'
+submit_step_pause we "water entry" "${sets[@]}"
 expect_rc "query a paused job with bodies" 0 "$SPHCTL" --json query we --fields pos,type
 check "the query names the body's particles" jtrue "$tmp/out" \
   'sum(1 for t in d["particles"]["fields"]["type"] if t=="body") > 0'
 check "the query's diagnostics carry the body" jtrue "$tmp/out" \
   '"cylinder" in d["diag"]["bodies"] and d["diag"]["penetration"] == d["diag"]["bodies"]["cylinder"]["penetration"]'
-expect_rc "resume" 0 "$SPHCTL" resume we
-sleep "$(awk -v r="$runtime" 'BEGIN { printf "%.3f", r * 0.15 }')"
-expect_rc "pause while running" 0 "$SPHCTL" --json pause we
-check "paused" jtrue "$tmp/out" 'd["state"] in ("paused", "done")'
-expect_rc "resume again" 0 "$SPHCTL" resume we
-
-kills=0
-for i in 1 2; do
-  sleep "$(awk -v r="$runtime" -v p=$((10 + RANDOM % 20)) 'BEGIN { printf "%.3f", r * p / 100 }')"
-  kill -KILL "$sphd_pid"; wait "$sphd_pid" 2>/dev/null; sphd_pid=
-  kills=$((kills+1))
-  check "latest files whole after kill $kills" "$PY" "$(dirname "$0")/h5check.py" whole \
-    "$STATE/jobs/we"
-  start_sphd --threads 1
-  expect_rc "the job is still known after restart $i" 0 "$SPHCTL" --json status we
-done
-expect_rc "watch it to the end" 0 "$SPHCTL" --json watch we
-check "it finished" jlast "$tmp/out" 'd.get("state")=="done" or d.get("status",{}).get("state")=="done"'
+run_pause_kill we
 check "diag events carry bodies.cylinder" "$PY" -c '
 import json, sys
 ev = [json.loads(l) for l in open(sys.argv[1])]

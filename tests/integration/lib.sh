@@ -65,3 +65,59 @@ PY=/usr/bin/python3
 jtrue() { "$PY" -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if ($2) else 1)" "$1"; }
 # jlast FILE EXPR: the same over `d`, the last line of a JSON Lines file.
 jlast() { "$PY" -c "import json,sys; d=json.loads(open(sys.argv[1]).read().splitlines()[-1]); sys.exit(0 if ($2) else 1)" "$1"; }
+
+# batch_reference JOB ARGS...: `sphd --run "$CASE" ARGS` the uninterrupted reference
+# ($tmp/ref/JOB, its events in $tmp/ref.jsonl), once more timed (sets $runtime [s], to scale the
+# sleeps of a crash test), and with 2 threads, which must be bitwise the 1-thread run.
+batch_reference() {
+  local job=$1; shift
+  "$SPHD" --run "$CASE" --threads 1 "$@" --out "$tmp/ref/$job" >"$tmp/ref.jsonl" 2>/dev/null
+  check "the reference run is done" jlast "$tmp/ref.jsonl" 'd.get("state")=="done"'
+  local t0; t0=$(date +%s.%N)
+  "$SPHD" --run "$CASE" --threads 1 "$@" --out "$tmp/timing/$job" >/dev/null 2>&1
+  runtime=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { print b - a }')
+  "$SPHD" --run "$CASE" --threads 2 "$@" --out "$tmp/two/$job" >/dev/null 2>&1
+  check "2 threads: bitwise the 1-thread run" "$PY" "$(dirname "$0")/h5check.py" same \
+    "$tmp/ref/$job" "$tmp/two/$job"
+}
+
+# submit_step_pause JOB WHAT ARGS...: submits "$CASE" (described as WHAT) as JOB without
+# starting it, with ARGS, steps it 7 times and checks that it then waits, paused.
+submit_step_pause() {
+  local job=$1 what=$2; shift 2
+  expect_rc "submit the $what, not started" 0 "$SPHCTL" submit "$CASE" --id "$job" --no-start "$@"
+  expect_rc "step 7" 0 "$SPHCTL" step "$job" 7
+  for _ in $(seq 1 500); do
+    "$SPHCTL" --json status "$job" >"$tmp/st" 2>/dev/null
+    jtrue "$tmp/st" 'd["state"]=="paused" and not d.get("pending_step")' && break
+    sleep 0.02
+  done
+  check "seven steps, then paused" jtrue "$tmp/st" \
+    'd["state"]=="paused" and d["progress"]["steps"]==7'
+}
+
+# run_pause_kill JOB: resumes the paused JOB, pauses and resumes it while it runs, then kills
+# sphd with SIGKILL twice at random moments (scaled by $runtime) and starts it again on the same
+# state dir, checking the job's latest files are whole after each kill, and watches the job to
+# its end (the watch's events in $tmp/out). Sets $kills.
+run_pause_kill() {
+  local job=$1
+  expect_rc "resume" 0 "$SPHCTL" resume "$job"
+  sleep "$(awk -v r="$runtime" 'BEGIN { printf "%.3f", r * 0.15 }')"
+  expect_rc "pause while running" 0 "$SPHCTL" --json pause "$job"
+  check "paused" jtrue "$tmp/out" 'd["state"] in ("paused", "done")'
+  expect_rc "resume again" 0 "$SPHCTL" resume "$job"
+  kills=0
+  for i in 1 2; do
+    sleep "$(awk -v r="$runtime" -v p=$((10 + RANDOM % 20)) 'BEGIN { printf "%.3f", r * p / 100 }')"
+    kill -KILL "$sphd_pid"; wait "$sphd_pid" 2>/dev/null; sphd_pid=
+    kills=$((kills+1))
+    check "latest files whole after kill $kills" "$PY" "$(dirname "$0")/h5check.py" whole \
+      "$STATE/jobs/$job"
+    start_sphd --threads 1
+    expect_rc "the job is still known after restart $i" 0 "$SPHCTL" --json status "$job"
+  done
+  expect_rc "watch it to the end" 0 "$SPHCTL" --json watch "$job"
+  check "it finished" jlast "$tmp/out" \
+    'd.get("state")=="done" or d.get("status",{}).get("state")=="done"'
+}

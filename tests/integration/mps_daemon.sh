@@ -15,47 +15,15 @@ CASE="$SRC/cases/mps_dambreak.json"
 # long enough that the sleeps below, scaled by the batch run time, end well before the job does
 sets=(--set dx=0.005 --set time.end=0.3 --set output.every=0.05 --set diagnostics.every=5)
 
-# the uninterrupted reference, in batch mode
-"$SPHD" --run "$CASE" --threads 1 "${sets[@]}" --out "$tmp/ref/db" >"$tmp/ref.jsonl" 2>/dev/null
-check "the reference run is done" jlast "$tmp/ref.jsonl" 'd.get("state")=="done"'
-t0=$(date +%s.%N)
-"$SPHD" --run "$CASE" --threads 1 "${sets[@]}" --out "$tmp/timing/db" >/dev/null 2>&1
-runtime=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { print b - a }')
-"$SPHD" --run "$CASE" --threads 2 "${sets[@]}" --out "$tmp/two/db" >/dev/null 2>&1
-check "2 threads: bitwise the 1-thread run" "$PY" "$(dirname "$0")/h5check.py" same "$tmp/ref/db" \
-  "$tmp/two/db"
+# the uninterrupted reference in batch mode, timed, and with 2 threads, bitwise
+batch_reference db "${sets[@]}"
 
 start_sphd --threads 1
-expect_rc "submit the MPS dam break, not started" 0 "$SPHCTL" submit "$CASE" --id db --no-start \
-  "${sets[@]}"
-expect_rc "step 7" 0 "$SPHCTL" step db 7
-for _ in $(seq 1 500); do
-  "$SPHCTL" --json status db >"$tmp/st" 2>/dev/null
-  jtrue "$tmp/st" 'd["state"]=="paused" and not d.get("pending_step")' && break
-  sleep 0.02
-done
-check "seven steps, then paused" jtrue "$tmp/st" 'd["state"]=="paused" and d["progress"]["steps"]==7'
+submit_step_pause db "MPS dam break" "${sets[@]}"
 expect_rc "query a paused MPS job" 0 "$SPHCTL" --json query db --fields pos,p,type
 check "the query has particles and the pressure solve" jtrue "$tmp/out" \
   'len(d["particles"]["fields"]["p"]) > 0 and d["diag"]["cg_iterations"] > 0 and d["diag"]["free_surface"] > 0 and d["diag"]["cg_residual"] < 1e-8'
-expect_rc "resume" 0 "$SPHCTL" resume db
-sleep "$(awk -v r="$runtime" 'BEGIN { printf "%.3f", r * 0.15 }')"
-expect_rc "pause while running" 0 "$SPHCTL" --json pause db
-check "paused" jtrue "$tmp/out" 'd["state"] in ("paused", "done")'
-expect_rc "resume again" 0 "$SPHCTL" resume db
-
-kills=0
-for i in 1 2; do
-  sleep "$(awk -v r="$runtime" -v p=$((10 + RANDOM % 20)) 'BEGIN { printf "%.3f", r * p / 100 }')"
-  kill -KILL "$sphd_pid"; wait "$sphd_pid" 2>/dev/null; sphd_pid=
-  kills=$((kills+1))
-  check "latest files whole after kill $kills" "$PY" "$(dirname "$0")/h5check.py" whole \
-    "$STATE/jobs/db"
-  start_sphd --threads 1
-  expect_rc "the job is still known after restart $i" 0 "$SPHCTL" --json status db
-done
-expect_rc "watch it to the end" 0 "$SPHCTL" --json watch db
-check "it finished" jlast "$tmp/out" 'd.get("state")=="done" or d.get("status",{}).get("state")=="done"'
+run_pause_kill db
 check "diag events carry the pressure solve" "$PY" -c '
 import json, sys
 ev = [json.loads(l) for l in open(sys.argv[1])]
