@@ -23,9 +23,11 @@
  * barriers of the many short parallel loops while the machine's other work held the second
  * core); measure the thread scaling on an idle machine.
  *
- * Usage: bench_mps_dambreak [--time T] [--threads "1 2"] [--sizes "20 40 80"] [--methods "mps
- * wcsph"]
+ * Usage: bench_mps_dambreak SOURCE_DIR [--time T] [--threads "1 2"] [--sizes "20 40 80"]
+ * [--methods "mps wcsph"]   (SOURCE_DIR: where cases/mps_dambreak.json is)
  */
+#include "sph_case.h"
+#include "sph_json.h"
 #include "sph_sim.h"
 
 #include <math.h>
@@ -34,29 +36,41 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define L_COLUMN 0.146 /* [m] */
+#define L_COLUMN 0.146 /* [m], the case's column width */
 
-static sph_config dambreak(int mps, int n)
+/* The case file, read once (cases/mps_dambreak.json). */
+static json_t *mps_case;
+
+/* The dam break at dx = L/n to time t_end: MPS as cases/mps_dambreak.json has it, or WCSPH on
+ * the same geometry with cases/dambreak.json's settings and c0 = 25 m/s. Returns 0, or -1 with
+ * the case's error printed. */
+static int dambreak(int mps, int n, double t_end, sph_config *out)
 {
-    const double L = L_COLUMN;
-    sph_config c = sph_config_default();
-    c.dx = L / n;
-    c.domain = (sph_box){{0, 0, 0}, {4 * L, 0.6, 0}};
-    c.nfluid = 1;
-    c.fluid[0] = (sph_box){{0, 0, 0}, {L, 2 * L, 0}};
-    c.boundary = SPH_BOUNDARY_DYNAMIC;
-    c.has_tank = 1;
-    c.tank = (sph_box){{0, 0, 0}, {4 * L, 3 * L, 0}};
-    c.t_end = 1.0;
-    if (mps) {
-        c.method = SPH_METHOD_MPS;
-        c.kernel = sph_kernel_spec_default(SPH_KERNEL_KOSHIZUKA);
-        c.layers = 4;
-        c.visc = SPH_VISC_LAMINAR;
-        c.nu = 1e-6;
-        c.cfl = 0.1;
-        c.mps.collision = 0.5;
-    } else {
+    char dx[64], end[64];
+    snprintf(dx, sizeof dx, "dx=%.17g", L_COLUMN / n);
+    snprintf(end, sizeof end, "time.end=%.17g", t_end);
+    json_t *root = json_deep_copy(mps_case);
+    sph_case *cs = calloc(1, sizeof *cs);
+    sph_error err;
+    int rc = !root || !cs ? -1 : 0;
+    if (rc == 0 && (sph_json_apply_set(root, dx, &err) || sph_json_apply_set(root, end, &err) ||
+                    sph_case_from_json(root, cs, &err))) {
+        fprintf(stderr, "bench_mps_dambreak: %s\n", err.message);
+        rc = -1;
+    }
+    if (rc == 0 && mps) {
+        *out = cs->sim;
+    } else if (rc == 0) { /* the same geometry, WCSPH's settings */
+        const sph_config *m = &cs->sim;
+        sph_config c = sph_config_default();
+        c.dx = m->dx;
+        c.domain = m->domain;
+        c.nfluid = m->nfluid;
+        memcpy(c.fluid, m->fluid, sizeof c.fluid);
+        c.boundary = m->boundary;
+        c.has_tank = m->has_tank;
+        c.tank = m->tank;
+        c.t_end = m->t_end;
         c.kernel = sph_kernel_spec_default(SPH_KERNEL_WENDLAND_C2);
         c.h_over_dx = 1.414;
         c.layers = 3;
@@ -67,14 +81,19 @@ static sph_config dambreak(int mps, int n)
         c.alpha = 0.1;
         c.delta_sph = 0.1;
         c.cfl = 0.2;
+        *out = c;
     }
-    return c;
+    json_decref(root);
+    free(cs);
+    return rc;
 }
 
 static int one(int mps, int n, int threads, double t_sim)
 {
     omp_set_num_threads(threads);
-    sph_config c = dambreak(mps, n);
+    sph_config c;
+    if (dambreak(mps, n, t_sim, &c))
+        return -1;
     sph_error err;
     sph_sim *s = sph_sim_create(&c, &err);
     if (!s) {
@@ -111,11 +130,23 @@ static int one(int mps, int n, int threads, double t_sim)
     return 0;
 }
 
+static int usage(const char *prog)
+{
+    fprintf(stderr,
+            "usage: %s SOURCE_DIR [--time T] [--threads LIST] [--sizes LIST] [--methods LIST]\n",
+            prog);
+    return 64;
+}
+
 int main(int argc, char **argv)
 {
     double t_sim = 0.1;
     const char *threads = "1 2", *sizes = "20 40 80", *methods = "mps wcsph";
-    for (int i = 1; i + 1 < argc; i += 2) {
+    if (argc < 2 || argv[1][0] == '-')
+        return usage(argv[0]);
+    for (int i = 2; i < argc; i += 2) {
+        if (i + 1 >= argc)
+            return usage(argv[0]);
         if (strcmp(argv[i], "--time") == 0)
             t_sim = atof(argv[i + 1]);
         else if (strcmp(argv[i], "--threads") == 0)
@@ -124,16 +155,19 @@ int main(int argc, char **argv)
             sizes = argv[i + 1];
         else if (strcmp(argv[i], "--methods") == 0)
             methods = argv[i + 1];
-        else {
-            fprintf(stderr,
-                    "usage: %s [--time T] [--threads LIST] [--sizes LIST] [--methods LIST]\n",
-                    argv[0]);
-            return 64;
-        }
+        else
+            return usage(argv[0]);
     }
     if (!(t_sim > 0.0 && t_sim <= 10.0)) {
         fprintf(stderr, "bench_mps_dambreak: --time must be in (0, 10] s\n");
         return 64;
+    }
+    char file[4096];
+    snprintf(file, sizeof file, "%s/cases/mps_dambreak.json", argv[1]);
+    sph_error err;
+    if (sph_case_load(file, &mps_case, &err)) {
+        fprintf(stderr, "bench_mps_dambreak: %s\n", err.message);
+        return 1;
     }
     printf("Koshizuka & Oka's dam break (L = %.3f m), the first %.3g s; sizes are L/dx\n", L_COLUMN,
            t_sim);
@@ -162,6 +196,7 @@ int main(int argc, char **argv)
                     return 1;
         }
     }
+    json_decref(mps_case);
     printf("solve: the share of the wall time in the pressure equation's assembly and CG; s per s: "
            "wall seconds per simulated second. Timings on a shared machine are noisy.\n");
     return 0;

@@ -37,6 +37,23 @@ void sph_cells_free(sph_cells *g);
 /* Makes room for n particles. Returns 0 or -1 (out of memory; g unchanged). */
 int sph_cells_reserve(sph_cells *g, long n);
 
+/* The column and row of the cell holding (x, y), which must lie inside the grid. */
+static inline void sph_cells_of(const sph_cells *g, double x, double y, int *cx, int *cy)
+{
+    *cx = (int)((x - g->x0) * g->inv_size);
+    *cy = (int)((y - g->y0) * g->inv_size);
+}
+
+/* The particles of the cells (cx, cy - 1), (cx, cy), (cx, cy + 1): one contiguous range
+ * [*jb, *je) once they are sorted. Over cx - 1 .. cx + 1 it visits every neighbour within the
+ * cell size of a particle in cell (cx, cy). */
+static inline void sph_cells_column3(const sph_cells *g, int cx, int cy, long *jb, long *je)
+{
+    const long cell = (long)cx * g->ny + cy;
+    *jb = g->start[cell - 1];
+    *je = g->start[cell + 2];
+}
+
 /* Sorts P by cell. Particles of type SPH_LOST, or outside the grid (they become SPH_LOST), go
  * to the end. Returns the number of particles in cells (the active ones). */
 long sph_cells_sort(sph_cells *g, sph_particles *P);

@@ -18,7 +18,9 @@
 typedef struct sph_sim sph_sim;
 
 typedef struct sph_method_ops {
-    const char *name; /* the case file's "method" */
+    const char *name;    /* the case file's "method" */
+    int solves_pressure; /* 1: a pressure equation per step, its figures in sph_diag (cg_*,
+                            free_surface) */
     /* Checks the configuration fields the method reads (err->path names the case field).
      * Called by sph_sim_create() after the shared checks. */
     int (*check)(const sph_config *cfg, sph_error *err);

@@ -360,6 +360,10 @@ double sph_sim_time(const sph_sim *s)
 {
     return s->t;
 }
+int sph_sim_solves_pressure(const sph_sim *s)
+{
+    return s->ops->solves_pressure;
+}
 double sph_sim_h(const sph_sim *s)
 {
     return s->h;

@@ -111,6 +111,9 @@ int sph_sim_step(sph_sim *s, long nsteps, sph_error *err);
 
 const sph_diag *sph_sim_diag(const sph_sim *s);
 double sph_sim_time(const sph_sim *s);
+/* 1 if the method solves a pressure equation every step (MPS): sph_diag's cg_iterations,
+ * cg_residual and free_surface are its figures. */
+int sph_sim_solves_pressure(const sph_sim *s);
 /* The smoothing length h [m] (MPS: half the larger effective radius). */
 double sph_sim_h(const sph_sim *s);
 const sph_config *sph_sim_config(const sph_sim *s);

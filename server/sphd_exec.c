@@ -116,7 +116,7 @@ static json_t *bodies_json(const sph_diag *d, const sph_config *c)
 }
 
 /* The body of a diag event (new reference). */
-static json_t *diag_json(const sph_diag *d, const sph_config *c)
+static json_t *diag_json(const sph_diag *d, const sph_config *c, int solves_pressure)
 {
     const unsigned probes = c->probes;
     json_t *b = json_object();
@@ -137,7 +137,7 @@ static json_t *diag_json(const sph_diag *d, const sph_config *c)
         json_object_set_new(b, "penetration", num(d->penetration));
     if (d->nbodies > 0)
         json_object_set_new(b, "bodies", bodies_json(d, c));
-    if (c->method == SPH_METHOD_MPS) { /* the pressure solve of the latest step */
+    if (solves_pressure) { /* the pressure solve of the latest step */
         json_object_set_new(b, "cg_iterations", json_integer(d->cg_iterations));
         json_object_set_new(b, "cg_residual", num(d->cg_residual));
         json_object_set_new(b, "free_surface", json_integer(d->free_surface));
@@ -174,7 +174,7 @@ static int emit_diag(sphd_exec *x, sphd_emit_fn emit, void *ud, sph_error *err)
 {
     const sph_diag *d = sph_sim_diag(x->sim);
     json_decref(x->diag);
-    x->diag = diag_json(d, &x->c.sim);
+    x->diag = diag_json(d, &x->c.sim, sph_sim_solves_pressure(x->sim));
     x->last_diag = d->step;
     emit(ud, "diag", json_deep_copy(x->diag));
     return x->out ? sphd_outputs_diag(x->out, d, err) : 0;
@@ -271,7 +271,8 @@ json_t *sphd_exec_progress(const sphd_exec *x)
     if (!x->sim)
         return json_pack("{s:I, s:b}", "step", (json_int_t)0, "finished", x->finished);
     const sph_diag *d = sph_sim_diag(x->sim);
-    json_t *diag = x->diag ? json_deep_copy(x->diag) : diag_json(d, &x->c.sim);
+    json_t *diag = x->diag ? json_deep_copy(x->diag)
+                           : diag_json(d, &x->c.sim, sph_sim_solves_pressure(x->sim));
     return json_pack("{s:o, s:o, s:I, s:b, s:o}", "t", num(d->t), "t_end", num(x->c.sim.t_end),
                      "step", (json_int_t)d->step, "finished", x->finished, "diag", diag);
 }
@@ -450,7 +451,7 @@ sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_bac
     sphd_ckpt_free(ck);
     if (x->sim) {
         const sph_diag *d = sph_sim_diag(x->sim);
-        x->diag = diag_json(d, &x->c.sim);
+        x->diag = diag_json(d, &x->c.sim, sph_sim_solves_pressure(x->sim));
         x->out = sphd_outputs_open(outdir, job_of(outdir), c, d->step, err);
         if (x->out && sphd_outputs_restore(x->out, json_object_get(ex, "outputs"), err)) {
             sphd_outputs_close(x->out);

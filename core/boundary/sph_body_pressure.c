@@ -42,11 +42,13 @@ void sph_bodies_pressure(const sph_bodies *B, const sph_config *c, const sph_ker
         const double ax = b->s.a[0] - b->s.alpha * ry - w2 * rx;
         const double ay = b->s.a[1] + b->s.alpha * rx - w2 * ry;
         const double fx = gx - ax, fy = gy - ay;
-        const int cx = (int)((xi - g->x0) * g->inv_size), cy = (int)((yi - g->y0) * g->inv_size);
+        int cx, cy;
+        sph_cells_of(g, xi, yi, &cx, &cy);
         double sw = 0.0, sp = 0.0, sr = 0.0;
         for (int ex = cx - 1; ex <= cx + 1; ex++) {
-            const long c0 = (long)ex * g->ny + cy - 1; /* three cells of this column */
-            for (long j = g->start[c0]; j < g->start[c0 + 3]; j++) {
+            long jb, je;
+            sph_cells_column3(g, ex, cy, &jb, &je);
+            for (long j = jb; j < je; j++) {
                 if (P->type[j] != SPH_FLUID)
                     continue;
                 const double dx = xi - P->x[j], dy = yi - P->y[j], r2 = dx * dx + dy * dy;

@@ -589,6 +589,7 @@ static int mps_arrays(const sph_sim *s, double **d, int maxd)
 
 const sph_method_ops sph_mps_ops = {
     .name = "mps",
+    .solves_pressure = 1,
     .check = mps_check,
     .bytes_per_particle = mps_bytes_per_particle,
     .init = mps_init,

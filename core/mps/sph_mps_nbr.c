@@ -32,13 +32,13 @@ static inline __attribute__((always_inline)) long visit(int fill, const sph_cell
                                                         const double *restrict y, long i,
                                                         double rc2, int *restrict out)
 {
-    const int ny = g->ny;
-    const int cx = (int)((x[i] - g->x0) * g->inv_size), cy = (int)((y[i] - g->y0) * g->inv_size);
+    int cx, cy;
+    sph_cells_of(g, x[i], y[i], &cx, &cy);
     const double xi = x[i], yi = y[i];
     long k = 0;
     for (int c = cx - 1; c <= cx + 1; c++) {
-        const long cell = (long)c * ny + cy;
-        const long jb = g->start[cell - 1], je = g->start[cell + 2];
+        long jb, je;
+        sph_cells_column3(g, c, cy, &jb, &je);
         for (long j = jb; j < je; j++) {
             const double dx = xi - x[j], dy = yi - y[j];
             if (j == i || dx * dx + dy * dy >= rc2)

@@ -59,18 +59,26 @@ class Context:
                                                                    "reference")
         return os.path.join(base, name)
 
-    def reference_table(self, name):
-        """The first two columns of a reference CSV (its header and # lines skipped), as an
-        (n, 2) numpy array."""
-        import numpy as np
-        rows = []
+    def _reference_rows(self, name):
+        """The data rows of a reference CSV, split at commas (# lines and the header skipped:
+        the header is the first line that is not a comment)."""
         with open(self.reference(name)) as f:
-            for line in f:
-                if line.startswith("#") or not line[0].isdigit():
-                    continue
-                c = line.strip().split(",")
-                rows.append((float(c[0]), float(c[1])))
-        return np.array(rows)
+            lines = [l.strip() for l in f if not l.startswith("#") and l.strip()]
+        return [l.split(",") for l in lines[1:]]
+
+    def reference_table(self, name):
+        """The first two columns of a reference CSV as an (n, 2) numpy array."""
+        import numpy as np
+        return np.array([(float(c[0]), float(c[1])) for c in self._reference_rows(name)])
+
+    def reference_sets(self, name):
+        """A reference CSV whose first column names a set: {set: (n, 2) numpy array of the next
+        two columns}, in the file's order."""
+        import numpy as np
+        sets = {}
+        for c in self._reference_rows(name):
+            sets.setdefault(c[0], []).append((float(c[1]), float(c[2])))
+        return {k: np.array(v) for k, v in sets.items()}
 
     def sphd_run(self, case, sets=(), job=None):
         job = job or os.path.splitext(os.path.basename(case))[0]

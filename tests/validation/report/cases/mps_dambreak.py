@@ -28,19 +28,8 @@ SETS = {"ko_mps_SIMULATION": "Koshizuka & Oka's MPS result", "ko_exp": "Koshizuk
         "dualsphysics": "Martin & Moyce via Koshizuka & Oka"}
 
 
-def reference_sets(path):
-    sets = {}
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#") or line.startswith("set,"):
-                continue
-            c = line.strip().split(",")
-            sets.setdefault(c[0], []).append((float(c[1]), float(c[2])))
-    return {k: np.array(v) for k, v in sets.items()}
-
-
 def run(ctx):
-    ref = reference_sets(ctx.reference("dambreak_front_KoshizukaOka1996.csv"))
+    ref = ctx.reference_sets("dambreak_front_KoshizukaOka1996.csv")
     scale = math.sqrt(2 * G / L)
     fig = ctx.figure("front", figsize=(6.5, 4.2))
     ax = fig.add_subplot(111)
