@@ -152,7 +152,7 @@ int main(int argc, char **argv)
             sphd_mkdirs(sub);
             c->output.compress = compress;
             c->output.every = 1.0;
-            sphd_outputs *o = sphd_outputs_open(sub, "bench", c, -1, &err);
+            sphd_outputs *o = sphd_outputs_open(sub, "bench", c, s, -1, &err);
             long bytes = -1;
             /* the whole snapshot as a job writes it: gathered in creation order, written, fsync'd,
              * renamed, and the XDMF rewritten; a new file each run */

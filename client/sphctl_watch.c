@@ -112,7 +112,7 @@ static void draw(watch *w, int force)
         sphctl_fmt_duration(w->eta, eta, sizeof eta);
         n += snprintf(line + n, sizeof line - (size_t)n, " ETA %s", eta);
     }
-    static const char *const keys[] = {"front_x", "height_left", "penetration",
+    static const char *const keys[] = {"front_x", "height_left", "penetration", "runup",
                                        "ekin",    "vmax",        NULL};
     for (int i = 0; keys[i] && n < (int)sizeof line - 40; i++) {
         double v = sphctl_num(w->diag, keys[i]);

@@ -52,7 +52,8 @@ typedef enum { SPH_TURB_NONE = 0, SPH_TURB_SPS, SPH_TURB_COUNT } sph_turb_type;
 enum {
     SPH_PROBE_FRONT_X = 1 << 0,
     SPH_PROBE_HEIGHT_LEFT = 1 << 1,
-    SPH_PROBE_PENETRATION = 1 << 2 /* the first body's lowest point below the initial level */
+    SPH_PROBE_PENETRATION = 1 << 2, /* the first body's lowest point below the initial level */
+    SPH_PROBE_RUNUP = 1 << 3        /* the water's top at the right wall */
 };
 
 /* Shapes of rigid bodies (boundary/sph_body.h). */

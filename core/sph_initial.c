@@ -9,6 +9,15 @@
  *     u = grad phi0 at t = 0, when the free surface is flat and the pressure hydrostatic.
  * Theory: period 2 pi / omega, kinetic-energy envelope decaying as exp(-4 nu k^2 t), and
  * E_kin(0) = rho0 eps^2 g lambda H^2 / 16 (eq. (8) at t = 0, per unit density in the paper).
+ *
+ * Solitary wave (Sheu et al., paper 004, section 5.1; the first-order Boussinesq wave): still depth
+ * d (the whole rows of particles the fluid box holds: its height rounded down to a multiple of
+ * dx, above its bottom yb), crest height H at x0, K = sqrt(3H / (4d^3)),
+ *     eta = H sech^2(K (x - x0))                                                       eq. (5.1)
+ *     u = sqrt(g d) (H/d) sech^2(K (x - x0))                                           eq. (5.2)
+ *     v = sqrt(3 g d) (H/d)^(3/2) ((y - yb)/d) sech^2(K (x - x0)) tanh(K (x - x0)),
+ * travelling towards +x at about sqrt(g (d + H)). It has no theory here: its run-up on the right
+ * wall is compared with the reference table in the validation.
  */
 #include "sph_initial.h"
 
@@ -25,6 +34,8 @@ typedef struct field {
     int (*check)(const sph_config *c, sph_error *err);
     void (*velocity)(const sph_config *c, const double *x, double *v);
     int (*theory)(const sph_config *c, sph_initial_theory *t);
+    double (*elevation)(const sph_config *c, double x); /* NULL: the surface stays flat */
+    double (*elevation_max)(const sph_config *c);       /* its largest value over the tank */
 } field;
 
 /* ---- rest ---- */
@@ -66,25 +77,36 @@ static wave sw_of(const sph_config *c)
     return w;
 }
 
-static int sw_check(const sph_config *c, sph_error *err)
+/* What the wave fields ask of a case: 2D, a tank whose one fluid box fills it from wall to wall
+ * and from its bottom up to the still depth, gravity along -y. `what` names the field. */
+static int wave_tank_check(const sph_config *c, const char *what, sph_error *err)
 {
     if (c->dim != 2)
         return sph_error_set(err, SPH_ERR_INVALID, "/initial/type",
-                             "the standing wave is a 2D field (dim = 2)");
+                             "the %s is a 2D field (dim = 2)", what);
     if (!c->has_tank)
         return sph_error_set(err, SPH_ERR_INVALID, "/initial/type",
-                             "the standing wave needs a tank: its side walls are the wave's "
-                             "antinodes (boundary.tank)");
+                             "the %s needs a tank: its side walls bound the wave (boundary.tank)",
+                             what);
     if (!(c->gravity[1] < 0.0) || c->gravity[0] != 0.0)
         return sph_error_set(err, SPH_ERR_INVALID, "/physics/gravity",
-                             "the standing wave needs gravity along -y");
+                             "the %s needs gravity along -y", what);
     const double tol = 0.5 * c->dx;
     const sph_box *f = &c->fluid[0], *t = &c->tank;
     if (c->nfluid != 1 || fabs(f->min[0] - t->min[0]) > tol || fabs(f->max[0] - t->max[0]) > tol ||
         fabs(f->min[1] - t->min[1]) > tol)
         return sph_error_set(err, SPH_ERR_INVALID, "/fluid",
-                             "the standing wave needs one fluid box filling the tank from wall to "
-                             "wall and from its bottom up to the still depth");
+                             "the %s needs one fluid box filling the tank from wall to wall and "
+                             "from its bottom up to the still depth",
+                             what);
+    return 0;
+}
+
+static int sw_check(const sph_config *c, sph_error *err)
+{
+    if (wave_tank_check(c, "standing wave", err))
+        return SPH_ERR_INVALID;
+    const sph_box *f = &c->fluid[0], *t = &c->tank;
     const double L = t->max[0] - t->min[0];
     const double lambda =
         c->initial.param[SW_WAVELENGTH] > 0.0 ? c->initial.param[SW_WAVELENGTH] : L;
@@ -131,8 +153,89 @@ static int sw_theory(const sph_config *c, sph_initial_theory *t)
     return 0;
 }
 
+/* ---- solitary wave ---- */
+
+enum { SOL_HEIGHT = 0, SOL_CREST };
+
+typedef struct solitary {
+    double H, d, K, x0, yb, g;
+} solitary;
+
+static solitary sol_of(const sph_config *c)
+{
+    solitary w;
+    w.H = c->initial.param[SOL_HEIGHT];
+    w.x0 = c->initial.param[SOL_CREST];
+    w.yb = c->fluid[0].min[1];
+    w.d = floor((c->fluid[0].max[1] - w.yb) / c->dx + 1e-6) * c->dx;
+    w.g = -c->gravity[1];
+    w.K = w.d > 0.0 ? sqrt(3.0 * w.H / (4.0 * w.d * w.d * w.d)) : 0.0;
+    return w;
+}
+
+static int sol_check(const sph_config *c, sph_error *err)
+{
+    if (wave_tank_check(c, "solitary wave", err))
+        return SPH_ERR_INVALID;
+    const solitary w = sol_of(c);
+    if (!(w.H <= SPH_SOL_HEIGHT_RATIO * w.d))
+        return sph_error_set(err, SPH_ERR_INVALID, "/initial/height",
+                             "the wave height %g m is more than %g times the still depth %g m: "
+                             "such a wave breaks",
+                             w.H, SPH_SOL_HEIGHT_RATIO, w.d);
+    if (!(w.H >= c->dx))
+        return sph_error_set(err, SPH_ERR_INVALID, "/initial/height",
+                             "the wave height %g m is below the particle spacing dx = %g m: the "
+                             "lattice cannot resolve it",
+                             w.H, c->dx);
+    if (!(w.x0 > c->tank.min[0] && w.x0 < c->tank.max[0]))
+        return sph_error_set(err, SPH_ERR_INVALID, "/initial/crest",
+                             "the crest x = %g m must lie inside the tank (%g to %g m)", w.x0,
+                             c->tank.min[0], c->tank.max[0]);
+    if (!(c->tank.max[1] - w.yb >= w.d + 2.0 * w.H))
+        return sph_error_set(err, SPH_ERR_INVALID, "/boundary/tank/max/1",
+                             "the tank's walls (%g m high) must reach the still depth plus twice "
+                             "the wave height (%g m): the wave runs up a wall to about d + 2H",
+                             c->tank.max[1] - w.yb, w.d + 2.0 * w.H);
+    if (!(c->domain.max[1] >= c->tank.max[1]))
+        return sph_error_set(err, SPH_ERR_INVALID, "/domain/max/1",
+                             "the domain must reach the top of the tank's walls (%g m)",
+                             c->tank.max[1]);
+    return 0;
+}
+
+static double sech2(double a)
+{
+    const double ch = cosh(a);
+    return isfinite(ch) ? 1.0 / (ch * ch) : 0.0;
+}
+
+static void sol_velocity(const sph_config *c, const double *x, double *v)
+{
+    const solitary w = sol_of(c);
+    const double a = w.K * (x[0] - w.x0), s = sech2(a), e = w.H / w.d;
+    v[0] = sqrt(w.g * w.d) * e * s;
+    v[1] = sqrt(3.0 * w.g * w.d) * e * sqrt(e) * ((x[1] - w.yb) / w.d) * s * tanh(a);
+}
+
+static double sol_elevation(const sph_config *c, double x)
+{
+    const solitary w = sol_of(c);
+    return w.H * sech2(w.K * (x - w.x0));
+}
+
+/* the crest's height where it lies inside the tank, else the higher wall's elevation (the
+ * surface falls off monotonically on each side of the crest) */
+static double sol_elevation_max(const sph_config *c)
+{
+    const solitary w = sol_of(c);
+    if (w.x0 > c->tank.min[0] && w.x0 < c->tank.max[0])
+        return w.H;
+    return fmax(sol_elevation(c, c->tank.min[0]), sol_elevation(c, c->tank.max[0]));
+}
+
 static const field fields[SPH_INITIAL_COUNT] = {
-    [SPH_INITIAL_REST] = {"rest", 0, {{0}}, rest_check, rest_velocity, NULL},
+    [SPH_INITIAL_REST] = {"rest", 0, {{0}}, rest_check, rest_velocity, NULL, NULL, NULL},
     [SPH_INITIAL_STANDING_WAVE] =
         {"standing_wave",
          2,
@@ -143,7 +246,21 @@ static const field fields[SPH_INITIAL_COUNT] = {
                              SPH_SW_WAVELENGTH_MAX, "lambda; 0 (the default): the tank's length"}},
          sw_check,
          sw_velocity,
-         sw_theory},
+         sw_theory,
+         NULL,
+         NULL},
+    [SPH_INITIAL_SOLITARY_WAVE] =
+        {"solitary_wave",
+         2,
+         {[SOL_HEIGHT] = {"height", "m", 0.0, 0.0, SPH_SOL_HEIGHT_MAX,
+                          "H: the crest's height above the still water (at most 0.7 d)"},
+          [SOL_CREST] = {"crest", "m", 0.0, -SPH_SOL_CREST_MAX, SPH_SOL_CREST_MAX,
+                         "x0: the crest's initial abscissa, inside the tank"}},
+         sol_check,
+         sol_velocity,
+         NULL,
+         sol_elevation,
+         sol_elevation_max},
 };
 
 const char *sph_initial_name(sph_initial_type type)
@@ -205,6 +322,18 @@ int sph_initial_check(const sph_config *c, sph_error *err)
 void sph_initial_velocity(const sph_config *c, const double *x, double *v)
 {
     fields[c->initial.type].velocity(c, x, v);
+}
+
+double sph_initial_elevation(const sph_config *c, double x)
+{
+    const field *f = &fields[c->initial.type];
+    return f->elevation ? f->elevation(c, x) : 0.0;
+}
+
+double sph_initial_elevation_max(const sph_config *c)
+{
+    const field *f = &fields[c->initial.type];
+    return f->elevation_max && c->has_tank ? f->elevation_max(c) : 0.0;
 }
 
 int sph_initial_theory_of(const sph_config *c, sph_initial_theory *t)

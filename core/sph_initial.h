@@ -6,7 +6,11 @@
  * one, the theory a run is compared with. The pressure stays hydrostatic (sph_geometry), as the
  * fields here are defined at an instant when it is (paper 001, section IV-B).
  *
- * A later field (a solitary wave, a moving body) is one more enum value and one more row.
+ * A field may also raise the free surface above the fluid box's top (the solitary wave): the
+ * fill then stacks the fluid's columns up to the raised surface, and the initial pressure is
+ * hydrostatic under it.
+ *
+ * A later field (a moving body, a current) is one more enum value and one more row.
  */
 #ifndef SPH_INITIAL_H
 #define SPH_INITIAL_H
@@ -18,6 +22,7 @@ struct sph_config;
 typedef enum {
     SPH_INITIAL_REST = 0,      /* fluid at rest (the default) */
     SPH_INITIAL_STANDING_WAVE, /* paper 001 eqs. (6)-(7): u = grad phi0 */
+    SPH_INITIAL_SOLITARY_WAVE, /* paper 004 eqs. (5.1)-(5.2): a raised surface and its velocities */
     SPH_INITIAL_COUNT
 } sph_initial_type;
 
@@ -30,6 +35,11 @@ typedef enum {
 #define SPH_SW_WAVELENGTH_DEFAULT 0.0 /* the tank's length */
 #define SPH_SW_WAVELENGTH_MIN     0.0
 #define SPH_SW_WAVELENGTH_MAX     1e6
+
+/* The solitary wave's parameters: the crest's height above the still water and its position. */
+#define SPH_SOL_HEIGHT_MAX   1e3
+#define SPH_SOL_HEIGHT_RATIO 0.7 /* H / d at most: steeper waves break (theory: about 0.78) */
+#define SPH_SOL_CREST_MAX    1e6
 
 /* What a case says: the field and its parameters, in the order of the row's `params`. */
 typedef struct sph_initial_spec {
@@ -69,6 +79,12 @@ int sph_initial_check(const struct sph_config *c, sph_error *err);
 
 /* The initial velocity v (c->dim components) [m/s] at point x [m]. */
 void sph_initial_velocity(const struct sph_config *c, const double *x, double *v);
+
+/* The field's free-surface elevation above the still water at abscissa x [m] (0 for the fields
+ * that keep the surface flat), and its largest value over the tank. The still water is the
+ * fluid box's whole rows of particles. */
+double sph_initial_elevation(const struct sph_config *c, double x);
+double sph_initial_elevation_max(const struct sph_config *c);
 
 /* The theory for the field under c (nu from the viscosity) into *t; 0, or -1 when the field has
  * none (rest). */

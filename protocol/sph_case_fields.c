@@ -34,14 +34,15 @@ static const char *const eos_names[] = {"linear", "tait", NULL};
 static const int eos_values[] = {SPH_EOS_LINEAR, SPH_EOS_TAIT};
 static const char *const visc_names[] = {"artificial", "laminar", "monaghan", NULL};
 static const int visc_values[] = {SPH_VISC_ARTIFICIAL, SPH_VISC_LAMINAR, SPH_VISC_MONAGHAN};
-static const char *const initial_names[] = {"rest", "standing_wave", NULL}; /* sph_initial_type */
+static const char *const initial_names[] = {"rest", "standing_wave", "solitary_wave",
+                                            NULL}; /* sph_initial_type */
 static const char *const turb_names[] = {"none", "sps", NULL};
 static const int turb_values[] = {SPH_TURB_NONE, SPH_TURB_SPS};
-static const char *const probe_names[] = {"front_x", "height_left", "ekin", "epot",
-                                          "vmax",    "penetration", NULL};
+static const char *const probe_names[] = {"front_x", "height_left", "ekin",  "epot",
+                                          "vmax",    "penetration", "runup", NULL};
 /* ekin, epot and vmax are always in diag: accepted, no bit */
-static const int probe_bits[] = {SPH_PROBE_FRONT_X,    SPH_PROBE_HEIGHT_LEFT, 0, 0, 0,
-                                 SPH_PROBE_PENETRATION};
+static const int probe_bits[] = {SPH_PROBE_FRONT_X,     SPH_PROBE_HEIGHT_LEFT, 0, 0, 0,
+                                 SPH_PROBE_PENETRATION, SPH_PROBE_RUNUP};
 static const char *const shape_names[] = {"circle", "box", NULL};
 static const int shape_values[] = {SPH_SHAPE_CIRCLE, SPH_SHAPE_BOX};
 static const char *const body_pressure_names[] = {"fluid", "continuity", NULL};
@@ -256,7 +257,8 @@ const sph_case_field sph_case_fields[] = {
      .required = SPH_CF_SIMS, .names = initial_names, .has_def = 1, .def = 0,
      CFG(initial.type),
      .doc = "rest; standing_wave: u = grad phi0 of paper 001 eqs. (6)-(7) in a tank filled "
-            "from wall to wall"},
+            "from wall to wall; solitary_wave: paper 004 eqs. (5.1)-(5.2), the surface raised "
+            "by H sech^2(K (x - x0)) over the fluid box's top"},
     {.path = "/initial/epsilon", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
      .when = "/initial/type=standing_wave", .lo = SPH_SW_EPSILON_MIN, .hi = SPH_SW_EPSILON_MAX,
      .has_def = 1, .def = SPH_SW_EPSILON_DEFAULT, CFG(initial.param[0]),
@@ -266,6 +268,14 @@ const sph_case_field sph_case_fields[] = {
      .hi = SPH_SW_WAVELENGTH_MAX, .has_def = 1, .def = SPH_SW_WAVELENGTH_DEFAULT,
      CFG(initial.param[1]),
      .doc = "standing_wave: lambda [m], 2 L / n for a tank of length L; 0: L"},
+    {.path = "/initial/height", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .required = SPH_CF_SIMS, .when = "/initial/type=solitary_wave", .lo = 0.0, .lo_open = 1,
+     .hi = SPH_SOL_HEIGHT_MAX, CFG(initial.param[0]),
+     .doc = "solitary_wave: H [m], the crest's height above the still water (dx <= H <= 0.7 d)"},
+    {.path = "/initial/crest", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .required = SPH_CF_SIMS, .when = "/initial/type=solitary_wave", .lo = -SPH_SOL_CREST_MAX,
+     .hi = SPH_SOL_CREST_MAX, CFG(initial.param[1]),
+     .doc = "solitary_wave: x0 [m], the crest's initial abscissa, inside the tank"},
     {.path = "/time", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS, .required = SPH_CF_SIMS,
      .doc = "the run's time"},
     {.path = "/time/end", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,

@@ -64,7 +64,8 @@ sphd_exec *sphd_exec_new(const sph_case *c, const char *outdir, sph_error *err)
             return NULL;
         }
     } else if (!(x->sim = sph_sim_create(&c->sim, err)) ||
-               (outdir && !(x->out = sphd_outputs_open(outdir, job_of(outdir), c, -1, err)))) {
+               (outdir &&
+                !(x->out = sphd_outputs_open(outdir, job_of(outdir), c, x->sim, -1, err)))) {
         sphd_exec_free(x);
         return NULL;
     }
@@ -135,6 +136,8 @@ static json_t *diag_json(const sph_diag *d, const sph_config *c, int solves_pres
         json_object_set_new(b, "height_left", num(d->height_left));
     if (probes & SPH_PROBE_PENETRATION)
         json_object_set_new(b, "penetration", num(d->penetration));
+    if (probes & SPH_PROBE_RUNUP)
+        json_object_set_new(b, "runup", num(d->runup));
     if (d->nbodies > 0)
         json_object_set_new(b, "bodies", bodies_json(d, c));
     if (solves_pressure) { /* the pressure solve of the latest step */
@@ -452,7 +455,7 @@ sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_bac
     if (x->sim) {
         const sph_diag *d = sph_sim_diag(x->sim);
         x->diag = diag_json(d, &x->c.sim, sph_sim_solves_pressure(x->sim));
-        x->out = sphd_outputs_open(outdir, job_of(outdir), c, d->step, err);
+        x->out = sphd_outputs_open(outdir, job_of(outdir), c, x->sim, d->step, err);
         if (x->out && sphd_outputs_restore(x->out, json_object_get(ex, "outputs"), err)) {
             sphd_outputs_close(x->out);
             x->out = NULL;

@@ -21,8 +21,14 @@ static const sphd_diag_column diag_columns_2d[] = {{"t", "s", 0},
                                                    {"front_x", "m", 0},
                                                    {"height_left", "m", 0},
                                                    {"lost", "1", 1},
-                                                   {"penetration", "m", 0}};
+                                                   {"penetration", "m", 0},
+                                                   {"runup", "m", 0}};
 #define NDIAG ((int)(sizeof diag_columns_2d / sizeof diag_columns_2d[0]))
+
+/* The pressure solve's series, after the fixed ones, for a method that solves one (MPS). */
+static const sphd_diag_column solve_columns[] = {
+    {"cg_iterations", "1", 1}, {"cg_residual", "1", 0}, {"free_surface", "1", 1}};
+#define NSOLVECOL ((int)(sizeof solve_columns / sizeof solve_columns[0]))
 
 /* Each rigid body's series, as "<name>.<member>" after the fixed ones, in the order of the
  * case's bodies (the members of sph_body_diag; 2D). */
@@ -31,7 +37,7 @@ static const sphd_diag_column body_columns_2d[] = {
     {"angle", "rad", 0}, {"omega", "rad/s", 0},  {"fx", "N/m", 0}, {"fy", "N/m", 0},
     {"torque", "N", 0},  {"penetration", "m", 0}};
 #define NBODYCOL     ((int)(sizeof body_columns_2d / sizeof body_columns_2d[0]))
-#define NCOLUMNS_MAX (NDIAG + SPH_CONFIG_MAX_BODIES * NBODYCOL)
+#define NCOLUMNS_MAX (NDIAG + NSOLVECOL + SPH_CONFIG_MAX_BODIES * NBODYCOL)
 
 struct sphd_outputs {
     char dir[4096];
@@ -43,6 +49,7 @@ struct sphd_outputs {
     char kernel[32];
     sphd_diagfile *diag;
     int ncolumns; /* the diag series after "step" */
+    int nsolve;   /* the pressure solve's series (NSOLVECOL or 0) */
     int nbodies;  /* bodies with series in diag.h5 */
     char body_names[SPH_CONFIG_MAX_BODIES * NBODYCOL][SPH_BODY_NAME_MAX + 16];
     sphd_xdmf_entry *entries; /* snapshots written */
@@ -50,7 +57,7 @@ struct sphd_outputs {
 };
 
 sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case *c,
-                                long resume_step, sph_error *err)
+                                const sph_sim *s, long resume_step, sph_error *err)
 {
     sphd_outputs *o = calloc(1, sizeof *o);
     if (!o) {
@@ -71,15 +78,17 @@ sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case
     memcpy(cols, diag_columns_2d, sizeof diag_columns_2d);
     if (c->sim.dim != 2) /* energies [J] in 3D */
         cols[2].units = cols[3].units = "J";
+    o->nsolve = sph_sim_solves_pressure(s) ? NSOLVECOL : 0;
+    memcpy(cols + NDIAG, solve_columns, (size_t)o->nsolve * sizeof solve_columns[0]);
     o->nbodies = c->sim.nbodies;
-    o->ncolumns = NDIAG + o->nbodies * NBODYCOL;
+    o->ncolumns = NDIAG + o->nsolve + o->nbodies * NBODYCOL;
     for (int b = 0; b < o->nbodies; b++)
         for (int m = 0; m < NBODYCOL; m++) {
             const int k = b * NBODYCOL + m;
             snprintf(o->body_names[k], sizeof o->body_names[k], "%s.%s", c->sim.bodies[b].name,
                      body_columns_2d[m].name);
-            cols[NDIAG + k] = body_columns_2d[m];
-            cols[NDIAG + k].name = o->body_names[k];
+            cols[NDIAG + o->nsolve + k] = body_columns_2d[m];
+            cols[NDIAG + o->nsolve + k].name = o->body_names[k];
         }
     o->diag = sphd_diagfile_open(path, cols, o->ncolumns, resume_step, err);
     if (!o->diag) {
@@ -91,16 +100,22 @@ sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case
 
 int sphd_outputs_diag(sphd_outputs *o, const sph_diag *d, sph_error *err)
 {
-    double v[NCOLUMNS_MAX] = {d->t,           d->dt,           d->ekin,       d->epot,
-                              d->vmax,        d->rho_min,      d->rho_max,    d->front_x,
-                              d->height_left, (double)d->lost, d->penetration};
+    double v[NCOLUMNS_MAX] = {d->t,           d->dt,           d->ekin,        d->epot,
+                              d->vmax,        d->rho_min,      d->rho_max,     d->front_x,
+                              d->height_left, (double)d->lost, d->penetration, d->runup};
+    if (o->nsolve) {
+        v[NDIAG] = (double)d->cg_iterations;
+        v[NDIAG + 1] = d->cg_residual;
+        v[NDIAG + 2] = (double)d->free_surface;
+    }
+    double *vb = v + NDIAG + o->nsolve;
     for (int k = 0; k < o->nbodies; k++) {
         const sph_body_diag *b = &d->body[k];
         const int have = k < d->nbodies;
         const double m[NBODYCOL] = {b->x[0],  b->x[1],     b->v[0],     b->v[1],   b->angle,
                                     b->omega, b->force[0], b->force[1], b->torque, b->penetration};
         for (int j = 0; j < NBODYCOL; j++)
-            v[NDIAG + k * NBODYCOL + j] = have ? m[j] : NAN;
+            vb[k * NBODYCOL + j] = have ? m[j] : NAN;
     }
     return sphd_diagfile_append(o->diag, d->step, v, err);
 }

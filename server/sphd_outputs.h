@@ -17,10 +17,11 @@
 
 typedef struct sphd_outputs sphd_outputs;
 
-/* Opens the result files of job `job` in dir. resume_step < 0 starts afresh; otherwise the
- * diagnostics series keeps its rows up to that step (a resumed job). */
+/* Opens the result files of job `job` in dir for the sim s (its method decides the diagnostics
+ * series). resume_step < 0 starts afresh; otherwise the diagnostics series keeps its rows up to
+ * that step (a resumed job). */
 sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case *c,
-                                long resume_step, sph_error *err);
+                                const sph_sim *s, long resume_step, sph_error *err);
 
 /* Appends the diagnostics row of d. */
 int sphd_outputs_diag(sphd_outputs *o, const sph_diag *d, sph_error *err);

@@ -10,7 +10,8 @@ SPHD=unused SPHCTL=unused
 pfx="$tmp/prefix"
 check "cmake --install succeeds" cmake --install "$build" --prefix "$pfx" >"$tmp/install.log"
 for f in bin/sphd bin/sphctl share/sphd/cases/dambreak.json share/sphd/cases/hydrostatic.json \
-         share/sphd/cases/kernel_study.json share/doc/sphd/PROTOCOL.md \
+         share/sphd/cases/kernel_study.json share/sphd/cases/mps_dambreak.json \
+         share/sphd/cases/solitary_wave.json share/doc/sphd/PROTOCOL.md \
          lib/systemd/user/sphd.service; do
   check "installed $f" test -s "$pfx/$f"
 done

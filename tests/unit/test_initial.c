@@ -3,6 +3,11 @@
  *   - the standing wave's velocity is grad phi0 of paper 001 eq. (7) (checked by central
  *     differences of phi0 written out here), vanishes through the walls, and its kinetic energy
  *     on the lattice is eq. (8)'s at t = 0 within 0.5% (H/dx = 50);
+ *   - the solitary wave (paper 004 eqs. (5.1)-(5.2)): its velocity is divergence-free (central
+ *     differences), the fill stacks each column up to the raised surface (the crest's column within
+ *     dx of d + H, the hump's volume on the lattice within dx^2 + 0.1% of the exact 2H/K, the
+ *     count the same as the memory estimate's),
+ *     and its particles carry eq. (5.2)'s velocity;
  *   - fields that do not fit the case are refused at the case field's JSON path;
  *   - the envelope fit recovers the decay rate and period of eq. (8) sampled every 2 ms, with
  *     noise, within 0.5%.
@@ -141,6 +146,98 @@ static void test_misfits(void **state)
     expect_error(c, "/initial/type");
 }
 
+/* Paper 004's set-up at half scale: d = 5 m (dx 0.4 m: 12 whole rows hold 4.8 m), H = 1 m. */
+static sph_config solitary_config(void)
+{
+    sph_config c = sph_config_default();
+    c.method = SPH_METHOD_MPS;
+    c.kernel = sph_kernel_spec_default(SPH_KERNEL_KOSHIZUKA);
+    c.dx = 0.4;
+    c.domain = (sph_box){{0, 0, 0}, {80.0, 10.0, 0}};
+    c.nfluid = 1;
+    c.fluid[0] = (sph_box){{0, 0, 0}, {80.0, 5.0, 0}};
+    c.boundary = SPH_BOUNDARY_DYNAMIC;
+    c.layers = 4;
+    c.has_tank = 1;
+    c.tank = (sph_box){{0, 0, 0}, {80.0, 8.0, 0}};
+    c.visc = SPH_VISC_LAMINAR;
+    c.nu = 1e-6;
+    c.initial = sph_initial_default(SPH_INITIAL_SOLITARY_WAVE);
+    c.initial.param[0] = 1.0;  /* H */
+    c.initial.param[1] = 30.0; /* x0 */
+    c.t_end = 1.0;
+    return c;
+}
+
+static void test_solitary(void **state)
+{
+    (void)state;
+    sph_config c = solitary_config();
+    const double H = 1.0, d = 4.8, x0 = 30.0, g = 9.81, K = sqrt(3.0 * H / (4.0 * d * d * d));
+    close_to(sph_initial_elevation(&c, x0), H, 1e-12, "crest height");
+    close_to(sph_initial_elevation(&c, x0 + 1.0 / K), H / pow(cosh(1.0), 2), 1e-12,
+             "eta at x0 + 1/K");
+    close_to(sph_initial_elevation_max(&c), H, 1e-12, "largest elevation");
+    /* u(x) at the surface and divergence-free */
+    const double e = 1e-4;
+    for (double x = 10.0; x < 60.0; x += 3.7)
+        for (double y = 0.5; y < d; y += 1.1) {
+            double v[2], vxp[2], vxm[2], vyp[2], vym[2];
+            sph_initial_velocity(&c, (double[]){x, y}, v);
+            close_to(v[0], sqrt(g * d) * sph_initial_elevation(&c, x) / d, 1e-12, "u, eq. (5.2)");
+            sph_initial_velocity(&c, (double[]){x + e, y}, vxp);
+            sph_initial_velocity(&c, (double[]){x - e, y}, vxm);
+            sph_initial_velocity(&c, (double[]){x, y + e}, vyp);
+            sph_initial_velocity(&c, (double[]){x, y - e}, vym);
+            const double div = (vxp[0] - vxm[0] + vyp[1] - vym[1]) / (2.0 * e);
+            close_to(div, 0.0, 1e-7, "div u");
+        }
+    /* the fill: the still water's whole rows plus the hump, column by column */
+    sph_error err;
+    sph_sim *s = sph_sim_create(&c, &err);
+    assert_non_null(s);
+    sph_particle_view pv;
+    sph_sim_particles(s, &pv);
+    long nf = 0, ncol = (long)(80.0 / c.dx + 1e-6);
+    double ytop_crest = 0.0, vmax_err = 0.0;
+    for (long i = 0; i < pv.n; i++) {
+        if (pv.type[i] != 0)
+            continue;
+        nf++;
+        if (fabs(pv.pos[0][i] - x0) < c.dx)
+            ytop_crest = fmax(ytop_crest, pv.pos[1][i]);
+        double v[2];
+        sph_initial_velocity(&c, (double[]){pv.pos[0][i], pv.pos[1][i]}, v);
+        vmax_err = fmax(vmax_err, fabs(pv.vel[0][i] - v[0]) + fabs(pv.vel[1][i] - v[1]));
+    }
+    close_to(vmax_err, 0.0, 1e-12, "particle velocities against eq. (5.2)");
+    close_to(ytop_crest + 0.5 * c.dx, d + H, c.dx, "the crest column's top");
+    long n0 = 12 * ncol;
+    /* the hump's volume over the tank (2H/K for a crest far from both walls) */
+    const double hump = H / K * (tanh(K * (80.0 - x0)) + tanh(K * x0));
+    const double lattice = (double)(nf - n0) * c.dx * c.dx;
+    printf("hump volume %.4f m^2 on the lattice, %.4f exact\n", lattice, hump);
+    if (!(fabs(lattice - hump) <= 0.001 * hump + c.dx * c.dx))
+        fail_msg("hump volume %.3f m^2 on the lattice, %.3f exact", lattice, hump);
+    long nfe, nbe;
+    sph_sim_estimate_bytes(&c, &nfe, &nbe);
+    assert_int_equal(nfe, nf);
+    sph_sim_destroy(s);
+    /* misfits */
+    c = solitary_config();
+    c.initial.param[0] = 4.0; /* H/d > 0.7 */
+    expect_error(c, "/initial/height");
+    c = solitary_config();
+    c.initial.param[0] = 0.2; /* below dx */
+    expect_error(c, "/initial/height");
+    c = solitary_config();
+    c.initial.param[1] = 90.0;
+    expect_error(c, "/initial/crest");
+    c = solitary_config();
+    c.tank.max[1] = 6.0; /* below d + 2H */
+    expect_error(c, "/boundary/tank/max/1");
+}
+
 static void test_envelope(void **state)
 {
     (void)state;
@@ -198,8 +295,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_velocity), cmocka_unit_test(test_energy),
-        cmocka_unit_test(test_misfits),  cmocka_unit_test(test_envelope),
-        cmocka_unit_test(test_restore),
+        cmocka_unit_test(test_misfits),  cmocka_unit_test(test_solitary),
+        cmocka_unit_test(test_envelope), cmocka_unit_test(test_restore),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

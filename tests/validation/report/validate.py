@@ -59,12 +59,19 @@ class Context:
                                                                    "reference")
         return os.path.join(base, name)
 
-    def _reference_rows(self, name):
+    def _reference_rows(self, name, header=False):
         """The data rows of a reference CSV, split at commas (# lines and the header skipped:
-        the header is the first line that is not a comment)."""
+        the header is the first line that is not a comment; with header, it comes first)."""
         with open(self.reference(name)) as f:
             lines = [l.strip() for l in f if not l.startswith("#") and l.strip()]
-        return [l.split(",") for l in lines[1:]]
+        return [l.split(",") for l in lines[0 if header else 1:]]
+
+    def reference_columns(self, name):
+        """A reference CSV of numbers as {header: numpy array of its column}."""
+        import numpy as np
+        rows = self._reference_rows(name, header=True)
+        return {h.strip(): np.array([float(r[k]) for r in rows[1:]])
+                for k, h in enumerate(rows[0])}
 
     def reference_table(self, name):
         """The first two columns of a reference CSV as an (n, 2) numpy array."""
