@@ -43,7 +43,6 @@ RESOLUTION = {"full": "dx = L/40 (1,600 fluid particles) and L/80 (6,400), both 
 ORDER_T = (1.0, 1.5, 2.0)   # where the Re = 1000 front must lead the Re = 500 one
 MM_RAW_MAX = 2.35           # t sqrt(g/a) compared: Martin & Moyce's points up to Z = 3.89 (their
                             # last, Z = 4.11, lies beyond this tank's right wall)
-MM_BOUND = 0.15             # RMS of (Z - Z_MM) / Z_MM at the same t sqrt(g/a)
 MM_N = math.sqrt(2.0)       # Martin & Moyce's column: height n^2 a, n^2 = 2
 
 
@@ -125,12 +124,12 @@ def run(ctx):
             rel = (Z - mm[sel, 1]) / mm[sel, 1]
             rms = float(np.sqrt(np.mean(rel ** 2)))
             k = int(np.argmax(np.abs(rel)))
-            ctx.check("%s: front against Martin & Moyce's n^2 = 2 column at the same t sqrt(g/a), "
-                      "RMS of (Z - Z_MM)/Z_MM over t sqrt(g/a) <= %g (%d points)"
-                      % (label, MM_RAW_MAX, int(sel.sum())), round(rms, 4), MM_BOUND,
-                      rms < MM_BOUND, "largest %+.3f at t sqrt(g/a) = %.2f; ahead early (their "
-                      "time origin), behind later (their column's larger head)"
-                      % (rel[k], raw[sel][k]))
+            # noted, not checked: their column is not this one (n^2 = 2), and the scaling in
+            # which the two compare was chosen after seeing the runs
+            print("  note %s: front against Martin & Moyce's n^2 = 2 column at the same "
+                  "t sqrt(g/a), RMS of (Z - Z_MM)/Z_MM over t sqrt(g/a) <= %g (%d points): %.4f "
+                  "(largest %+.3f at t sqrt(g/a) = %.2f)" % (label, MM_RAW_MAX, int(sel.sum()),
+                                                             rms, rel[k], raw[sel][k]))
             sw = mm[mm[:, 0] <= 2.5]
             rel_n = (np.interp(sw[:, 0], f[:, 0], f[:, 1]) - sw[:, 1]) / sw[:, 1]
             rms_n = float(np.sqrt(np.mean(rel_n ** 2)))
@@ -202,8 +201,8 @@ def run(ctx):
     ax.set_ylim(1, 4.2)
     ax.set_xlabel("T = t sqrt(g/L)")
     ax.set_ylabel("Z = x_front / L")
-    ax.set_title("Square column: surge front (tank 4L; checked: RMS %.2f at t sqrt(g/a))"
-                 % MM_BOUND, fontsize=9)
+    ax.set_title("Square column: surge front (tank 4L; Martin & Moyce's n^2 = 2 column at "
+                 "the same t sqrt(g/a), noted)", fontsize=9)
     ax.legend(loc="upper left", fontsize=6)
 
     rise = []   # the water's top can only fall after the release: a rise is numerical
