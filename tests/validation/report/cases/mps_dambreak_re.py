@@ -11,13 +11,11 @@ the level-set ones of its reference [16] by eye), so the checks are:
   particle (the same ids, none lost);
 - the less viscous surge is the faster one: the Re = 1000 front leads the Re = 500 front at
   T = 1, 1.5 and 2 (per weight and resolution);
-- the surge front against Martin & Moyce's (1952) Table 2, the nearest measurement in
-  tests/validation/reference/: a column twice as high as wide (n^2 = 2), not a square one.
-  Compared at the same t sqrt(g/a) (their T / sqrt 2), where the front is carried by the lower
-  part of the column, RMS over their points with t sqrt(g/a) <= 2.35 within 15% (issue 12's 10%
-  for the like-for-like dam break, plus the lead the taller column has at equal t sqrt(g/a): the
-  full level measures it with sphd's own n^2 = 2 column). Their own scaling, T = n t sqrt(g/a)
-  (the shallow-water one, Z - 1 = 2T for every n), is noted beside it.
+Noted, not checked: the surge front against Martin & Moyce's (1952) Table 2, the nearest
+measurement in tests/validation/reference/, for a column twice as high as wide (n^2 = 2), not a
+square one: at the same t sqrt(g/a) (their T / sqrt 2), where the front is carried by the lower
+part of the column, the RMS over their points with t sqrt(g/a) <= 2.35 (the full level measures
+the lead of sphd's own n^2 = 2 column there); and in their own scaling, T = n t sqrt(g/a).
 
 The ci level runs the case as it is (koshizuka, dx = L/40) at both Re; the full level adds the
 paper's quartic weight (sheu_quartic, re = 2 dx) and dx = L/80, and sphd's n^2 = 2 column.
