@@ -46,27 +46,37 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #define L_COLUMN  0.146 /* [m], the case's column width */
 #define MAX_REPS  99
 #define STEP_RING 20 /* the step time is the median of this many latest steps */
 
-typedef struct amg_variant {
+/* A solver: sphd's CG with preconditioner pc, or hypre's PCG with a BoomerAMG V-cycle. */
+typedef struct solver {
     const char *name;
-    int coarsen; /* HYPRE_BoomerAMGSetCoarsenType */
-    int interp;  /* HYPRE_BoomerAMGSetInterpType */
-    int pmax;    /* HYPRE_BoomerAMGSetPMaxElmts (0: no limit) */
-    int relax;   /* HYPRE_BoomerAMGSetCycleRelaxType, down and up */
-} amg_variant;
+    int hypre;          /* 1: hypre with the settings below; 0: sphd with pc */
+    sph_mps_precond pc; /* sphd's preconditioner */
+    int coarsen;        /* HYPRE_BoomerAMGSetCoarsenType */
+    int interp;         /* HYPRE_BoomerAMGSetInterpType */
+    int pmax;           /* HYPRE_BoomerAMGSetPMaxElmts (0: no limit) */
+    int relax;          /* HYPRE_BoomerAMGSetCycleRelaxType, down and up */
+    int agg;            /* HYPRE_BoomerAMGSetAggNumLevels: levels of aggressive coarsening */
+} solver;
 
-static const amg_variant amg_variants[] = {
-    {"amg-hmis", 10, 6, 4, 8},   /* HMIS, extended+i, l1 symmetric Gauss-Seidel */
-    {"amg-falgout", 6, 0, 0, 6}, /* Falgout, classical, hybrid symmetric Gauss-Seidel */
+static const solver solvers[] = {
+    {"ic0", 0, SPH_MPS_PC_IC0, 0, 0, 0, 0, 0}, {"jacobi", 0, SPH_MPS_PC_JACOBI, 0, 0, 0, 0, 0},
+    {"amg-hmis", 1, 0, 10, 6, 4, 8, 0},     /* HMIS, extended+i, l1 symmetric Gauss-Seidel */
+    {"amg-falgout", 1, 0, 6, 0, 0, 6, 0},   /* Falgout, classical, hybrid symmetric G.-S. */
+    {"amg-hmis-agg", 1, 0, 10, 6, 4, 8, 1}, /* amg-hmis, its first level aggressive */
 };
+#define NSOLVERS (int)(sizeof solvers / sizeof solvers[0])
 
 /* One solve's figures. */
 typedef struct sample {
-    double setup; /* [s] */
+    double copy;  /* [s], hypre: the copy of A, b and the start into its own storage */
+    double setup; /* [s], copy included */
+    double cpu;   /* [s], the process's CPU time in setup and solve (all threads) */
     double solve; /* [s] */
     long iterations;
     double residual; /* ||b - A p|| / ||b||, recomputed here [-] */
@@ -98,6 +108,15 @@ static double median(double *v, int n)
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+/* The process's CPU time [s]: on this shared machine, what a solve costs apart from the time
+ * it waited for a core. */
+static double cpu_time(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 /* ||b - A x|| / ||b|| over the unknowns */
 static double residual(const bench_system *B, const double *x)
 {
@@ -116,21 +135,21 @@ static void sphd_solve(bench_system *B, sph_mps_precond pc, sample *out)
     sph_mps_ppe *S = B->S;
     memcpy(B->p, B->p0, (size_t)S->np * sizeof *B->p);
     sph_mps_cg_stats st;
-    const double t0 = omp_get_wtime();
+    const double c0 = cpu_time(), t0 = omp_get_wtime();
     S->factored = 0;
     if (pc == SPH_MPS_PC_IC0)
         sph_mps_ppe_factor(S);
     const double t1 = omp_get_wtime();
     sph_mps_ppe_solve(S, B->rhs, B->p, pc, B->tol, B->maxit, &st);
-    const double t2 = omp_get_wtime();
+    const double t2 = omp_get_wtime(), c2 = cpu_time();
     for (long u = 0; u < S->n; u++)
         B->x[u] = B->p[S->part[u]];
-    *out = (sample){t1 - t0, t2 - t1, st.iterations, residual(B, B->x)};
+    *out = (sample){0.0, t1 - t0, c2 - c0, t2 - t1, st.iterations, residual(B, B->x)};
 }
 
 /* hypre PCG + BoomerAMG from B->x0 into B->x. Returns 0, or -1 if hypre failed (not: did not
  * converge, which the residual shows). */
-static int amg_solve(bench_system *B, const amg_variant *v, sample *out)
+static int amg_solve(bench_system *B, const solver *v, sample *out)
 {
     const sph_mps_ppe *S = B->S;
     const HYPRE_Int n = (HYPRE_Int)S->n;
@@ -140,7 +159,7 @@ static int amg_solve(bench_system *B, const amg_variant *v, sample *out)
     HYPRE_ParVector pb, px;
     HYPRE_Solver amg = NULL, pcg = NULL;
     int bad = 0;
-    const double t0 = omp_get_wtime();
+    const double c0 = cpu_time(), t0 = omp_get_wtime();
     /* A in compressed rows, the diagonal first (as ParCSR stores it) */
     long e = 0;
     for (long u = 0; u < S->n; u++) {
@@ -171,11 +190,13 @@ static int amg_solve(bench_system *B, const amg_variant *v, sample *out)
     }
     bad |= HYPRE_IJVectorGetObject(b, (void **)&pb);
     bad |= HYPRE_IJVectorGetObject(x, (void **)&px);
+    const double tc = omp_get_wtime();
 
     bad |= HYPRE_BoomerAMGCreate(&amg);
     bad |= HYPRE_BoomerAMGSetCoarsenType(amg, v->coarsen);
     bad |= HYPRE_BoomerAMGSetInterpType(amg, v->interp);
     bad |= HYPRE_BoomerAMGSetPMaxElmts(amg, v->pmax);
+    bad |= HYPRE_BoomerAMGSetAggNumLevels(amg, v->agg);
     bad |= HYPRE_BoomerAMGSetStrongThreshold(amg, 0.25); /* 2D */
     bad |= HYPRE_BoomerAMGSetCycleRelaxType(amg, v->relax, 1);
     bad |= HYPRE_BoomerAMGSetCycleRelaxType(amg, v->relax, 2);
@@ -183,7 +204,7 @@ static int amg_solve(bench_system *B, const amg_variant *v, sample *out)
     bad |= HYPRE_BoomerAMGSetNumSweeps(amg, 1);
     bad |= HYPRE_BoomerAMGSetMaxIter(amg, 1); /* one V-cycle per application */
     bad |= HYPRE_BoomerAMGSetTol(amg, 0.0);
-    bad |= HYPRE_BoomerAMGSetPrintLevel(amg, 0);
+    bad |= HYPRE_BoomerAMGSetPrintLevel(amg, getenv("AMG_PRINT") ? 1 : 0);
     bad |= HYPRE_ParCSRPCGCreate(MPI_COMM_WORLD, &pcg);
     bad |= HYPRE_PCGSetTol(pcg, B->tol);
     bad |= HYPRE_PCGSetAbsoluteTol(pcg, 0.0);
@@ -205,34 +226,54 @@ static int amg_solve(bench_system *B, const amg_variant *v, sample *out)
     bad |= HYPRE_IJVectorDestroy(x);
     bad |= HYPRE_IJVectorDestroy(b);
     bad |= HYPRE_IJMatrixDestroy(A);
-    const double t3 = omp_get_wtime();
-    *out = (sample){(t1 - t0) + (t3 - t2), t2 - t1, it, residual(B, B->x)};
+    const double t3 = omp_get_wtime(), c3 = cpu_time();
+    *out = (sample){tc - t0, (t1 - t0) + (t3 - t2), c3 - c0, t2 - t1, it, residual(B, B->x)};
     return bad ? -1 : 0;
 }
 
-/* Repeats one solver reps times and prints the medians. Returns -1 if hypre failed. */
-static int measure(bench_system *B, const char *name, int threads, int reps, int amg,
-                   sph_mps_precond pc, const amg_variant *v)
+/* Runs every solver (hypre's only with one thread unless it has OpenMP) reps times, in turn
+ * (the machine's other load falls on all alike), and prints the medians. Returns -1 if hypre
+ * failed. */
+static int measure(bench_system *B, int threads, int reps)
 {
     omp_set_num_threads(threads);
-    double setup[MAX_REPS], solve[MAX_REPS], total[MAX_REPS];
-    sample s = {0};
-    for (int r = 0; r < reps; r++) {
-        if (amg) {
-            if (amg_solve(B, v, &s)) {
-                fprintf(stderr, "bench_mps_amg: hypre failed (%s)\n", name);
+    static double copy[NSOLVERS][MAX_REPS], setup[NSOLVERS][MAX_REPS], solve[NSOLVERS][MAX_REPS],
+        total[NSOLVERS][MAX_REPS], cpu[NSOLVERS][MAX_REPS];
+    sample last[NSOLVERS];
+    int run[NSOLVERS];
+    for (int k = 0; k < NSOLVERS; k++) {
+        run[k] = !solvers[k].hypre || threads == 1;
+#ifdef HYPRE_USING_OPENMP
+        run[k] = 1;
+#endif
+    }
+    for (int r = 0; r < reps; r++)
+        for (int k = 0; k < NSOLVERS; k++) {
+            sample *s = &last[k];
+            if (!run[k])
+                continue;
+            if (!solvers[k].hypre) {
+                sphd_solve(B, solvers[k].pc, s);
+            } else if (amg_solve(B, &solvers[k], s)) {
+                fprintf(stderr, "bench_mps_amg: hypre failed (%s)\n", solvers[k].name);
                 return -1;
             }
-        } else {
-            sphd_solve(B, pc, &s);
+            copy[k][r] = s->copy;
+            setup[k][r] = s->setup;
+            solve[k][r] = s->solve;
+            total[k][r] = s->setup + s->solve;
+            cpu[k][r] = s->cpu;
         }
-        setup[r] = s.setup;
-        solve[r] = s.solve;
-        total[r] = s.setup + s.solve;
+    for (int k = 0; k < NSOLVERS; k++) {
+        if (!run[k])
+            continue;
+        const sample *s = &last[k];
+        printf("  %-12s %7d %6ld %9.1e %9.3f %9.3f %9.3f %9.3f %9.3f%s\n", solvers[k].name, threads,
+               s->iterations, s->residual, 1e3 * median(copy[k], reps),
+               1e3 * median(setup[k], reps), 1e3 * median(solve[k], reps),
+               1e3 * median(total[k], reps), 1e3 * median(cpu[k], reps),
+               s->residual <= B->tol ? "" : "  NOT CONVERGED");
     }
-    printf("  %-12s %7d %6ld %9.1e %9.3f %9.3f %9.3f%s\n", name, threads, s.iterations, s.residual,
-           1e3 * median(setup, reps), 1e3 * median(solve, reps), 1e3 * median(total, reps),
-           s.residual <= B->tol ? "" : "  NOT CONVERGED");
     fflush(stdout);
     return 0;
 }
@@ -331,22 +372,11 @@ static int one(const json_t *mps_case, int res, double t_cap, const int *threads
                "(1 thread, median of the last %d); the sim's IC(0) solve took %ld iterations\n",
                res, 1e3 * L_COLUMN / res, d->step, d->t, d->nfluid, n, ne, S->surface,
                1e3 * median(ring, ns), ns, d->cg_iterations);
-        printf("  %-12s %7s %6s %9s %9s %9s %9s\n", "solver", "threads", "iters", "residual",
-               "setup ms", "solve ms", "total ms");
-        for (int t = 0; !rc && t < nthreads; t++) {
-            if (t > 0 && n < SPH_OMP_MIN)
-                break; /* sphd runs systems this small on one thread */
-            rc = measure(&B, "ic0", threads[t], reps, 0, SPH_MPS_PC_IC0, NULL);
-            if (!rc)
-                rc = measure(&B, "jacobi", threads[t], reps, 0, SPH_MPS_PC_JACOBI, NULL);
-#ifndef HYPRE_USING_OPENMP
-            if (t > 0)
-                continue; /* a serial hypre: threads change nothing */
-#endif
-            for (size_t k = 0; !rc && k < sizeof amg_variants / sizeof amg_variants[0]; k++)
-                rc = measure(&B, amg_variants[k].name, threads[t], reps, 1, SPH_MPS_PC_NONE,
-                             &amg_variants[k]);
-        }
+        printf("  %-12s %7s %6s %9s %9s %9s %9s %9s %9s\n", "solver", "threads", "iters",
+               "residual", "copy ms", "setup ms", "solve ms", "total ms", "CPU ms");
+        for (int t = 0; !rc && t < nthreads; t++)
+            if (t == 0 || n >= SPH_OMP_MIN) /* sphd runs smaller systems on one thread */
+                rc = measure(&B, threads[t], reps);
     }
     free(B.p0);
     free(B.p);
