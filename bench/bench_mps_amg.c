@@ -18,15 +18,22 @@
  *                elimination on the coarsest level
  *   amg-falgout  the same with Falgout coarsening, classical interpolation and hybrid
  *                symmetric Gauss-Seidel
+ *   amg-hmis-agg amg-hmis with its first level coarsened aggressively (the cheapest setup)
  *
  * The matrix changes every MPS step (the particles move), so a solver's setup is paid every step:
- * for hypre it is the copy of sphd's compressed rows into an IJ matrix and vectors, the AMG
- * hierarchy, and their release; for IC(0) the factorisation. The common assembly of A (sphd's,
- * part of every solver's step) is not counted. Each solve is repeated `--reps` times (default 7)
- * and the medians printed; sphd's solvers with each of `--threads` where the system is large
- * enough for sphd to use threads (SPH_OMP_MIN unknowns), hypre with one (Debian's build has no
- * OpenMP, HYPRE_USING_OPENMP; it would run with each otherwise). One MPI rank: hypre's
- * sequential use of the IJ interface on MPI_COMM_WORLD.
+ * for hypre it is the copy of sphd's compressed rows into an IJ matrix and vectors (also printed
+ * alone), the AMG hierarchy, and their release; for IC(0) the factorisation. The common assembly
+ * of A (sphd's, part of every solver's step) is not counted. The solvers run in turn `--reps`
+ * times (default 7) and the medians are printed: wall times and the process's CPU time, the
+ * steadier figure on a shared machine. sphd's solvers run with each of `--threads` where the
+ * system is large enough for sphd to use threads (SPH_OMP_MIN unknowns), hypre with one
+ * (Debian's build has no OpenMP, HYPRE_USING_OPENMP; it would run with each otherwise). One MPI
+ * rank: hypre's sequential use of the IJ interface on MPI_COMM_WORLD. AMG_PRINT=1 in the
+ * environment prints BoomerAMG's setup statistics (levels, grid and operator complexity) at
+ * every setup.
+ *
+ * Figures and what follows from them: README, "bench_mps_amg" (IC(0) is 2-3 times faster per
+ * step than the best AMG setting at L/20 to L/160, its iterations growing as (L/dx)^0.33).
  *
  * Usage: bench_mps_amg SOURCE_DIR [--time T] [--sizes "20 40 80"] [--threads "1 2"] [--reps N]
  * (SOURCE_DIR: where cases/mps_dambreak.json is). Never fails on time.
@@ -87,6 +94,7 @@ typedef struct bench_system {
     sph_mps_ppe *S;                 /* the sim's latest matrix (borrowed) */
     const double *rhs;              /* its right-hand side per particle (borrowed) */
     double tol;                     /* the case's relative tolerance */
+    long sim_iterations;            /* the sim's own IC(0) iterations on this system */
     long maxit;                     /* the case's iteration cap */
     double *p0;                     /* per particle: the warm start */
     double *p;                      /* per particle: sphd's solution */
@@ -268,11 +276,15 @@ static int measure(bench_system *B, int threads, int reps)
         if (!run[k])
             continue;
         const sample *s = &last[k];
-        printf("  %-12s %7d %6ld %9.1e %9.3f %9.3f %9.3f %9.3f %9.3f%s\n", solvers[k].name, threads,
-               s->iterations, s->residual, 1e3 * median(copy[k], reps),
+        printf("  %-12s %7d %6ld %9.1e %9.3f %9.3f %9.3f %9.3f %9.3f%s%s\n", solvers[k].name,
+               threads, s->iterations, s->residual, 1e3 * median(copy[k], reps),
                1e3 * median(setup[k], reps), 1e3 * median(solve[k], reps),
                1e3 * median(total[k], reps), 1e3 * median(cpu[k], reps),
-               s->residual <= B->tol ? "" : "  NOT CONVERGED");
+               s->residual <= B->tol ? "" : "  NOT CONVERGED",
+               solvers[k].pc == SPH_MPS_PC_IC0 && !solvers[k].hypre &&
+                       s->iterations != B->sim_iterations
+                   ? "  NOT THE SIM'S COUNT"
+                   : "");
     }
     fflush(stdout);
     return 0;
@@ -366,6 +378,7 @@ static int one(const json_t *mps_case, int res, double t_cap, const int *threads
             B.x0[u] = B.p0[S->part[u]];
         }
         const sph_diag *d = sph_sim_diag(s);
+        B.sim_iterations = d->cg_iterations;
         const int ns = nstep < STEP_RING ? (int)nstep : STEP_RING;
         printf("L/dx %d (dx = %.4g mm): step %ld at t = %.4f s, %ld fluid particles; unknowns %ld, "
                "nonzeros %ld (diagonal included), surface particles %ld; a step takes %.2f ms "
