@@ -1,5 +1,6 @@
 /*
- * The MPS method's private interface (core/mps/ only): its row of the method table.
+ * The MPS method's private interface (core/mps/ and the MPS benchmarks): its row of the method
+ * table, and the latest pressure equation for benchmarks.
  * The numerics are in sph_mps_ops.h (interaction models), sph_mps_nbr.h (neighbour lists) and
  * sph_mps_ppe.h (the Poisson equation and its solve); the algorithm in sph_mps.c.
  */
