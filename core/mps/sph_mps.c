@@ -564,6 +564,17 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
     return 0;
 }
 
+/* The matrix and right-hand side (P.drho: not permuted until the next step's sort, which the
+ * matrix's particle numbering shares) of the latest solve. */
+sph_mps_ppe *sph_mps_latest_system(sph_sim *s, const double **rhs)
+{
+    mps_state *m = s->ops == &sph_mps_ops ? s->mstate : NULL;
+    if (!m || m->ppe.np == 0) /* not MPS, or no step since creation or restore */
+        return NULL;
+    *rhs = s->P.drho;
+    return &m->ppe;
+}
+
 /* P.p is the solved pressure, kept up to date by the steps. */
 static void mps_pressure(const sph_sim *s)
 {

@@ -255,7 +255,7 @@ static double dot(const sph_mps_ppe *S, const double *restrict a, const double *
     return s;
 }
 
-static void ic0_factor(sph_mps_ppe *S)
+void sph_mps_ppe_factor(sph_mps_ppe *S)
 {
     const long n = S->n;
     const long *ptr = S->ptr, *lend = S->lend;
@@ -338,7 +338,7 @@ int sph_mps_ppe_solve(sph_mps_ppe *S, const double *rhs, double *p, sph_mps_prec
         memset(xv, 0, (size_t)n * sizeof *xv);
     } else {
         if (pc == SPH_MPS_PC_IC0 && !S->factored)
-            ic0_factor(S);
+            sph_mps_ppe_factor(S);
         sph_mps_ppe_matvec(S, xv, q);
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
         for (long u = 0; u < n; u++)

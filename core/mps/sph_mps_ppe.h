@@ -93,6 +93,10 @@ int sph_mps_ppe_assemble_kinds(sph_mps_ppe *S, const sph_mps_nbr *L, const doubl
 int sph_mps_ppe_solve(sph_mps_ppe *S, const double *rhs, double *p, sph_mps_precond pc, double tol,
                       long maxit, sph_mps_cg_stats *st);
 
+/* Computes the IC(0) factor of the latest assembly (sph_mps_ppe_solve does it when it needs
+ * it; apart, it can be timed apart: benchmarks). Clear S->factored first to compute it again. */
+void sph_mps_ppe_factor(sph_mps_ppe *S);
+
 /* y = A x over the unknowns (for tests). */
 void sph_mps_ppe_matvec(const sph_mps_ppe *S, const double *x, double *y);
 
