@@ -584,6 +584,18 @@ int sph_case_from_json(const json_t *root, sph_case *out, sph_error *err)
                          "unknown method '%s' (known: kernel_study, wcsph, mps)", method);
 }
 
+json_t *sph_case_field_names(const char *path)
+{
+    for (const sph_case_field *f = sph_case_fields; f->path; f++)
+        if (f->names && strcmp(f->path, path) == 0) {
+            json_t *a = json_array();
+            for (int k = 0; a && f->names[k]; k++)
+                json_array_append_new(a, json_string(f->names[k]));
+            return a;
+        }
+    return NULL;
+}
+
 json_t *sph_case_fields_json(void)
 {
     static const char *const types[] = {"object", "text",  "number", "integer", "enum",  "vector",

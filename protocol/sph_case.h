@@ -49,6 +49,9 @@ int sph_case_from_json(const json_t *root, sph_case *out, sph_error *err);
 /* Case-file name of a method. */
 const char *sph_method_name(sph_method m);
 
+/* Case-file name of a viscous term (physics.viscosity.type; sph_config's visc). */
+const char *sph_visc_name(int visc);
+
 /* 1 if the case is a particle simulation run through the sim handle (sim and output hold it),
  * 0 for a kernel study. */
 int sph_case_is_sim(const sph_case *c);

@@ -34,6 +34,14 @@ static const char *const eos_names[] = {"linear", "tait", NULL};
 static const int eos_values[] = {SPH_EOS_LINEAR, SPH_EOS_TAIT};
 static const char *const visc_names[] = {"artificial", "laminar", "monaghan", NULL};
 static const int visc_values[] = {SPH_VISC_ARTIFICIAL, SPH_VISC_LAMINAR, SPH_VISC_MONAGHAN};
+
+const char *sph_visc_name(int visc)
+{
+    for (int k = 0; visc_names[k]; k++)
+        if (visc_values[k] == visc)
+            return visc_names[k];
+    return "unknown";
+}
 static const char *const initial_names[] = {"rest", "standing_wave", "solitary_wave",
                                             NULL}; /* sph_initial_type */
 static const char *const turb_names[] = {"none", "sps", NULL};

@@ -82,4 +82,8 @@ int sph_case_parse_sim(const json_t *root, sph_method m, sph_config *c, sph_outp
  * "default", "doc"}. */
 json_t *sph_case_fields_json(void);
 
+/* The names a row of the table takes (an enum's or a list's), as a JSON array (new reference);
+ * NULL when no row has that path or it names nothing. */
+json_t *sph_case_field_names(const char *path);
+
 #endif

@@ -7,6 +7,7 @@
 #include "sphd.h"
 #include "sphd_daemon.h"
 
+#include "sph_case_table.h"
 #include "sph_json.h"
 
 #include <math.h>
@@ -429,9 +430,10 @@ static int op_hello(sphd_request *r, json_t **result, sphd_err *e)
     /* what the physics options mean where a job's figures depend on them */
     json_object_set_new(
         *result, "physics",
-        json_pack("{s:[s,s,s], s:[s,s,s], s:[s,s], s:s}", "viscosity", "artificial", "laminar",
-                  "monaghan", "boundary", "dynamic", "ghost", "none", "initial", "rest",
-                  "standing_wave", "monaghan_alpha",
+        json_pack("{s:o*, s:o*, s:o*, s:s}", "viscosity",
+                  sph_case_field_names("/physics/viscosity/type"), "boundary",
+                  sph_case_field_names("/boundary/type"), "initial",
+                  sph_case_field_names("/initial/type"), "monaghan_alpha",
                   "alpha = 2 (dim + 2) nu / (h c0), reported per job in result.viscosity.alpha"));
     return 0;
 }

@@ -154,8 +154,7 @@ static json_t *diag_json(const sph_diag *d, const sph_config *c, int solves_pres
 static void result_physics(json_t *res, const sph_sim *s)
 {
     const sph_config *c = sph_sim_config(s);
-    static const char *const visc[] = {"artificial", "laminar", "monaghan"};
-    json_t *v = json_pack("{s:s}", "type", visc[c->visc]);
+    json_t *v = json_pack("{s:s}", "type", sph_visc_name(c->visc));
     if (c->visc != SPH_VISC_LAMINAR)
         json_object_set_new(
             v, "alpha",

@@ -31,6 +31,11 @@ try:
                          "stop", "list", "shutdown", "results", "fetch", "export"],
             "hello lists the ops", h["ops"])
     F.check(h["protocol"] == 1 and "kernel_study" in h["methods"], "hello: protocol, methods", h)
+    ph = h.get("physics", {})
+    F.check(ph.get("initial") == ["rest", "standing_wave", "solitary_wave"]
+            and ph.get("boundary") == ["dynamic", "ghost", "none"]
+            and ph.get("viscosity") == ["artificial", "laminar", "monaghan"],
+            "hello: the physics names are the case table's", ph)
     req = d.socket(zmq.REQ)
     r = d.request("ping", sock=req)
     F.check(r["ok"] and r["id"] == "t-ping" and r["v"] == 1, "REQ client (empty delimiter)", r)
