@@ -156,5 +156,8 @@ sph_config sph_config_default(void);
 /* Monaghan's viscous term as a physical viscosity (Macia et al.): the alpha that models nu,
  * from nu = alpha h c0 / (2 (d + 2)). */
 double sph_config_monaghan_alpha(const sph_config *c);
+/* The kinematic viscosity a config's viscous term models [m^2/s]: nu itself for the laminar and
+ * Monaghan terms, alpha h c0 / (2 (d + 2)) for the artificial one (its inverse). */
+double sph_config_viscosity_nu(const sph_config *c);
 
 #endif

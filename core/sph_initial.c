@@ -134,21 +134,12 @@ static void sw_velocity(const sph_config *c, const double *x, double *v)
     v[1] = -a * sinh(ky) * cos(kx);
 }
 
-/* The kinematic viscosity a config's viscous term models [m^2/s]: nu itself for the laminar and
- * Monaghan terms, alpha h c0 / (2 (d + 2)) for the artificial one. */
-static double nu_of(const sph_config *c)
-{
-    if (c->visc == SPH_VISC_ARTIFICIAL)
-        return c->alpha * c->h_over_dx * c->dx * c->c0 / (2.0 * (c->dim + 2));
-    return c->nu;
-}
-
 static int sw_theory(const sph_config *c, sph_initial_theory *t)
 {
     const wave w = sw_of(c);
     t->omega = w.omega;
     t->period = 2.0 * M_PI / w.omega;
-    t->decay_rate = 4.0 * nu_of(c) * w.k * w.k; /* Lighthill, eq. (8) */
+    t->decay_rate = 4.0 * sph_config_viscosity_nu(c) * w.k * w.k; /* Lighthill, eq. (8) */
     t->ekin0 = c->rho0 * w.eps * w.eps * w.g * w.lambda * w.H * w.H / 16.0;
     return 0;
 }

@@ -47,6 +47,13 @@ double sph_config_monaghan_alpha(const sph_config *c)
     return 2.0 * (c->dim + 2) * c->nu / (c->h_over_dx * c->dx * c->c0);
 }
 
+double sph_config_viscosity_nu(const sph_config *c)
+{
+    if (c->visc == SPH_VISC_ARTIFICIAL)
+        return c->alpha * c->h_over_dx * c->dx * c->c0 / (2.0 * (c->dim + 2));
+    return c->nu;
+}
+
 static double support_of(const sph_config *c)
 {
     const sph_kernel_spec *k = &c->kernel;
@@ -308,7 +315,7 @@ int sph_sim_wave_fit(const sph_sim *s, double t_fit, sph_sim_wave *w)
     w->decay_rate_theory = s->theory.decay_rate;
     w->period_theory = s->theory.period;
     w->ekin0_theory = s->theory.ekin0;
-    w->nu = c->visc == SPH_VISC_ARTIFICIAL ? c->alpha * s->h * c->c0 / (2.0 * (c->dim + 2)) : c->nu;
+    w->nu = sph_config_viscosity_nu(c);
     w->alpha = c->visc == SPH_VISC_MONAGHAN  ? sph_config_monaghan_alpha(c)
                : c->visc == SPH_VISC_LAMINAR ? 0.0
                                              : c->alpha;
