@@ -16,12 +16,12 @@
 
 /* Particle snapshots (the case's "output"); the core knows nothing of them. */
 enum {
-    SPH_FIELD_POS = 1 << 0,
+    SPH_FIELD_POS = 1 << 0, /* always written, asked for or not (as id) */
     SPH_FIELD_VEL = 1 << 1,
     SPH_FIELD_RHO = 1 << 2,
     SPH_FIELD_P = 1 << 3,
     SPH_FIELD_TYPE = 1 << 4,
-    SPH_FIELD_ID = 1 << 5,
+    SPH_FIELD_ID = 1 << 5, /* always written: accepted in a case, no switch */
     SPH_FIELD_MASS = 1 << 6,
 };
 
