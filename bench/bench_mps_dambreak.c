@@ -21,7 +21,11 @@
  * there (the cores were busy), and with the default (active) wait policy they were 50 times
  * slower at L/40 (237 ms per step against 4.9 with one thread: threads spinning at the
  * barriers of the many short parallel loops while the machine's other work held the second
- * core); measure the thread scaling on an idle machine.
+ * core). On the idle machine (2026-11-23, medians of 3, default wait policy), 1 / 2 threads,
+ * wall seconds per simulated second: MPS 34.1 / 28.4 at L/40, 294 / 239 at L/80 (the solve's
+ * share 53-55% -> 62-69%: IC(0)'s triangular solves are serial); WCSPH 17.7 / 12.7 and
+ * 149 / 97; L/20 gains nothing. With OMP_WAIT_POLICY=passive MPS gains nothing and is 17% slower
+ * at L/80 with 2 threads (the threads sleep between the CG's short parallel loops).
  *
  * Usage: bench_mps_dambreak SOURCE_DIR [--time T] [--threads "1 2"] [--sizes "20 40 80"]
  * [--methods "mps wcsph"]   (SOURCE_DIR: where cases/mps_dambreak.json is)
