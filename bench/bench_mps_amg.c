@@ -38,6 +38,7 @@
  * Usage: bench_mps_amg SOURCE_DIR [--time T] [--sizes "20 40 80"] [--threads "1 2"] [--reps N]
  * (SOURCE_DIR: where cases/mps_dambreak.json is). Never fails on time.
  */
+#include "bench_opts.h"
 #include "sph_case.h"
 #include "sph_json.h"
 #include "sph_mps.h"
@@ -436,20 +437,13 @@ int main(int argc, char **argv)
     int reps = 7;
     if (argc < 2 || argv[1][0] == '-')
         return usage(argv[0]);
-    for (int i = 2; i < argc; i += 2) {
-        if (i + 1 >= argc)
-            return usage(argv[0]);
-        if (strcmp(argv[i], "--time") == 0)
-            t_cap = atof(argv[i + 1]);
-        else if (strcmp(argv[i], "--sizes") == 0)
-            sizes = argv[i + 1];
-        else if (strcmp(argv[i], "--threads") == 0)
-            threads = argv[i + 1];
-        else if (strcmp(argv[i], "--reps") == 0)
-            reps = atoi(argv[i + 1]);
-        else
-            return usage(argv[0]);
-    }
+    const bench_opt opts[] = {{"--time", BENCH_OPT_DOUBLE, &t_cap},
+                              {"--sizes", BENCH_OPT_TEXT, &sizes},
+                              {"--threads", BENCH_OPT_TEXT, &threads},
+                              {"--reps", BENCH_OPT_INT, &reps},
+                              {NULL, 0, NULL}};
+    if (bench_options(argc, argv, 2, opts))
+        return usage(argv[0]);
     int res[16], th[8];
     const int nres = int_list(sizes, res, 16, 4, 1000), nth = int_list(threads, th, 8, 1, 256);
     if (!(t_cap > 0.0 && t_cap <= 10.0) || nres < 1 || nth < 1 || reps < 1 || reps > MAX_REPS) {

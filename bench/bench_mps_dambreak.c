@@ -30,6 +30,7 @@
  * Usage: bench_mps_dambreak SOURCE_DIR [--time T] [--threads "1 2"] [--sizes "20 40 80"]
  * [--methods "mps wcsph"]   (SOURCE_DIR: where cases/mps_dambreak.json is)
  */
+#include "bench_opts.h"
 #include "sph_case.h"
 #include "sph_json.h"
 #include "sph_sim.h"
@@ -148,20 +149,13 @@ int main(int argc, char **argv)
     const char *threads = "1 2", *sizes = "20 40 80", *methods = "mps wcsph";
     if (argc < 2 || argv[1][0] == '-')
         return usage(argv[0]);
-    for (int i = 2; i < argc; i += 2) {
-        if (i + 1 >= argc)
-            return usage(argv[0]);
-        if (strcmp(argv[i], "--time") == 0)
-            t_sim = atof(argv[i + 1]);
-        else if (strcmp(argv[i], "--threads") == 0)
-            threads = argv[i + 1];
-        else if (strcmp(argv[i], "--sizes") == 0)
-            sizes = argv[i + 1];
-        else if (strcmp(argv[i], "--methods") == 0)
-            methods = argv[i + 1];
-        else
-            return usage(argv[0]);
-    }
+    const bench_opt opts[] = {{"--time", BENCH_OPT_DOUBLE, &t_sim},
+                              {"--threads", BENCH_OPT_TEXT, &threads},
+                              {"--sizes", BENCH_OPT_TEXT, &sizes},
+                              {"--methods", BENCH_OPT_TEXT, &methods},
+                              {NULL, 0, NULL}};
+    if (bench_options(argc, argv, 2, opts))
+        return usage(argv[0]);
     if (!(t_sim > 0.0 && t_sim <= 10.0)) {
         fprintf(stderr, "bench_mps_dambreak: --time must be in (0, 10] s\n");
         return 64;
