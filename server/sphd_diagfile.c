@@ -83,6 +83,8 @@ static int read_rows(const char *path, const sphd_diag_column *columns, int ncol
         out->values = calloc((size_t)(keep ? keep : 1) * (size_t)ncolumns, sizeof(double));
     if (rc == 0 && !out->values)
         rc = -1;
+    /* a column may hold more rows than "step": the appends flush "step" last, so a writer
+     * killed in between leaves the later columns one row longer; only the first n are read */
     double *col = rc == 0 ? malloc((n ? n : 1) * sizeof *col) : NULL;
     for (int c = 0; rc == 0 && c < ncolumns; c++) {
         hid_t d = H5Dopen2(f, columns[c].name, H5P_DEFAULT);
@@ -91,11 +93,15 @@ static int read_rows(const char *path, const sphd_diag_column *columns, int ncol
         hsize_t m = 0;
         hid_t sp = H5Dget_space(d);
         H5Sget_simple_extent_dims(sp, &m, NULL);
-        H5Sclose(sp);
+        hsize_t start[1] = {0}, count[1] = {n};
+        hid_t ms = H5Screate_simple(1, count, NULL);
         if (m >= n && n > 0 &&
-            H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, col) >= 0)
+            H5Sselect_hyperslab(sp, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
+            H5Dread(d, H5T_NATIVE_DOUBLE, ms, sp, H5P_DEFAULT, col) >= 0)
             for (long r = 0; r < keep; r++)
                 out->values[(size_t)r * (size_t)ncolumns + (size_t)c] = col[r];
+        H5Sclose(ms);
+        H5Sclose(sp);
         H5Dclose(d);
     }
     free(col);
