@@ -267,6 +267,28 @@ static void test_xdmf(void **state)
     free(P);
 }
 
+/* Exports the diagnostics file at path as CSV (to dir/NAME) and reads it back: its header line,
+ * its data rows and its last line. */
+static int export_csv(const char *path, const char *name, char *header, char *last)
+{
+    char csv[512];
+    snprintf(csv, sizeof csv, "%s/%s", dir, name);
+    FILE *out = fopen(csv, "w");
+    sph_error err;
+    assert_int_equal(sphd_diagfile_export_csv(path, out, &err), 0);
+    fclose(out);
+    FILE *in = fopen(csv, "r");
+    char line[512];
+    assert_non_null(fgets(header, 512, in));
+    int rows = 0;
+    while (fgets(line, sizeof line, in)) {
+        rows++;
+        strcpy(last, line);
+    }
+    fclose(in);
+    return rows;
+}
+
 static void test_diagfile(void **state)
 {
     (void)state;
@@ -292,23 +314,9 @@ static void test_diagfile(void **state)
     assert_int_equal(sphd_diagfile_append(d, 210, v, &err), 0);
     sphd_diagfile_close(d);
 
-    char csv[512];
-    snprintf(csv, sizeof csv, "%s/diag.csv", dir);
-    FILE *out = fopen(csv, "w");
-    assert_int_equal(sphd_diagfile_export_csv(path, out, &err), 0);
-    fclose(out);
-    FILE *in = fopen(csv, "r");
-    char line[512];
-    assert_non_null(fgets(line, sizeof line, in));
-    assert_string_equal(line, "step,t,dt,ekin,lost\n");
-    int rows = 0;
-    char last[512] = "";
-    while (fgets(line, sizeof line, in)) {
-        rows++;
-        strcpy(last, line);
-    }
-    fclose(in);
-    assert_int_equal(rows, 22);
+    char header[512], last[512] = "";
+    assert_int_equal(export_csv(path, "diag.csv", header, last), 22);
+    assert_string_equal(header, "step,t,dt,ekin,lost\n");
     assert_string_equal(last, "210,9,9,9,9\n");
 
     /* the table: 22 rows, counted by /rows; lost is an integer; units per member */
@@ -371,20 +379,8 @@ static void test_diagfile_torn_row(void **state)
     assert_non_null(d);
     assert_int_equal(sphd_diagfile_rows(d), 30);
     sphd_diagfile_close(d);
-    char csv[512];
-    snprintf(csv, sizeof csv, "%s/torn.csv", dir);
-    FILE *out = fopen(csv, "w");
-    assert_int_equal(sphd_diagfile_export_csv(path, out, &err), 0);
-    fclose(out);
-    FILE *in = fopen(csv, "r");
-    char line[512], last[512] = "";
-    int rows = -1;
-    while (fgets(line, sizeof line, in)) {
-        rows++;
-        strcpy(last, line);
-    }
-    fclose(in);
-    assert_int_equal(rows, 30);
+    char header[512], last[512] = "";
+    assert_int_equal(export_csv(path, "torn.csv", header, last), 30);
     assert_string_equal(last, "29,14.5,58,0\n");
 }
 
