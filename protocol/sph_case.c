@@ -426,16 +426,14 @@ static int parse_row(const json_t *root, const sph_case_field *f, const json_t *
     case SPH_CF_TEXT:
         return sph_json_string(obj, parent, key, 0, &str, err);
     case SPH_CF_NUMBER:
-        /* open bounds are checked below, with a message that says which end is open */
-        if (sph_json_number(obj, parent, key, 1, f->lo_open || f->hi_open ? -INFINITY : f->lo,
-                            f->hi_open ? INFINITY : f->hi, &num, err))
+        /* the type here, the range below: one message that says which ends are open */
+        if (sph_json_number(obj, parent, key, 1, -INFINITY, INFINITY, &num, err))
             return SPH_ERR_INVALID;
-        if (f->lo_open && !f->hi_open && !(num > f->lo))
+        if (!((f->lo_open ? num > f->lo : num >= f->lo) &&
+              (f->hi_open ? num < f->hi : num <= f->hi)))
             return sph_error_set(err, SPH_ERR_INVALID, f->path,
-                                 "'%s' must be greater than %g, got %g", key, f->lo, num);
-        if (f->hi_open && !((f->lo_open ? num > f->lo : num >= f->lo) && num < f->hi))
-            return sph_error_set(err, SPH_ERR_INVALID, f->path, "'%s' must be in %c%g, %g), got %g",
-                                 key, f->lo_open ? '(' : '[', f->lo, f->hi, num);
+                                 "'%s' must be in %c%g, %g%c, got %g", key, f->lo_open ? '(' : '[',
+                                 f->lo, f->hi, f->hi_open ? ')' : ']', num);
         *(double *)dst = num;
         return 0;
     case SPH_CF_INTEGER:

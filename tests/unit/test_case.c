@@ -232,12 +232,43 @@ static void test_table_defaults(void **state)
     assert_true(checked >= 15);
 }
 
+/* A number out of range names the interval with its open and closed ends as the table has them. */
+static void test_range_messages(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *file, *set, *path, *want;
+    } rows[] = {
+        {"dambreak.json", "dx=2000", "/dx", "'dx' must be in (0, 1000], got 2000"},
+        {"dambreak.json", "dx=0", "/dx", "'dx' must be in (0, 1000], got 0"},
+        {"mps_dambreak.json", "mps.beta=1", "/mps/beta", "'beta' must be in (0, 1), got 1"},
+        {"mps_dambreak.json", "mps.re=7", "/mps/re", "'re' must be in (1, 6], got 7"},
+        {"mps_dambreak.json", "mps.collision=-0.5", "/mps/collision",
+         "'collision' must be in [0, 1), got -0.5"},
+    };
+    for (size_t r = 0; r < sizeof rows / sizeof rows[0]; r++) {
+        char path[4096];
+        snprintf(path, sizeof path, "%s/cases/%s", srcdir(), rows[r].file);
+        json_t *root = NULL;
+        sph_error err;
+        assert_int_equal(sph_case_load(path, &root, &err), 0);
+        assert_int_equal(sph_json_apply_set(root, rows[r].set, &err), 0);
+        sph_case *c = calloc(1, sizeof *c);
+        assert_non_null(c);
+        assert_int_equal(sph_case_from_json(root, c, &err), SPH_ERR_INVALID);
+        assert_string_equal(err.path, rows[r].path);
+        assert_string_equal(err.message, rows[r].want);
+        free(c);
+        json_decref(root);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_invalid_cases),  cmocka_unit_test(test_shipped_cases_valid),
         cmocka_unit_test(test_mps_fields),     cmocka_unit_test(test_apply_set),
-        cmocka_unit_test(test_table_defaults),
+        cmocka_unit_test(test_table_defaults), cmocka_unit_test(test_range_messages),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
