@@ -420,3 +420,19 @@ void sph_sim_destroy(sph_sim *s)
     free(s->bin_max);
     free(s);
 }
+
+const char *sph_particle_type_name(int type)
+{
+    switch (type) {
+    case SPH_FLUID:
+        return "fluid";
+    case SPH_BOUNDARY:
+        return "boundary";
+    case SPH_LOST:
+        return "lost";
+    case SPH_BODY:
+        return "body";
+    default:
+        return NULL;
+    }
+}

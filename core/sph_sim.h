@@ -75,6 +75,12 @@ typedef struct sph_particle_view {
     const int *id;             /* creation index */
 } sph_particle_view;
 
+/* The types a view shows, as a units string for files and by name for clients. */
+#define SPH_PARTICLE_TYPES_DOC "0 fluid, 1 boundary, 2 lost, 4 body"
+
+/* "fluid", "boundary", "lost" or "body" for a view's type value; NULL for any other. */
+const char *sph_particle_type_name(int type);
+
 /* Cumulative wall-clock time spent in each part of the steps (for benchmarks). */
 typedef struct sph_timing {
     double neighbours;   /* cell list build and particle reordering [s] */

@@ -367,10 +367,9 @@ json_t *sphd_exec_particles(const sphd_exec *x, const char *const *fields, int n
             else if (strcmp(name, "p") == 0)
                 val = num(v.p[i]);
             else if (strcmp(name, "type") == 0)
-                val = json_string(v.type[i] == 0   ? "fluid"
-                                  : v.type[i] == 1 ? "boundary"
-                                  : v.type[i] == 4 ? "body"
-                                                   : "lost");
+                val = json_string(sph_particle_type_name(v.type[i])
+                                      ? sph_particle_type_name(v.type[i])
+                                      : "unknown");
             else
                 val = json_integer(v.id[i]);
             json_array_append_new(arr[f], val);

@@ -163,7 +163,7 @@ json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err)
     const sph_diag *d = sph_sim_diag(s);
     const long n = v.n;
     long nfluid = 0, nactive = 0, nboundary = 0, nbody = 0;
-    for (long i = 0; i < n; i++) { /* types: 0 fluid, 1 boundary, 2 lost, 4 body (sph_sim.h) */
+    for (long i = 0; i < n; i++) { /* SPH_PARTICLE_TYPES_DOC */
         nfluid += v.type[i] == 0 || v.type[i] == 2;
         nactive += v.type[i] == 0;
         nboundary += v.type[i] == 1;
@@ -223,7 +223,7 @@ json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err)
     }
     if (want & SPH_FIELD_TYPE) {
         gather(type, v.type, where, n, 1);
-        f[nf++] = (sphd_h5_field){"type", "0 fluid, 1 boundary, 2 lost", SPHD_H5_I8, 1, {type}};
+        f[nf++] = (sphd_h5_field){"type", SPH_PARTICLE_TYPES_DOC, SPHD_H5_I8, 1, {type}};
     }
     /* always: the XDMF's and VTKHDF's connectivity (ids are creation order = file order) */
     for (long k = 0; k < n; k++)

@@ -57,6 +57,15 @@ for row in tab:
     seen += 1
 print("rows compared with events:", seen, "of", n)
 sys.exit(0 if ok and seen >= 3 else 1)' "$tmp/out" "$STATE/jobs/we/diag.h5"
+check "snapshots mark the body's particles 4 and their units say so" "$PY" -c '
+import sys, h5py
+with h5py.File(sys.argv[1], "r") as f:
+    t = f["type"][:]
+    u = f["type"].attrs["units"]
+    u = u.decode() if isinstance(u, bytes) else u
+    nb = int(f.attrs["n_body"])
+print("type units:", u, "body particles:", int((t == 4).sum()), "of", nb)
+sys.exit(0 if "4 body" in u and (t == 4).sum() == nb > 0 else 1)' "$STATE/jobs/we/snap_000000.h5"
 check "the log says it resumed from a checkpoint" grep -q "resumed from" "$tmp/sphd.log"
 expect_rc "query the finished job" 0 "$SPHCTL" --json query we
 check "the result counts the body's particles" jtrue "$tmp/out" \
