@@ -48,6 +48,18 @@ struct sph_sim {
     sph_envelope wave;         /* the kinetic-energy peaks, sampled every step */
 };
 
+/* For a method's step, after s->t and s->step have moved: more than max_lost fluid particles
+ * lost is a blow-up (SPH_ERR_UNSTABLE with err); 0 otherwise. */
+static inline int sph_sim_check_lost(const sph_sim *s, long lost, sph_error *err)
+{
+    if (lost <= s->max_lost)
+        return 0;
+    return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                         "blow-up at step %ld (t = %g s): %ld fluid particles left the domain "
+                         "(more than %ld allowed)",
+                         s->step, s->t, lost, s->max_lost);
+}
+
 /* sph_diag.c: fills s->diag from the current state. */
 void sph_diag_compute(sph_sim *s);
 

@@ -555,13 +555,7 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
                              "blow-up at step %ld (t = %g s, dt = %g s): non-finite velocity or "
                              "position of %ld particles",
                              step, s->t, dt, bad);
-    const long lost = P->n - na;
-    if (lost > s->max_lost)
-        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
-                             "blow-up at step %ld (t = %g s): %ld fluid particles left the domain "
-                             "(more than %ld allowed)",
-                             step, s->t, lost, s->max_lost);
-    return 0;
+    return sph_sim_check_lost(s, P->n - na, err);
 }
 
 /* The matrix and right-hand side (P.drho: not permuted until the next step's sort, which the

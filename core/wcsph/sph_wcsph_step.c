@@ -188,13 +188,7 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
                              step, s->t, dt, rlo < SPH_RHO_LOW * rho0 ? "collapse" : "explosion",
                              rlo < SPH_RHO_LOW * rho0 ? rlo : rhi, SPH_RHO_LOW * rho0,
                              SPH_RHO_HIGH * rho0, rho0);
-    const long lost = P->n - n;
-    if (lost > s->max_lost)
-        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
-                             "blow-up at step %ld (t = %g s): %ld fluid particles left the domain "
-                             "(more than %ld allowed)",
-                             step, s->t, lost, s->max_lost);
-    return 0;
+    return sph_sim_check_lost(s, P->n - n, err);
 }
 
 static int wcsph_check(const sph_config *c, sph_error *err)
