@@ -333,6 +333,14 @@ static int check_object_keys(const json_t *obj, const char *path, sph_method m, 
     return 0;
 }
 
+/* The names of a NULL-terminated list, comma-separated into buf (cut short when it is full). */
+static void names_list(const char *const *names, char *buf, size_t size)
+{
+    buf[0] = '\0';
+    for (int j = 0; names[j] && strlen(buf) < size - 40; j++)
+        snprintf(buf + strlen(buf), size - strlen(buf), "%s%s", j ? ", " : "", names[j]);
+}
+
 /* An array of names into a mask. */
 static int parse_names(const json_t *a, const sph_case_field *f, unsigned *mask, sph_error *err)
 {
@@ -349,10 +357,8 @@ static int parse_names(const json_t *a, const sph_case_field *f, unsigned *mask,
             if (strcmp(json_string_value(v), f->names[j]) == 0)
                 k = j;
         if (k < 0) {
-            char ipath[SPH_ERROR_PATH_MAX + 32], list[200] = "";
-            for (int j = 0; f->names[j] && strlen(list) < sizeof list - 40; j++)
-                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", j ? ", " : "",
-                         f->names[j]);
+            char ipath[SPH_ERROR_PATH_MAX + 32], list[200];
+            names_list(f->names, list, sizeof list);
             snprintf(ipath, sizeof ipath, "%s/%zu", f->path, i);
             return sph_error_set(err, SPH_ERR_INVALID, ipath, "unknown name in '%s' (known: %s)",
                                  key_of(f->path), list);
@@ -453,10 +459,8 @@ static int parse_row(const json_t *root, const sph_case_field *f, const json_t *
                 return 0;
             }
         {
-            char list[200] = "";
-            for (int k = 0; f->names[k] && strlen(list) < sizeof list - 40; k++)
-                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", k ? ", " : "",
-                         f->names[k]);
+            char list[200];
+            names_list(f->names, list, sizeof list);
             return sph_error_set(err, SPH_ERR_INVALID, f->path, "unknown %s '%s' (known: %s)", key,
                                  str, list);
         }
