@@ -10,7 +10,7 @@
  * large is refused as too large anyway). */
 #define SPH_AXIS_MAX 10000000L
 
-static long axis_count(double lo, double hi, double dx)
+long sph_geometry_axis_count(double lo, double hi, double dx)
 {
     const double n = floor((hi - lo) / dx + 1e-6);
     if (!(n > 0))
@@ -22,7 +22,7 @@ long sph_geometry_box_count(const sph_box *b, int dim, double dx)
 {
     long n = 1;
     for (int d = 0; d < dim; d++)
-        n *= axis_count(b->min[d], b->max[d], dx);
+        n *= sph_geometry_axis_count(b->min[d], b->max[d], dx);
     return n;
 }
 
@@ -30,8 +30,8 @@ long sph_geometry_box_count(const sph_box *b, int dim, double dx)
 static void tank_counts(const sph_config *c, long *nbottom, long *nside)
 {
     const long L = c->layers;
-    *nbottom = (axis_count(c->tank.min[0], c->tank.max[0], c->dx) + 2 * L) * L;
-    *nside = axis_count(c->tank.min[1], c->tank.max[1], c->dx) * L;
+    *nbottom = (sph_geometry_axis_count(c->tank.min[0], c->tank.max[0], c->dx) + 2 * L) * L;
+    *nside = sph_geometry_axis_count(c->tank.min[1], c->tank.max[1], c->dx) * L;
 }
 
 /* Bodies take their place out of the fluid boxes: a box that overlaps one is counted particle
@@ -118,8 +118,8 @@ static void put(sph_particles *P, long i, double x, double y, int type, double r
 static long fluid_box_put(const sph_config *c, const sph_box *f, sph_particles *P, long i0)
 {
     const double dx = c->dx;
-    const long nx = axis_count(f->min[0], f->max[0], dx);
-    const long ny0 = axis_count(f->min[1], f->max[1], dx);
+    const long nx = sph_geometry_axis_count(f->min[0], f->max[0], dx);
+    const long ny0 = sph_geometry_axis_count(f->min[1], f->max[1], dx);
     const int carve = box_meets_bodies(c, f);
     /* The columns are raised by the initial field's elevation, in whole particles, by error
      * diffusion: column ix gets the rows of round(S_ix) - round(S_ix-1), S the running sum of
@@ -164,8 +164,8 @@ void sph_geometry_fill(const sph_config *c, sph_particles *P)
     const long L = c->layers;
     const double margin = (L + 0.5) * dx;
     const sph_box *t = &c->tank;
-    const long nx = axis_count(t->min[0], t->max[0], dx);
-    const long ny = axis_count(t->min[1], t->max[1], dx);
+    const long nx = sph_geometry_axis_count(t->min[0], t->max[0], dx);
+    const long ny = sph_geometry_axis_count(t->min[1], t->max[1], dx);
     for (long k = 0; k < L; k++) {
         const double y = t->min[1] - (k + 0.5) * dx;
         for (long ix = -L; ix < nx + L; ix++) {

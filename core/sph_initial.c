@@ -22,6 +22,7 @@
 #include "sph_initial.h"
 
 #include "sph_config.h"
+#include "sph_geometry.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -158,7 +159,7 @@ static solitary sol_of(const sph_config *c)
     w.H = c->initial.param[SOL_HEIGHT];
     w.x0 = c->initial.param[SOL_CREST];
     w.yb = c->fluid[0].min[1];
-    w.d = floor((c->fluid[0].max[1] - w.yb) / c->dx + 1e-6) * c->dx;
+    w.d = (double)sph_geometry_axis_count(w.yb, c->fluid[0].max[1], c->dx) * c->dx;
     w.g = -c->gravity[1];
     w.K = w.d > 0.0 ? sqrt(3.0 * w.H / (4.0 * w.d * w.d * w.d)) : 0.0;
     return w;
