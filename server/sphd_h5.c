@@ -152,16 +152,16 @@ static int write_field(hid_t file, const sphd_h5_field *f, long n, int compress)
     return rc;
 }
 
-/* One small float64 dataset (n values) with its units. */
-static int write_small(hid_t g, const char *name, const char *units, const double *v, int n)
+int sphd_h5_write_1d(hid_t g, const char *name, hid_t type, const void *v, long n,
+                     const char *units)
 {
     hsize_t dims[1] = {(hsize_t)n};
     hid_t space = H5Screate_simple(1, dims, NULL);
-    hid_t d = H5Dcreate2(g, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t d = H5Dcreate2(g, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     int rc = d < 0 ? -1 : 0;
-    if (rc == 0 && H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) < 0)
+    if (rc == 0 && H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) < 0)
         rc = -1;
-    if (rc == 0)
+    if (rc == 0 && units)
         rc = sphd_h5_attr_string(d, "units", units);
     if (d >= 0)
         H5Dclose(d);
@@ -187,9 +187,9 @@ static int write_rpdf(hid_t file, const sphd_h5_rpdf *r)
                               "uniform fluid, less near a free surface)");
     rc |= sphd_h5_attr_number(g, "qmax", H5T_NATIVE_DOUBLE, &r->qmax);
     rc |= sphd_h5_attr_number(g, "bins", H5T_NATIVE_INT, &bins);
-    rc |= write_small(g, "q", "1", r->q, bins);
-    rc |= write_small(g, "count", "1", r->count, bins);
-    rc |= write_small(g, "density", "1", r->density, bins);
+    rc |= sphd_h5_write_1d(g, "q", H5T_NATIVE_DOUBLE, r->q, bins, "1");
+    rc |= sphd_h5_write_1d(g, "count", H5T_NATIVE_DOUBLE, r->count, bins, "1");
+    rc |= sphd_h5_write_1d(g, "density", H5T_NATIVE_DOUBLE, r->density, bins, "1");
     if (H5Gclose(g) < 0)
         rc = -1;
     return rc ? -1 : 0;

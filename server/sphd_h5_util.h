@@ -18,6 +18,10 @@ size_t sphd_h5_type_size(sphd_h5_type t);
  * type). Return 0 or -1. */
 int sphd_h5_attr_string(hid_t obj, const char *name, const char *value);
 int sphd_h5_attr_number(hid_t obj, const char *name, hid_t type, const void *value);
+/* A contiguous 1D dataset of n values of `type` (a few: no chunks, no filter), with a `units`
+ * attribute unless units is NULL. Returns 0 or -1. */
+int sphd_h5_write_1d(hid_t g, const char *name, hid_t type, const void *v, long n,
+                     const char *units);
 /* Adds ParaView's VTKHDF layout to an open snapshot whose fields are written (sphd_vtkhdf.c);
  * nothing without "pos" and an integer "id". Returns 0 or -1. */
 int sphd_vtkhdf_write(hid_t file, const sphd_h5_field *fields, int nfields, long n);

@@ -15,16 +15,10 @@
 
 enum { VTK_VERTEX = 1 };
 
+/* One number as a dataset of one element (VTKHDF's counts). */
 static int one_number(hid_t g, const char *name, long long v)
 {
-    hsize_t one[1] = {1};
-    hid_t sp = H5Screate_simple(1, one, NULL);
-    hid_t d = H5Dcreate2(g, name, H5T_NATIVE_LLONG, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    int rc = d < 0 || H5Dwrite(d, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, &v) < 0;
-    if (d >= 0)
-        H5Dclose(d);
-    H5Sclose(sp);
-    return rc ? -1 : 0;
+    return sphd_h5_write_1d(g, name, H5T_NATIVE_LLONG, &v, 1, NULL);
 }
 
 /* A 1D dataset of n elements of `type`, chunked and deflated. */
