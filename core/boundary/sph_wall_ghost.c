@@ -90,17 +90,6 @@ static int distinct_axes(const sph_wall_ghost *w, unsigned sub)
     return 1;
 }
 
-long sph_wall_ghost_count(const sph_wall_ghost *w, const sph_ghost_arrays *a, long n)
-{
-    long count = 0;
-    for (long i = 0; i < n; i++) {
-        const unsigned m = near_walls(w, a, i);
-        for (unsigned sub = m; sub; sub = (sub - 1) & m)
-            count += distinct_axes(w, sub);
-    }
-    return count;
-}
-
 long sph_wall_ghost_build(const sph_wall_ghost *w, const sph_config *c, const sph_ghost_arrays *a,
                           long n, long cap)
 {

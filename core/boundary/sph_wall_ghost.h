@@ -63,9 +63,6 @@ int sph_wall_ghost_init(sph_wall_ghost *w, const sph_config *c, double support, 
 /* Widens [lo, hi] (dim components) to hold every ghost: the tank grown by the band. */
 void sph_wall_ghost_bounds(const sph_wall_ghost *w, double *lo, double *hi);
 
-/* Ghosts a build of the n particles in a would make. */
-long sph_wall_ghost_count(const sph_wall_ghost *w, const sph_ghost_arrays *a, long n);
-
 /* Appends the ghosts of the fluid particles among [0, n) at [n, cap) and returns how many the
  * walls need; when that is more than cap - n the caller makes room and builds again. Serial:
  * the ghosts come in the particles' order, so runs stay the same with any number of threads.

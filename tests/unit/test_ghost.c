@@ -64,8 +64,10 @@ static void test_builder(void **state)
     unsigned char type[32] = {SPH_FLUID, SPH_FLUID, SPH_FLUID, SPH_FLUID, SPH_FLUID, SPH_BOUNDARY};
     int id[32] = {10, 11, 12, 13, 14, 15};
     const sph_ghost_arrays a = {{x, y, NULL}, {vx, vy, NULL}, rho, type, id};
-    assert_int_equal(sph_wall_ghost_count(&w, &a, 6), 1 + 3 + 0 + 3 + 1);
-    /* too little room: nothing written past cap, the count still told */
+    /* no room: the count alone (nothing written); too little room: nothing written past cap,
+     * the count still told */
+    assert_int_equal(sph_wall_ghost_build(&w, &c, &a, 6, 6), 1 + 3 + 0 + 3 + 1);
+    assert_true(x[6] == 0.0 && rho[6] == 0.0);
     assert_int_equal(sph_wall_ghost_build(&w, &c, &a, 6, 8), 8);
     assert_true(x[8] == 0.0 && rho[8] == 0.0);
     assert_int_equal(sph_wall_ghost_build(&w, &c, &a, 6, 32), 8);
