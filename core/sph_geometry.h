@@ -11,12 +11,12 @@
 #include "sph_config.h"
 #include "sph_particles.h"
 
-/* Particles a box holds at spacing dx (0 if thinner than dx along an axis). */
 /* Whole particles of spacing dx between lo and hi (floor((hi - lo) / dx) with a 1e-6 tolerance
  * for rounding; 0 for an empty or inverted range, capped so that products of counts cannot
  * overflow). */
 long sph_geometry_axis_count(double lo, double hi, double dx);
 
+/* Particles a box holds at spacing dx (0 if thinner than dx along an axis). */
 long sph_geometry_box_count(const sph_box *b, int dim, double dx);
 
 /* Counts the particles of a configuration without building them. */

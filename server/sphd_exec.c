@@ -366,11 +366,10 @@ json_t *sphd_exec_particles(const sphd_exec *x, const char *const *fields, int n
                 val = num(v.rho[i]);
             else if (strcmp(name, "p") == 0)
                 val = num(v.p[i]);
-            else if (strcmp(name, "type") == 0)
-                val = json_string(sph_particle_type_name(v.type[i])
-                                      ? sph_particle_type_name(v.type[i])
-                                      : "unknown");
-            else
+            else if (strcmp(name, "type") == 0) {
+                const char *tn = sph_particle_type_name(v.type[i]);
+                val = json_string(tn ? tn : "unknown");
+            } else
                 val = json_integer(v.id[i]);
             json_array_append_new(arr[f], val);
         }
