@@ -34,14 +34,6 @@ static const char *const eos_names[] = {"linear", "tait", NULL};
 static const int eos_values[] = {SPH_EOS_LINEAR, SPH_EOS_TAIT};
 static const char *const visc_names[] = {"artificial", "laminar", "monaghan", NULL};
 static const int visc_values[] = {SPH_VISC_ARTIFICIAL, SPH_VISC_LAMINAR, SPH_VISC_MONAGHAN};
-
-const char *sph_visc_name(int visc)
-{
-    for (int k = 0; visc_names[k]; k++)
-        if (visc_values[k] == visc)
-            return visc_names[k];
-    return "unknown";
-}
 static const char *const initial_names[] = {"rest", "standing_wave", "solitary_wave",
                                             NULL}; /* sph_initial_type */
 static const char *const turb_names[] = {"none", "sps", NULL};
@@ -117,6 +109,15 @@ static int parse_tank(const json_t *v, const char *path, sph_config *c, sph_outp
         return SPH_ERR_INVALID;
     c->has_tank = 1;
     return 0;
+}
+
+/* The case-file name of a viscous term (physics.viscosity.type). */
+const char *sph_visc_name(int visc)
+{
+    for (int k = 0; visc_names[k]; k++)
+        if (visc_values[k] == visc)
+            return visc_names[k];
+    return "unknown";
 }
 
 /* clang-format off */
