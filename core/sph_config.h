@@ -104,8 +104,11 @@ typedef struct sph_mps_config {
                      * surface particles unknowns with the missing neighbours' pressures
                      * extrapolated linearly to it (the ghost-fluid Dirichlet condition of Gibou
                      * et al. 2002, J. Comput. Phys. 176); sph_mps.c [-] */
-    double collision;   /* collision distance in dx, 0 = no collision model [-] */
-    double restitution; /* coefficient of restitution of the collision model [-] */
+    double collision;     /* collision distance in dx, 0 = no collision model [-] */
+    double restitution;   /* coefficient of restitution of the collision model [-] */
+    double stabilization; /* dynamic stabilization (after Tsuruta, Khayyer & Gotoh 2013): pairs
+                           * that would end the next step closer than this many dx lose the
+                           * relative velocity that brings them closer; 0 = off [-] */
 } sph_mps_config;
 
 sph_mps_config sph_mps_config_default(void);

@@ -338,6 +338,11 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/mps/restitution", .type = SPH_CF_NUMBER, .methods = SPH_CF_MPS, .lo = 0.0,
      .hi = 1.0, .has_def = 1, .def = 0.2, MPS(restitution),
      .doc = "collision model: coefficient of restitution"},
+    {.path = "/mps/stabilization", .type = SPH_CF_NUMBER, .methods = SPH_CF_MPS, .lo = 0.0,
+     .hi = 1.0, .has_def = 1, .def = 0.0, MPS(stabilization),
+     .doc = "dynamic stabilization (after Tsuruta, Khayyer & Gotoh 2013): pairs that would end "
+            "the next step closer than this many dx lose the relative velocity that brings them "
+            "closer; 0: off"},
     {.path = "/output", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
      .doc = "particle snapshots; absent: none"},
     {.path = "/output/every", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,

@@ -12,8 +12,11 @@
  *      Koshizuka & Oka's code does: the fluid cannot pull);
  *   4. correction: u' = -(dt / rho) grad p with the gradient model (3.4) (with the local minimum
  *      pressure, or with the corrective matrix and without it); u = u* + u', r = r* + dt u';
- *   5. optionally Koshizuka's collision model (pairs closer than `collision` dx that approach
- *      each other exchange momentum with restitution e), a standard stabiliser of MPS codes.
+ *   5. optionally the dynamic stabilization (after Tsuruta, Khayyer & Gotoh 2013: pairs that would
+ *      end the next step closer than `stabilization` dx lose the relative velocity that brings
+ *      them closer, stabilize() below), then Koshizuka's collision model (pairs closer than
+ *      `collision` dx that approach each other exchange momentum with restitution e), a standard
+ *      stabiliser of MPS codes.
  *
  * relax = 1 is the source of Koshizuka & Oka 1996; smaller values (0.2 in Koshizuka's later
  * codes; 0.005-0.05 with the mixed source of Tanaka & Masunaga) damp the pressure noise of the
@@ -72,6 +75,7 @@ sph_mps_config sph_mps_config_default(void)
     m.relax = 1.0;
     m.collision = 0.0;
     m.restitution = 0.2;
+    m.stabilization = 0.0;
     m.surface = 0; /* p = 0 at the surface particles' centres (Koshizuka & Oka 1996) */
     return m;
 }
@@ -90,7 +94,7 @@ typedef struct mps_state {
     unsigned char *kind;         /* SPH_MPS_* in the current order */
     unsigned char *surface;      /* free-surface flags of the latest step */
     double *ghost;               /* mps.surface 1: surface particles' ghost diagonal [1/m^2] */
-    double *vx0, *vy0;           /* collision model: velocities before it */
+    double *vx0, *vy0;           /* collision model, stabilization: velocities before them */
     double *gvx, *gvy;           /* Neumann walls: (rho / dt) u* of the fluid particles [Pa/m] */
     double *tvx, *tvy;           /* Neumann walls: (rho / dt) u of the fluid particles [Pa/m] */
     unsigned char *normal_by_id; /* SPH_MPS_NORMAL_* of each boundary particle's wall, by id */
@@ -149,6 +153,10 @@ static int mps_check(const sph_config *c, sph_error *err)
     if (!(m->restitution >= 0.0 && m->restitution <= 1.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/mps/restitution",
                              "the restitution must be in [0, 1]: got %g", m->restitution);
+    if (!(m->stabilization >= 0.0 && m->stabilization <= 1.0))
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/stabilization",
+                             "the stabilization distance must be in [0, 1] dx: got %g",
+                             m->stabilization);
     if (c->boundary != SPH_BOUNDARY_DYNAMIC)
         return sph_error_set(err, SPH_ERR_INVALID, "/boundary/type",
                              "the MPS method needs walls of wall particles (\"type\": "
@@ -286,13 +294,13 @@ static int mps_init(sph_sim *s, sph_error *err)
     m->tvy = calloc((size_t)n, sizeof(double));
     m->normal_by_id = calloc((size_t)n, 1);
     m->normal = calloc((size_t)n, 1);
-    if (c->mps.collision > 0.0) {
+    const int pairs = c->mps.collision > 0.0 || c->mps.stabilization > 0.0;
+    if (pairs) {
         m->vx0 = calloc((size_t)n, sizeof(double));
         m->vy0 = calloc((size_t)n, sizeof(double));
     }
     if (!m->kind_by_id || !m->kind || !m->surface || !m->ghost || !m->gvx || !m->gvy || !m->tvx ||
-        !m->tvy || !m->normal_by_id || !m->normal ||
-        (c->mps.collision > 0.0 && (!m->vx0 || !m->vy0)))
+        !m->tvy || !m->normal_by_id || !m->normal || (pairs && (!m->vx0 || !m->vy0)))
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for %ld particles", n);
     /* walls or dummies by depth outside the tank's inner faces (particles are in creation
      * order here: id = index) */
@@ -374,6 +382,61 @@ static void collide(sph_sim *s, mps_state *m, double dt)
             if (vn > 0.0) { /* approaching */
                 vx -= f * vn * rx / r;
                 vy -= f * vn * ry / r;
+            }
+        }
+        P->x[i] += dt * (vx - m->vx0[i]);
+        P->y[i] += dt * (vy - m->vy0[i]);
+        P->vx[i] = vx;
+        P->vy[i] = vy;
+    }
+}
+
+/* Dynamic stabilization, after Tsuruta, Khayyer & Gotoh (2013, Comput. Fluids 82: 158-164): a
+ * pairwise repulsive term of the pressure gradient that acts only on pairs about to come closer
+ * than d = stabilization dx, sized by a kinematic condition instead of the pressure equation.
+ * For fluid particle i and neighbour j (fluid or wall, not dummy) at distance r, e = (r_j -
+ * r_i) / r, with vn = (u_i - u_j) . e their speed of approach after the pressure correction, the
+ * pair would end the next step at r - dt vn; where that is below d, the approach in excess of
+ * what brings them to d is removed:
+ *
+ *   du_ij = max(0, vn - max(0, r - d) / dt)   (relative normal velocity removed),
+ *
+ * half from each of two fluid particles (equal masses: momentum is conserved, kinetic energy
+ * only lost), all from the fluid particle against a wall (fixed). In the gradient's form this
+ * is the pair term (d/n0) dP_ij (r_j - r_i) w_ij / r^2 with dP_ij = rho n0 r du_ij / (2 d dt
+ * w_ij): like the pressure correction it changes u by du and r by dt du. A pair at rest, or any
+ * pair of a lattice of spacing dx with d < dx that moves slower than (dx - d) / dt, is untouched,
+ * so still water is not moved; pairs already closer than d stop approaching but are not pushed
+ * apart (no energy is added). The formulas of the paper were not at hand: this is the kinematic
+ * condition it describes (a repulsion "sufficient and necessary" to keep pairs from clustering),
+ * not a transcription of its equations. Reads the velocities before it, writes only i's: parallel
+ * and order-independent, as the collision model. */
+static void stabilize(sph_sim *s, mps_state *m, double dt)
+{
+    sph_particles *P = &s->P;
+    const long na = s->nactive;
+    const double d = s->cfg.mps.stabilization * s->cfg.dx;
+    memcpy(m->vx0, P->vx, (size_t)na * sizeof(double));
+    memcpy(m->vy0, P->vy, (size_t)na * sizeof(double));
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (na >= SPH_OMP_MIN)
+    for (long i = 0; i < na; i++) {
+        if (m->kind[i] != SPH_MPS_FLUID)
+            continue;
+        double vx = m->vx0[i], vy = m->vy0[i];
+        for (long e = m->L.ptr[i]; e < m->L.ptr[i + 1]; e++) {
+            const long j = m->L.j[e];
+            if (m->kind[j] > SPH_MPS_WALL)
+                continue;
+            const double rx = P->x[j] - P->x[i], ry = P->y[j] - P->y[i];
+            const double r = sqrt(rx * rx + ry * ry);
+            if (r == 0.0)
+                continue;
+            const double vn = ((m->vx0[i] - m->vx0[j]) * rx + (m->vy0[i] - m->vy0[j]) * ry) / r;
+            const double du = vn - fmax(0.0, r - d) / dt;
+            if (du > 0.0) {
+                const double f = (m->kind[j] == SPH_MPS_FLUID ? 0.5 : 1.0) * du / r;
+                vx -= f * rx;
+                vy -= f * ry;
             }
         }
         P->x[i] += dt * (vx - m->vx0[i]);
@@ -537,6 +600,8 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
         P->x[i] += dt * ux;
         P->y[i] += dt * uy;
     }
+    if (c->mps.stabilization > 0.0)
+        stabilize(s, m, dt);
     if (c->mps.collision > 0.0)
         collide(s, m, dt);
     for (long i = 0; i < na; i++) {

@@ -19,9 +19,10 @@
  * centres is a -dx/(2H) bias), so the test does not run there; mps.surface 1 removes that bias
  * but makes the mode blow the Koshizuka weight up at dx = 0.005 (below).
  *
- * Usage: test_mps_still [DX [KERNEL [SURFACE]]] (default 0.005 m; KERNEL koshizuka or
+ * Usage: test_mps_still [DX [KERNEL [SURFACE [STAB]]]] (default 0.005 m; KERNEL koshizuka or
  * sheu_quartic for one only, `both` for both; SURFACE the mps.surface condition, default the
- * case default 0). Prints the figures at 0.5, 1 and 1.5 s too.
+ * case default 0, -1 for it; STAB mps.stabilization in dx, default 0: off). Prints the figures at
+ * 0.5, 1 and 1.5 s too.
  *
  * Settings: mixed source (Tanaka & Masunaga) with relax 0.005, corrected gradient (without the
  * local minimum), dt = 0.1 dx / sqrt(2 g H) (the method's CFL limit with cfl 0.1), nu = 1e-6.
@@ -196,7 +197,7 @@ static double bottom_pressure(sph_sim *s, double dx)
     return bottom_pressure_n(s, dx, &n);
 }
 
-static int run(sph_kernel_type type, double dx, int surface)
+static int run(sph_kernel_type type, double dx, int surface, double stab)
 {
     const double H = 0.2, W = 0.4, g = 9.81;
     sph_config c = sph_config_default();
@@ -219,6 +220,7 @@ static int run(sph_kernel_type type, double dx, int surface)
     c.mps.corrected = 1;
     if (surface >= 0)
         c.mps.surface = surface;
+    c.mps.stabilization = stab;
     if (type == SPH_KERNEL_SHEU_QUARTIC) /* Sheu et al.: re = 2h, h the spacing */
         c.mps.re = c.mps.re_grad = 2.0;
     sph_error err;
@@ -264,10 +266,11 @@ int main(int argc, char **argv)
     const double dx = argc > 1 ? atof(argv[1]) : 0.005;
     const char *only = argc > 2 && strcmp(argv[2], "both") ? argv[2] : NULL; /* one kernel */
     const int surface = argc > 3 ? atoi(argv[3]) : -1;
+    const double stab = argc > 4 ? atof(argv[4]) : 0.0; /* mps.stabilization [dx] */
     int rc = 0;
     if (!only || strcmp(only, "koshizuka") == 0)
-        rc |= run(SPH_KERNEL_KOSHIZUKA, dx, surface);
+        rc |= run(SPH_KERNEL_KOSHIZUKA, dx, surface, stab);
     if (!only || strcmp(only, "sheu_quartic") == 0)
-        rc |= run(SPH_KERNEL_SHEU_QUARTIC, dx, surface);
+        rc |= run(SPH_KERNEL_SHEU_QUARTIC, dx, surface, stab);
     return rc;
 }
