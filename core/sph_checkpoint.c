@@ -16,8 +16,8 @@
 #define SIM_MAGIC "SPHSIM01"
 /* 2: sph_config.method; 3: sph_config.mps, sph_diag MPS fields; 4: ghost walls, monaghan
  * viscosity, initial fields, the envelope; 5: rigid bodies (config, diag and state); 6: the
- * walls' viscosity factor; 7: a body's pressure option */
-#define SIM_VERSION 7u
+ * walls' viscosity factor; 7: a body's pressure option; 8: sph_mps_config.stabilization */
+#define SIM_VERSION 8u
 
 typedef struct {
     char magic[8];

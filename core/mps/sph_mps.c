@@ -391,59 +391,15 @@ static void collide(sph_sim *s, mps_state *m, double dt)
     }
 }
 
-/* Dynamic stabilization, after Tsuruta, Khayyer & Gotoh (2013, Comput. Fluids 82: 158-164): a
- * pairwise repulsive term of the pressure gradient that acts only on pairs about to come closer
- * than d = stabilization dx, sized by a kinematic condition instead of the pressure equation.
- * For fluid particle i and neighbour j (fluid or wall, not dummy) at distance r, e = (r_j -
- * r_i) / r, with vn = (u_i - u_j) . e their speed of approach after the pressure correction, the
- * pair would end the next step at r - dt vn; where that is below d, the approach in excess of
- * what brings them to d is removed:
- *
- *   du_ij = max(0, vn - max(0, r - d) / dt)   (relative normal velocity removed),
- *
- * half from each of two fluid particles (equal masses: momentum is conserved, kinetic energy
- * only lost), all from the fluid particle against a wall (fixed). In the gradient's form this
- * is the pair term (d/n0) dP_ij (r_j - r_i) w_ij / r^2 with dP_ij = rho n0 r du_ij / (2 d dt
- * w_ij): like the pressure correction it changes u by du and r by dt du. A pair at rest, or any
- * pair of a lattice of spacing dx with d < dx that moves slower than (dx - d) / dt, is untouched,
- * so still water is not moved; pairs already closer than d stop approaching but are not pushed
- * apart (no energy is added). The formulas of the paper were not at hand: this is the kinematic
- * condition it describes (a repulsion "sufficient and necessary" to keep pairs from clustering),
- * not a transcription of its equations. Reads the velocities before it, writes only i's: parallel
- * and order-independent, as the collision model. */
+/* The dynamic stabilization (sph_mps_stabilize, sph_mps_ops.h) on the corrected velocities. */
 static void stabilize(sph_sim *s, mps_state *m, double dt)
 {
     sph_particles *P = &s->P;
     const long na = s->nactive;
-    const double d = s->cfg.mps.stabilization * s->cfg.dx;
     memcpy(m->vx0, P->vx, (size_t)na * sizeof(double));
     memcpy(m->vy0, P->vy, (size_t)na * sizeof(double));
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (na >= SPH_OMP_MIN)
-    for (long i = 0; i < na; i++) {
-        if (m->kind[i] != SPH_MPS_FLUID)
-            continue;
-        double vx = m->vx0[i], vy = m->vy0[i];
-        for (long e = m->L.ptr[i]; e < m->L.ptr[i + 1]; e++) {
-            const long j = m->L.j[e];
-            if (m->kind[j] > SPH_MPS_WALL)
-                continue;
-            const double rx = P->x[j] - P->x[i], ry = P->y[j] - P->y[i];
-            const double r = sqrt(rx * rx + ry * ry);
-            if (r == 0.0)
-                continue;
-            const double vn = ((m->vx0[i] - m->vx0[j]) * rx + (m->vy0[i] - m->vy0[j]) * ry) / r;
-            const double du = vn - fmax(0.0, r - d) / dt;
-            if (du > 0.0) {
-                const double f = (m->kind[j] == SPH_MPS_FLUID ? 0.5 : 1.0) * du / r;
-                vx -= f * rx;
-                vy -= f * ry;
-            }
-        }
-        P->x[i] += dt * (vx - m->vx0[i]);
-        P->y[i] += dt * (vy - m->vy0[i]);
-        P->vx[i] = vx;
-        P->vy[i] = vy;
-    }
+    sph_mps_stabilize(&m->L, m->kind, s->cfg.mps.stabilization * s->cfg.dx, dt, m->vx0, m->vy0,
+                      P->x, P->y, P->vx, P->vy);
 }
 
 static int mps_step(sph_sim *s, double dt_cap, sph_error *err)

@@ -376,3 +376,46 @@ void sph_mps_gradient_neumann(const sph_mps_nbr *L, const double *x, const doubl
     SPH_KERNEL_DISPATCH(k->type, GRAD);
 #undef GRAD
 }
+
+/* Tsuruta, Khayyer & Gotoh 2013's dynamic stabilization, as stated in sph_mps_ops.h. */
+long sph_mps_stabilize(const sph_mps_nbr *L, const unsigned char *kind, double d, double dt,
+                       const double *vx0, const double *vy0, double *x, double *y, double *vx,
+                       double *vy)
+{
+    const long n = L->n;
+    long active = 0;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(+ : active) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++) {
+        if (kind[i] != SPH_MPS_FLUID)
+            continue;
+        const double xi = x[i], yi = y[i];
+        double ux = vx0[i], uy = vy0[i];
+        for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
+            const long j = L->j[e];
+            if (kind[j] > SPH_MPS_WALL)
+                continue;
+            const double rx = x[j] - xi, ry = y[j] - yi;
+            const double r = sqrt(rx * rx + ry * ry);
+            if (r == 0.0)
+                continue;
+            const double vn = ((vx0[i] - vx0[j]) * rx + (vy0[i] - vy0[j]) * ry) / r;
+            const double du = vn - fmax(0.0, r - d) / dt;
+            if (du > 0.0) {
+                const double f = (kind[j] == SPH_MPS_FLUID ? 0.5 : 1.0) * du / r;
+                ux -= f * rx;
+                uy -= f * ry;
+                active++;
+            }
+        }
+        vx[i] = ux;
+        vy[i] = uy;
+    }
+    /* positions after every velocity: the pairs above saw the positions before the pass */
+#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++)
+        if (kind[i] == SPH_MPS_FLUID) {
+            x[i] += dt * (vx[i] - vx0[i]);
+            y[i] += dt * (vy[i] - vy0[i]);
+        }
+    return active;
+}

@@ -128,4 +128,32 @@ void sph_mps_divergence_fluid(const sph_mps_nbr *L, const double *x, const doubl
                               const unsigned char *kind, const sph_kernel *k, double coef,
                               const double *ux, const double *uy, double *div);
 
+/* Dynamic stabilization, after Tsuruta, Khayyer & Gotoh (2013, Comput. Fluids 82: 158-164): a
+ * pairwise repulsive term of the pressure gradient that acts only on pairs about to come closer
+ * than d, sized by a kinematic condition instead of the pressure equation. For fluid particle i
+ * and neighbour j (fluid or wall; dummies and off particles take no part) at distance r, e =
+ * (r_j - r_i) / r, with vn = (u_i - u_j) . e their speed of approach, the pair would end the
+ * next step at r - dt vn; where that is below d, the approach in excess of what brings them to d
+ * is removed:
+ *
+ *   du_ij = max(0, vn - max(0, r - d) / dt)   (relative normal velocity removed),
+ *
+ * half from each of two fluid particles (equal masses: momentum is conserved; a lone pair only
+ * loses kinetic energy), all from the fluid particle against a wall (fixed). In the gradient's form
+ * (2D) this is the pair term (2/n0) dP_ij (r_j - r_i) w_ij / r^2 added to (3.4), with dP_ij = c rho
+ * n0 r du_ij / (2 dt w_ij), c = 1/2 against a fluid particle and 1 against a wall; like the rest of
+ * the gradient it changes u by du and r by dt du (r = r* + dt u'), so the pair also ends this
+ * step dt du farther apart than without it: a margin on top of the condition. A pair at rest, and
+ * any pair of a lattice of spacing dx > d moving slower than (dx - d) / dt, is untouched: still
+ * water is not moved. Pairs already closer than d stop approaching but are not pushed apart (no
+ * energy is added). The paper's equations were not at hand: this is the kinematic condition it
+ * describes (a repulsion just sufficient to keep pairs from clustering), not a transcription.
+ *
+ * vx0, vy0 are the velocities before it (read only, every particle of L), vx, vy, x, y are
+ * written for fluid particles only, each from its own pairs: parallel and order-independent.
+ * Returns the number of (i, j) entries that acted (a pair of fluid particles counts twice). */
+long sph_mps_stabilize(const sph_mps_nbr *L, const unsigned char *kind, double d, double dt,
+                       const double *vx0, const double *vy0, double *x, double *y, double *vx,
+                       double *vy);
+
 #endif

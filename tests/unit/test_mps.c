@@ -6,7 +6,8 @@
  * preconditioned CG in fewer iterations than plain CG (printed); the same bits with 1 and 2
  * threads; the iteration cap reported; walls as a Neumann boundary: the hydrostatic pressure
  * exact, next to the walls included; the free-surface condition mps.surface = 1: the hydrostatic
- * pressure zero on the water line exact in its rows.
+ * pressure zero on the water line exact in its rows; the dynamic stabilization idle on a slowly
+ * moving lattice, momentum-conserving, stopping an approaching pair.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -753,6 +754,100 @@ static void test_iteration_cap(void **state)
     lattice_free(&tk);
 }
 
+/* ---- dynamic stabilization ------------------------------------------------------------------ */
+
+/* sph_mps_stabilize: untouched on a lattice moving slower than (dx - d) / dt (walls included);
+ * on a jittered block with random velocities the fluid's momentum is conserved and some pairs
+ * act; an approaching pair closer than d stops approaching (and is not pushed apart), a receding
+ * one is untouched. */
+static void test_stabilize(void **state)
+{
+    (void)state;
+    const double dx = 0.01, dt = 0.1 * dx, d = 0.9 * dx; /* speeds in units of dx / dt = 10 m/s */
+    unsigned seed = 7;
+    /* a tank of water moving slowly: bitwise unchanged */
+    lattice tk;
+    lattice_make(&tk, 12, 10, dx, 4, 2, 2.1 * dx);
+    const long n = tk.n;
+    double *vx0 = calloc(n, sizeof(double)), *vy0 = calloc(n, sizeof(double));
+    double *vx = calloc(n, sizeof(double)), *vy = calloc(n, sizeof(double));
+    double *x0 = malloc(n * sizeof(double)), *y0 = malloc(n * sizeof(double));
+    for (long i = 0; i < n; i++)
+        if (tk.kind[i] == SPH_MPS_FLUID) {
+            vx0[i] = vx[i] = 0.02 * (2 * urand(&seed) - 1) * dx / dt; /* |u_i - u_j| < 0.06 */
+            vy0[i] = vy[i] = 0.02 * (2 * urand(&seed) - 1) * dx / dt;
+        }
+    memcpy(x0, tk.P.x, n * sizeof(double));
+    memcpy(y0, tk.P.y, n * sizeof(double));
+    assert_int_equal(sph_mps_stabilize(&tk.L, tk.kind, d, dt, vx0, vy0, tk.P.x, tk.P.y, vx, vy), 0);
+    assert_memory_equal(vx, vx0, n * sizeof(double));
+    assert_memory_equal(vy, vy0, n * sizeof(double));
+    assert_memory_equal(tk.P.x, x0, n * sizeof(double));
+    assert_memory_equal(tk.P.y, y0, n * sizeof(double));
+    lattice_free(&tk);
+
+    /* a jittered block of fluid alone, fast random velocities: momentum conserved */
+    lattice_make(&tk, 12, 10, dx, 0, 0, 2.1 * dx);
+    const long m = tk.n;
+    for (long i = 0; i < m; i++) {
+        tk.P.x[i] += 0.3 * (2 * urand(&seed) - 1) * dx;
+        tk.P.y[i] += 0.3 * (2 * urand(&seed) - 1) * dx;
+        vx0[i] = vx[i] = 0.2 * (2 * urand(&seed) - 1) * dx / dt;
+        vy0[i] = vy[i] = 0.2 * (2 * urand(&seed) - 1) * dx / dt;
+    }
+    assert_int_equal(sph_mps_nbr_build_all_pairs(&tk.L, tk.P.x, tk.P.y, m, 2.1 * dx), 0);
+    double px0 = 0, py0 = 0, px = 0, py = 0;
+    for (long i = 0; i < m; i++) {
+        px0 += vx0[i];
+        py0 += vy0[i];
+    }
+    const long active = sph_mps_stabilize(&tk.L, tk.kind, d, dt, vx0, vy0, tk.P.x, tk.P.y, vx, vy);
+    for (long i = 0; i < m; i++) {
+        px += vx[i];
+        py += vy[i];
+    }
+    printf("stabilization: %ld of %ld pair entries acted on the jittered block\n", active,
+           tk.L.entries);
+    assert_true(active > 0);
+    assert_double_equal(px, px0, 1e-12 * m * dx / dt);
+    assert_double_equal(py, py0, 1e-12 * m * dx / dt);
+    lattice_free(&tk);
+
+    /* two particles 0.8 dx apart: approaching, then receding */
+    lattice_make(&tk, 2, 1, dx, 0, 0, 2.1 * dx);
+    for (int approach = 1; approach >= 0; approach--) {
+        const double s = approach ? 1.0 : -1.0;
+        tk.P.x[0] = 0.0;
+        tk.P.x[1] = 0.8 * dx;
+        tk.P.y[0] = tk.P.y[1] = 0.0;
+        vx0[0] = vx[0] = s * 0.3 * dx / dt; /* 0 moves towards 1 when approaching */
+        vx0[1] = vx[1] = -s * 0.1 * dx / dt;
+        vy0[0] = vy[0] = 0.05 * dx / dt; /* tangential: kept */
+        vy0[1] = vy[1] = 0.0;
+        assert_int_equal(sph_mps_nbr_build_all_pairs(&tk.L, tk.P.x, tk.P.y, 2, 2.1 * dx), 0);
+        const long a = sph_mps_stabilize(&tk.L, tk.kind, d, dt, vx0, vy0, tk.P.x, tk.P.y, vx, vy);
+        assert_int_equal(a, approach ? 2 : 0);
+        if (approach) { /* both at the mean velocity along the line, momentum kept */
+            assert_double_equal(vx[0], 0.1 * dx / dt, 1e-12);
+            assert_double_equal(vx[1], 0.1 * dx / dt, 1e-12);
+            /* positions move by dt du, as in the pressure correction r = r* + dt u': the
+             * approach of the step is taken back */
+            assert_double_equal(tk.P.x[1] - tk.P.x[0], 0.8 * dx + dt * 0.4 * dx / dt, 1e-15);
+        } else {
+            assert_double_equal(vx[0], vx0[0], 0.0);
+            assert_double_equal(vx[1], vx0[1], 0.0);
+        }
+        assert_double_equal(vy[0], 0.05 * dx / dt, 0.0);
+    }
+    lattice_free(&tk);
+    free(vx0);
+    free(vy0);
+    free(vx);
+    free(vy);
+    free(x0);
+    free(y0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -768,6 +863,7 @@ int main(void)
         cmocka_unit_test(test_iteration_cap),
         cmocka_unit_test(test_neumann_hydrostatic),
         cmocka_unit_test(test_surface_ghost_hydrostatic),
+        cmocka_unit_test(test_stabilize),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
