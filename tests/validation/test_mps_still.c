@@ -158,6 +158,22 @@
  *   0.8-7.9 times the wave's kinetic energy by t = 5 s; its run-up at dx 0.8 ranges from -25% to
  *   +23% of third order over relaxations 0.2-1, the mixed source, cfl 0.05 and the water-line
  *   condition, each with snapshots every 0.5 s and 0.2 s.
+ * Seventh session (issue 12, branch mps-ds): the dynamic stabilization (mps.stabilization d/dx,
+ *   after Tsuruta, Khayyer & Gotoh 2013; sph_mps_stabilize in sph_mps_ops.h: pairs that would end
+ *   the next step closer than d lose the approach beyond it; the paper's own equations were not
+ *   at hand, the kinematic condition is derived) with this test's settings (corrected, mixed,
+ *   relax 0.005), STAB the fourth argument. Still water, vmax % / bottom row % at 2 s: d = 0.9 dx
+ *   changes nothing (dx 0.01: 0.01 / -5.02 koshizuka (the bias), 0.01 / -4.96 sheu; dx 0.005:
+ *   0.26 / -3.29, 0.00 / -2.58); d = dx damps the checkerboard mode (approaching lattice pairs
+ *   lose their approach): dx 0.01 0.01 / -4.98, 0.00 / -5.00; dx 0.005 0.02 / -2.61, 0.00 / -2.59.
+ *   The dam break then runs with the corrected gradient (without it: blow-up at 0.13 s at L/20,
+ *   0.09 s at L/40): d = 0.9 dx, relax 0.005, front RMS against K&O's MPS / experiment 1.4% /
+ *   14.6% at L/20, 1.0% / 15.5% at L/40 (relax 0.05: 1.6 / 13.4, 0.9 / 15.1; the collision model
+ *   changes nothing; d = 0.5 dx blows up at L/40, 0.8 and 1.0 run). The solitary wave runs too
+ *   (without DS: blow-up at 1 s): R/d within -8% to +6% of third order over relax 0.005-0.05,
+ *   d = 0.9-1.0 dx and snapshot intervals; but the water still expands (centre of mass +1.5-3%
+ *   by 8 s with d = 0.9 dx, +0.7-1.5% with d = dx) and gains energy (0.6-2.7 times the wave's
+ *   kinetic energy), a wave of height dx as much. Figures and runs: /work/runs/ds/README.md.
  * Earlier sessions: the first (walls as unknowns of the pressure equation): vmax after 2 s
  *   0.11-0.4 m/s (8-29% of sqrt(gH)) over every option tried: the fluid column next to each side
  *   wall slid down and drove a circulation that never settled. Walls as a Neumann boundary cured
