@@ -177,8 +177,9 @@
  *   negative pressures, mps.surface and nu. With Sheu et al.'s quartic (re = 2 dx) it does not:
  *   centre of mass within +-0.3%, energy slightly lost, R/d -1.6% (-1.3% to +3.9% over relax
  *   0.005-0.05 and snapshot intervals; +5.2% at dx 0.4), and that setting (quartic, corrected,
- *   mixed 0.005, d = 0.9 dx) also passes still water (above) and runs the dam break (front RMS
- *   against K&O's MPS / experiment: L/20 3.7 / 10.4%, L/40 1.6 / 13.2%, L/80 0.8 / 14.7%).
+ *   mixed 0.005, d = 0.9 dx) also passes still water (above; and at dx 0.0025: 0.00% / -1.46%)
+ *   and runs the dam break (front RMS against K&O's MPS / experiment: L/20 3.7 / 10.4%, L/40
+ *   1.6 / 13.2%, L/80 0.8 / 14.7%).
  *   Figures and runs: /work/runs/ds/README.md.
  * Earlier sessions: the first (walls as unknowns of the pressure equation): vmax after 2 s
  *   0.11-0.4 m/s (8-29% of sqrt(gH)) over every option tried: the fluid column next to each side
