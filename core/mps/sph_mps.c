@@ -352,43 +352,16 @@ static double mps_dt(const sph_sim *s)
     return dt;
 }
 
-/* Koshizuka's collision model: fluid particle i closer than dcol to a particle j (fluid or wall)
- * and approaching it loses (1 + e)/2 of the normal relative velocity (j's mass equal to i's;
- * walls as fixed particles of the same mass, as in Koshizuka's codes). Reads the velocities
- * before the model, writes only i's: parallel and order-independent. */
+/* Koshizuka's collision model (sph_mps_collide, sph_mps_ops.h) on the velocities after the
+ * correction and the stabilization. */
 static void collide(sph_sim *s, mps_state *m, double dt)
 {
     sph_particles *P = &s->P;
     const long na = s->nactive;
-    const double dcol = s->cfg.mps.collision * s->cfg.dx, d2 = dcol * dcol;
-    const double f = 0.5 * (1.0 + s->cfg.mps.restitution);
     memcpy(m->vx0, P->vx, (size_t)na * sizeof(double));
     memcpy(m->vy0, P->vy, (size_t)na * sizeof(double));
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (na >= SPH_OMP_MIN)
-    for (long i = 0; i < na; i++) {
-        if (m->kind[i] != SPH_MPS_FLUID)
-            continue;
-        double vx = m->vx0[i], vy = m->vy0[i];
-        for (long e = m->L.ptr[i]; e < m->L.ptr[i + 1]; e++) {
-            const long j = m->L.j[e];
-            if (m->kind[j] > SPH_MPS_WALL)
-                continue;
-            const double rx = P->x[j] - P->x[i], ry = P->y[j] - P->y[i];
-            const double r2 = rx * rx + ry * ry;
-            if (r2 >= d2 || r2 == 0.0)
-                continue;
-            const double r = sqrt(r2);
-            const double vn = ((m->vx0[i] - m->vx0[j]) * rx + (m->vy0[i] - m->vy0[j]) * ry) / r;
-            if (vn > 0.0) { /* approaching */
-                vx -= f * vn * rx / r;
-                vy -= f * vn * ry / r;
-            }
-        }
-        P->x[i] += dt * (vx - m->vx0[i]);
-        P->y[i] += dt * (vy - m->vy0[i]);
-        P->vx[i] = vx;
-        P->vy[i] = vy;
-    }
+    sph_mps_collide(&m->L, m->kind, s->cfg.mps.collision * s->cfg.dx, s->cfg.mps.restitution, dt,
+                    m->vx0, m->vy0, P->x, P->y, P->vx, P->vy);
 }
 
 /* The dynamic stabilization (sph_mps_stabilize, sph_mps_ops.h) on the corrected velocities. */

@@ -377,10 +377,17 @@ void sph_mps_gradient_neumann(const sph_mps_nbr *L, const double *x, const doubl
 #undef GRAD
 }
 
-/* Tsuruta, Khayyer & Gotoh 2013's dynamic stabilization, as stated in sph_mps_ops.h. */
-long sph_mps_stabilize(const sph_mps_nbr *L, const unsigned char *kind, double d, double dt,
-                       const double *vx0, const double *vy0, double *x, double *y, double *vx,
-                       double *vy)
+/* The pair passes after the correction: the stabilization and Koshizuka's collision model, as
+ * stated in sph_mps_ops.h. One loop with a compile-time mode (each caller passes a constant, so
+ * the compiler specialises it): for fluid particle i and neighbour j (fluid or wall) at r, vn the
+ * speed of approach from the velocities before the pass, du the normal relative velocity i
+ * loses. Velocities first, each from the positions and velocities before the pass; then the
+ * positions, by dt times the change of velocity. */
+enum { PASS_STABILIZE, PASS_COLLIDE };
+
+static inline long pair_pass(const int mode, const sph_mps_nbr *L, const unsigned char *kind,
+                             double d, double a, double dt, const double *vx0, const double *vy0,
+                             double *x, double *y, double *vx, double *vy)
 {
     const long n = L->n;
     long active = 0;
@@ -396,12 +403,16 @@ long sph_mps_stabilize(const sph_mps_nbr *L, const unsigned char *kind, double d
                 continue;
             const double rx = x[j] - xi, ry = y[j] - yi;
             const double r = sqrt(rx * rx + ry * ry);
-            if (r == 0.0)
+            if (r == 0.0 || (mode == PASS_COLLIDE && r >= d))
                 continue;
             const double vn = ((vx0[i] - vx0[j]) * rx + (vy0[i] - vy0[j]) * ry) / r;
-            const double du = vn - fmax(0.0, r - d) / dt;
+            double du;
+            if (mode == PASS_STABILIZE) /* a: share of a fluid neighbour's pair */
+                du = (kind[j] == SPH_MPS_FLUID ? a : 1.0) * (vn - fmax(0.0, r - d) / dt);
+            else /* a: (1 + e) / 2, walls as particles of the same mass */
+                du = a * vn;
             if (du > 0.0) {
-                const double f = (kind[j] == SPH_MPS_FLUID ? 0.5 : 1.0) * du / r;
+                const double f = du / r;
                 ux -= f * rx;
                 uy -= f * ry;
                 active++;
@@ -410,7 +421,6 @@ long sph_mps_stabilize(const sph_mps_nbr *L, const unsigned char *kind, double d
         vx[i] = ux;
         vy[i] = uy;
     }
-    /* positions after every velocity: the pairs above saw the positions before the pass */
 #pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++)
         if (kind[i] == SPH_MPS_FLUID) {
@@ -418,4 +428,19 @@ long sph_mps_stabilize(const sph_mps_nbr *L, const unsigned char *kind, double d
             y[i] += dt * (vy[i] - vy0[i]);
         }
     return active;
+}
+
+long sph_mps_stabilize(const sph_mps_nbr *L, const unsigned char *kind, double d, double dt,
+                       const double *vx0, const double *vy0, double *x, double *y, double *vx,
+                       double *vy)
+{
+    return pair_pass(PASS_STABILIZE, L, kind, d, 0.5, dt, vx0, vy0, x, y, vx, vy);
+}
+
+long sph_mps_collide(const sph_mps_nbr *L, const unsigned char *kind, double d, double restitution,
+                     double dt, const double *vx0, const double *vy0, double *x, double *y,
+                     double *vx, double *vy)
+{
+    return pair_pass(PASS_COLLIDE, L, kind, d, 0.5 * (1.0 + restitution), dt, vx0, vy0, x, y, vx,
+                     vy);
 }

@@ -156,4 +156,14 @@ long sph_mps_stabilize(const sph_mps_nbr *L, const unsigned char *kind, double d
                        const double *vx0, const double *vy0, double *x, double *y, double *vx,
                        double *vy);
 
+/* Koshizuka's collision model: fluid particle i closer than d to a neighbour j (fluid or wall)
+ * and approaching it (vn > 0, as above) loses (1 + e)/2 of vn along e (j's mass equal to i's;
+ * walls as fixed particles of the same mass, as in Koshizuka's codes), e the restitution; the
+ * positions move by dt times the change, as in the correction. The same contract as
+ * sph_mps_stabilize: parallel and independent of the particles' order and the threads (the
+ * pairs see the positions and velocities before the pass). Returns the entries that acted. */
+long sph_mps_collide(const sph_mps_nbr *L, const unsigned char *kind, double d, double restitution,
+                     double dt, const double *vx0, const double *vy0, double *x, double *y,
+                     double *vx, double *vy);
+
 #endif

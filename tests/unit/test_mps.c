@@ -7,7 +7,8 @@
  * threads; the iteration cap reported; walls as a Neumann boundary: the hydrostatic pressure
  * exact, next to the walls included; the free-surface condition mps.surface = 1: the hydrostatic
  * pressure zero on the water line exact in its rows; the dynamic stabilization idle on a slowly
- * moving lattice, momentum-conserving, stopping an approaching pair.
+ * moving lattice, momentum-conserving, stopping an approaching pair; the stabilization and the
+ * collision model independent of the particles' order.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -848,6 +849,83 @@ static void test_stabilize(void **state)
     free(y0);
 }
 
+/* sph_mps_stabilize and sph_mps_collide on a jittered block of fluid with fast random
+ * velocities, and again with the particles in reverse order: each particle ends with the same
+ * velocity and position (to rounding: its pairs are summed in another order), and the collision
+ * model keeps the momentum. (Positions moved inside the pair loop, as the collision model once
+ * did, make a pair's distance depend on which of the two moved first.) */
+static void test_pairs_order(void **state)
+{
+    (void)state;
+    const double dx = 0.01, dt = 0.1 * dx, u = dx / dt;
+    unsigned seed = 11;
+    lattice tk;
+    lattice_make(&tk, 12, 10, dx, 0, 0, 2.1 * dx);
+    const long n = tk.n;
+    double *x0 = malloc(n * sizeof(double)), *y0 = malloc(n * sizeof(double));
+    double *vx0 = malloc(n * sizeof(double)), *vy0 = malloc(n * sizeof(double));
+    double *x = malloc(n * sizeof(double)), *y = malloc(n * sizeof(double));
+    double *vx = malloc(n * sizeof(double)), *vy = malloc(n * sizeof(double));
+    double out[2][4][120];
+    assert_true(n <= 120);
+    for (long i = 0; i < n; i++) {
+        x0[i] = tk.P.x[i] + 0.3 * (2 * urand(&seed) - 1) * dx;
+        y0[i] = tk.P.y[i] + 0.3 * (2 * urand(&seed) - 1) * dx;
+        vx0[i] = 0.3 * (2 * urand(&seed) - 1) * u;
+        vy0[i] = 0.3 * (2 * urand(&seed) - 1) * u;
+    }
+    for (int pass = 0; pass < 2; pass++) {
+        long acted[2];
+        for (int rev = 0; rev < 2; rev++) {
+            /* particle k of the block sits at index rev ? n - 1 - k : k */
+            double ux[120], uy[120];
+            for (long k = 0; k < n; k++) {
+                const long i = rev ? n - 1 - k : k;
+                x[i] = x0[k];
+                y[i] = y0[k];
+                ux[i] = vx0[k];
+                uy[i] = vy0[k];
+            }
+            assert_int_equal(sph_mps_nbr_build_all_pairs(&tk.L, x, y, n, 2.1 * dx), 0);
+            acted[rev] =
+                pass ? sph_mps_collide(&tk.L, tk.kind, 0.9 * dx, 0.2, dt, ux, uy, x, y, vx, vy)
+                     : sph_mps_stabilize(&tk.L, tk.kind, 0.9 * dx, dt, ux, uy, x, y, vx, vy);
+            for (long k = 0; k < n; k++) {
+                const long i = rev ? n - 1 - k : k;
+                out[rev][0][k] = x[i];
+                out[rev][1][k] = y[i];
+                out[rev][2][k] = vx[i];
+                out[rev][3][k] = vy[i];
+            }
+        }
+        printf("%s: %ld pair entries acted\n", pass ? "collision" : "stabilization", acted[0]);
+        assert_true(acted[0] > 0);
+        assert_int_equal(acted[0], acted[1]);
+        double px = 0, py = 0, px0 = 0, py0 = 0;
+        for (long k = 0; k < n; k++) {
+            for (int q = 0; q < 2; q++)
+                assert_double_equal(out[1][q][k], out[0][q][k], 1e-14);
+            for (int q = 2; q < 4; q++)
+                assert_double_equal(out[1][q][k], out[0][q][k], 1e-12 * u);
+            px += out[0][2][k];
+            py += out[0][3][k];
+            px0 += vx0[k];
+            py0 += vy0[k];
+        }
+        assert_double_equal(px, px0, 1e-12 * n * u);
+        assert_double_equal(py, py0, 1e-12 * n * u);
+    }
+    lattice_free(&tk);
+    free(x0);
+    free(y0);
+    free(vx0);
+    free(vy0);
+    free(x);
+    free(y);
+    free(vx);
+    free(vy);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -864,6 +942,7 @@ int main(void)
         cmocka_unit_test(test_neumann_hydrostatic),
         cmocka_unit_test(test_surface_ghost_hydrostatic),
         cmocka_unit_test(test_stabilize),
+        cmocka_unit_test(test_pairs_order),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
