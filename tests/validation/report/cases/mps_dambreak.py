@@ -1,11 +1,13 @@
 """MPS dam break (Koshizuka & Oka 1996; cases/mps_dambreak.json; issue 12): a column L = 0.146 m
-wide and 2L high in a tank 4L long, run with the MPS method and both weights (koshizuka with
-re = 2.1 dx, sheu_quartic with Sheu et al.'s re = 2 dx), at the case's dx = L/20 and at L/40 (full
-level; L/20 at the ci level). The surge front Z = x/L over T = t sqrt(2g/L) in [0.4, 3] is compared
+wide and 2L high in a tank 4L long, run with the MPS method and both weights (the case's
+sheu_quartic with Sheu et al.'s re = 2 dx, koshizuka with re = 2.1 dx), at the case's dx = L/20 and
+at L/40 (full level; L/20 at the ci level), with the case's settings (the mixed source, the
+corrected gradient, the dynamic stabilization: those under which still water stays at rest). The surge front Z = x/L over T = t sqrt(2g/L) in [0.4, 3] is compared
 with tests/validation/reference/dambreak_front_KoshizukaOka1996.csv:
 
-- `ko_mps_SIMULATION`: Koshizuka & Oka's own MPS result for this set-up. The case runs their
-  method with their settings, so this is a code verification: it is checked at every level.
+- `ko_mps_SIMULATION`: Koshizuka & Oka's own MPS result for this set-up: the same method (with
+  their settings: the number-density source, the minimum-pressure gradient, the collision model),
+  checked at every level.
 - `ko_exp`: their experiment, issue 12's reference (the front within 10% RMS at L/20 and L/40):
   checked at the full level; at the ci level its RMS is only noted.
 - `dualsphysics` (Martin & Moyce's points as re-plotted by Koshizuka & Oka): noted.
@@ -16,8 +18,8 @@ import numpy as np
 
 TITLE = "MPS dam break: surge front against Koshizuka & Oka (1996)"
 L, G = 0.146, 9.81
-KERNELS = {"koshizuka": [], "sheu_quartic": ["kernel.type=sheu_quartic", "mps.re=2",
-                                             "mps.re_grad=2"]}
+KERNELS = {"sheu_quartic": [], "koshizuka": ["kernel.type=koshizuka", "mps.re=2.1",
+                                             "mps.re_grad=2.1"]}
 RUNS = {"full": [(k, n) for k in KERNELS for n in (20, 40)],
         "ci": [(k, 20) for k in KERNELS]}
 RESOLUTION = {"full": "dx = L/20 (800 fluid particles) and L/40 (3,200), both MPS weights",
