@@ -32,8 +32,11 @@
  * environment prints BoomerAMG's setup statistics (levels, grid and operator complexity) at
  * every setup.
  *
- * Figures and what follows from them: README, "bench_mps_amg" (IC(0) is 2-3 times faster per
- * step than the best AMG setting at L/20 to L/160, its iterations growing as (L/dx)^0.33).
+ * Figures and what follows from them: README, "bench_mps_amg". Under Koshizuka & Oka's settings
+ * (most of the column at p = 0) IC(0) was 2-3 times faster than the best AMG setting at L/20 to
+ * L/160; on the case's present settings (the whole column solved; eighth session) IC(0)'s
+ * iterations double per halving of dx (20, 40, 100, 223) and aggressive AMG is 1.2 and 2.5 times
+ * faster at L/80 and L/160 (IC(0) 2.2 and 1.7 times faster at L/20 and L/40).
  *
  * Usage: bench_mps_amg SOURCE_DIR [--time T] [--sizes "20 40 80"] [--threads "1 2"] [--reps N]
  * (SOURCE_DIR: where cases/mps_dambreak.json is). Never fails on time.

@@ -9,23 +9,20 @@
  * the wall time per simulated second, the figure that compares the methods (MPS takes steps about
  * ten times longer than WCSPH's acoustic ones, each costing a linear solve).
  *
- * MPS: the case's settings (Koshizuka weight, re = 2.1 dx, number-density source, relaxation 1,
- * local-minimum gradient, collision 0.5 dx, IC(0)-preconditioned CG to 1e-8, cfl 0.1).
+ * MPS: the case's settings (the quartic weight, re = 2 dx, the mixed source with relaxation 0.005,
+ * the corrected gradient, the stabilization at 0.9 dx, IC(0)-preconditioned CG to 1e-8, cfl 0.1).
  * WCSPH: cases/dambreak.json's (Wendland C2, h = 1.414 dx, alpha = 0.1, delta-SPH 0.1, wall
  * viscosity factor 0, cfl 0.2) with c0 = 25 m/s (10 sqrt(2 g 2L)). Never fails on time.
  *
- * Figures (this 2-core machine shared with two other long runs, load about 3.5, OMP_WAIT_POLICY
- * =passive; 1 thread), MPS / WCSPH: wall seconds per simulated second 4.8 / 2.1 at L/20, 34 / 18
- * at L/40, 268 / 137 at L/80; MPS steps 3.8 times longer, each 9 times dearer, 53-60% of it in
- * the pressure equation; CG iterations per step 24, 29, 35 (IC(0)). 2 threads gave nothing
- * there (the cores were busy), and with the default (active) wait policy they were 50 times
- * slower at L/40 (237 ms per step against 4.9 with one thread: threads spinning at the
- * barriers of the many short parallel loops while the machine's other work held the second
- * core). On the idle machine (2026-11-23, medians of 3, default wait policy), 1 / 2 threads,
- * wall seconds per simulated second: MPS 34.1 / 28.4 at L/40, 294 / 239 at L/80 (the solve's
- * share 53-55% -> 62-69%: IC(0)'s triangular solves are serial); WCSPH 17.7 / 12.7 and
- * 149 / 97; L/20 gains nothing. With OMP_WAIT_POLICY=passive MPS gains nothing and is 17% slower
- * at L/80 with 2 threads (the threads sleep between the CG's short parallel loops).
+ * Figures (2026-11-23, eighth session, medians of 3, default wait policy, the machine otherwise
+ * idle), MPS / WCSPH, wall seconds per simulated second, 1 thread: 4.5 / 2.1 at L/20, 45 / 19 at
+ * L/40, 617 / 144 at L/80; 2 threads: 4.7 / 2.1, 42 / 13, 634 / 102. CG iterations per step 24,
+ * 49, 105; the pressure equation 50-52%, 64-66%, 80-81% of the step (1 thread), 74-76% and 88-89%
+ * with 2 at L/40 and L/80: IC(0)'s triangular solves are serial, so MPS gains nothing from the
+ * second thread. Under Koshizuka & Oka's settings (the case before the eighth session) the CG
+ * took 24, 29, 35 iterations and MPS cost 4.8, 34, 268 s per simulated second: their number-density
+ * source put p = 0 on most of the column (false free surface, 90% of it at L/40 by t = 0.05 s),
+ * which left small systems; the case's settings solve the whole column.
  *
  * Usage: bench_mps_dambreak SOURCE_DIR [--time T] [--threads "1 2"] [--sizes "20 40 80"]
  * [--methods "mps wcsph"]   (SOURCE_DIR: where cases/mps_dambreak.json is)
