@@ -94,7 +94,7 @@ typedef struct sph_mps_config {
     double beta;    /* free-surface particles: number density below beta n0 [-] */
     double tol;     /* CG: relative residual ||b - A p|| / ||b|| to reach [-] */
     long maxit;     /* CG: iterations after which the job fails as unstable [-] */
-    int precond;    /* CG preconditioner: 0 none, 1 jacobi, 2 ic0 (sph_mps_precond) */
+    int precond;    /* CG preconditioner: 0 none, 1 jacobi, 2 ic0, 3 amg (sph_mps_precond) */
     int source;     /* PPE source: 0 number density (Koshizuka & Oka 1996), 1 mixed (Tanaka &
                      * Masunaga 2010: velocity divergence plus relax times the density term) */
     double relax;   /* coefficient of the number-density term relax rho (n* - n0) / (n0 dt^2) [-] */

@@ -10,6 +10,8 @@ pkgs=(gcc make cmake pkg-config libzmq3-dev libjansson-dev libhdf5-dev zlib1g-de
 pkgs+=(clang libomp-dev libclang-rt-dev)
 # the CURVE test captures loopback traffic
 pkgs+=(tcpdump)
+# the clang build of test.sh builds with hypre's AMG (-DSPH_HYPRE=ON: mps.preconditioner "amg")
+pkgs+=(libhypre-dev mpi-default-dev)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

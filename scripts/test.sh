@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The README's test command: set up, build (warnings are errors here), run every test; then build
 # again with AddressSanitizer and UndefinedBehaviorSanitizer and run the unit, command-line and
-# integration tests under them; then build with clang and run the unit tests; then the build
+# integration tests under them; then build with clang, with hypre's AMG preconditioner
+# (-DSPH_HYPRE=ON: the default builds have none), and run the unit tests; then the build
 # types that are not built above (scripts/build-matrix.sh), so that gcc and clang each build
 # Release, RelWithDebInfo and Debug without a warning; last, each fuzz target runs for 30 s
 # from its seed corpus with a fixed random seed (SPH_FUZZ_SEED, default 1): about the same inputs
@@ -19,8 +20,8 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:ha
   LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0" \
   ctest --test-dir build-asan --output-on-failure -j2 -L 'unit|cli|integration'
 
-echo "== clang (Release): build, unit tests =="
-CC=clang cmake -S . -B build-clang -DCMAKE_BUILD_TYPE=Release -DSPH_WERROR=ON >/dev/null
+echo "== clang (Release, with hypre's AMG): build, unit tests =="
+CC=clang cmake -S . -B build-clang -DCMAKE_BUILD_TYPE=Release -DSPH_WERROR=ON -DSPH_HYPRE=ON >/dev/null
 cmake --build build-clang -j"$(nproc)"
 ctest --test-dir build-clang --output-on-failure -j2 -L unit
 

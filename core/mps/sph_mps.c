@@ -132,9 +132,13 @@ static int mps_check(const sph_config *c, sph_error *err)
     if (m->maxit < 1)
         return sph_error_set(err, SPH_ERR_INVALID, "/mps/max_iterations",
                              "max_iterations must be at least 1");
-    if (m->precond < SPH_MPS_PC_NONE || m->precond > SPH_MPS_PC_IC0)
+    if (m->precond < SPH_MPS_PC_NONE || m->precond > SPH_MPS_PC_AMG)
         return sph_error_set(err, SPH_ERR_INVALID, "/mps/preconditioner",
                              "unknown preconditioner %d", m->precond);
+    if (m->precond == SPH_MPS_PC_AMG && !sph_mps_amg_available())
+        return sph_error_set(err, SPH_ERR_INVALID, "/mps/preconditioner",
+                             "this sphd was built without hypre, so \"amg\" is not available: "
+                             "use \"ic0\", or build with -DSPH_HYPRE=ON (libhypre-dev)");
     if (m->source != SPH_MPS_SOURCE_DENSITY && m->source != SPH_MPS_SOURCE_MIXED)
         return sph_error_set(err, SPH_ERR_INVALID, "/mps/source", "unknown source term %d",
                              m->source);

@@ -24,7 +24,8 @@
  * The system is assembled as a sparse matrix in compressed rows (off-diagonals in ascending
  * column order, the diagonal apart) and solved by preconditioned conjugate gradients: none,
  * Jacobi (the diagonal) or IC(0) (incomplete Cholesky on A's own pattern; it exists for M-matrices,
- * Meijerink & van der Vorst 1977). Warm start from the caller's p. Converged when
+ * Meijerink & van der Vorst 1977), or by hypre's CG with an algebraic multigrid V-cycle (AMG,
+ * sph_mps_amg.c; builds with -DSPH_HYPRE=ON). Warm start from the caller's p. Converged when
  * ||b - A p||_2 <= tol ||b||_2. Parallel with OpenMP (matrix-vector product and vector updates
  * by rows; dot products as partial sums over fixed blocks of 2048 entries added in block order,
  * so the result is bitwise the same with any number of threads); the IC(0) factorisation and its
@@ -36,7 +37,12 @@
 #include "sph_mps_nbr.h"
 #include "sph_kernel.h"
 
-typedef enum { SPH_MPS_PC_NONE = 0, SPH_MPS_PC_JACOBI, SPH_MPS_PC_IC0 } sph_mps_precond;
+typedef enum {
+    SPH_MPS_PC_NONE = 0,
+    SPH_MPS_PC_JACOBI,
+    SPH_MPS_PC_IC0,
+    SPH_MPS_PC_AMG /* hypre's CG with a BoomerAMG V-cycle: builds with -DSPH_HYPRE=ON only */
+} sph_mps_precond;
 
 typedef struct sph_mps_cg_stats {
     long iterations; /* CG iterations of the latest solve [-] */
@@ -105,7 +111,19 @@ void sph_mps_ppe_free(sph_mps_ppe *S);
 /* Bytes held. */
 double sph_mps_ppe_bytes(const sph_mps_ppe *S);
 
-/* Case-file name of a preconditioner ("none", "jacobi", "ic0") and back (-1 if unknown). */
+/* 1 if this build has SPH_MPS_PC_AMG (-DSPH_HYPRE=ON), else 0: sph_mps_ppe_solve then fails
+ * with -1 for it. */
+int sph_mps_amg_available(void);
+
+/* sph_mps_amg.c (with SPH_HYPRE only): A x = b over the unknowns of the latest assembly, x the
+ * warm start on entry, by hypre's CG to ||b - A x|| <= tol ||b|| with one BoomerAMG V-cycle as
+ * the preconditioner. Returns 0 when converged, 1 when maxit iterations did not reach tol, -1
+ * when hypre failed or memory ran out. Thread-safe (the solves take turns). */
+int sph_mps_amg_solve(const sph_mps_ppe *S, const double *b, double *x, double tol, long maxit,
+                      long *iterations);
+
+/* Case-file name of a preconditioner ("none", "jacobi", "ic0", "amg") and back (-1 if
+ * unknown). */
 const char *sph_mps_precond_name(sph_mps_precond pc);
 int sph_mps_precond_from_name(const char *name);
 

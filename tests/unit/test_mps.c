@@ -637,8 +637,9 @@ static void dense_solve(const sph_mps_ppe *S, const double *b, double *x)
 static void test_ppe_dense(void **state)
 {
     (void)state;
+    const int npc = sph_mps_amg_available() ? 4 : 3; /* AMG with -DSPH_HYPRE=ON */
     for (int t = 0; t < 2; t++)
-        for (int pc = 0; pc < 3; pc++) {
+        for (int pc = 0; pc < npc; pc++) {
             lattice tk;
             sph_mps_ppe S;
             double *rhs;
@@ -671,6 +672,26 @@ static void test_ppe_dense(void **state)
         }
 }
 
+/* Without -DSPH_HYPRE the AMG preconditioner is not there: the solve refuses it (the case
+ * parser refused it before, test_sim_checkpoint). */
+static void test_amg_absent(void **state)
+{
+    (void)state;
+    if (sph_mps_amg_available())
+        skip();
+    lattice tk;
+    sph_mps_ppe S;
+    double *rhs;
+    ppe_setup(&tk, &S, SPH_KERNEL_SHEU_QUARTIC, 2.0, 14, 20, &rhs);
+    double *p = calloc(tk.n, sizeof *p);
+    sph_mps_cg_stats st;
+    assert_int_equal(sph_mps_ppe_solve(&S, rhs, p, SPH_MPS_PC_AMG, 1e-8, 100, &st), -1);
+    free(p);
+    free(rhs);
+    sph_mps_ppe_free(&S);
+    lattice_free(&tk);
+}
+
 static void test_pcg_iterations(void **state)
 {
     (void)state;
@@ -681,8 +702,8 @@ static void test_pcg_iterations(void **state)
         double *rhs;
         ppe_setup(&tk, &S, type, 2.1, 60, 120, &rhs);
         double *p = malloc(tk.n * sizeof *p);
-        long it[3];
-        for (int pc = 0; pc < 3; pc++) {
+        long it[4] = {0, 0, 0, -1};
+        for (int pc = 0; pc < (sph_mps_amg_available() ? 4 : 3); pc++) {
             memset(p, 0, tk.n * sizeof *p);
             sph_mps_cg_stats st;
             assert_int_equal(sph_mps_ppe_solve(&S, rhs, p, (sph_mps_precond)pc, 1e-8, 20000, &st),
@@ -694,8 +715,11 @@ static void test_pcg_iterations(void **state)
                              0);
             assert_true(st.iterations <= 1);
         }
-        printf("CG iterations to 1e-8, %-12s %ld unknowns: none %ld, jacobi %ld, ic0 %ld\n",
-               sph_kernel_type_name(type), S.n, it[0], it[1], it[2]);
+        printf("CG iterations to 1e-8, %-12s %ld unknowns: none %ld, jacobi %ld, ic0 %ld, amg %ld "
+               "(-1: not in this build)\n",
+               sph_kernel_type_name(type), S.n, it[0], it[1], it[2], it[3]);
+        if (it[3] >= 0) /* one V-cycle a step: fewer iterations than IC(0) */
+            assert_true(it[3] < it[2]);
         /* on a lattice the diagonal is nearly constant and Jacobi is nearly plain CG */
         assert_true(it[1] <= it[0] + it[0] / 10);
         assert_true(it[2] < it[0]);
@@ -936,6 +960,7 @@ int main(void)
         cmocka_unit_test(test_gradient_linear_min),
         cmocka_unit_test(test_ppe_symmetric),
         cmocka_unit_test(test_ppe_dense),
+        cmocka_unit_test(test_amg_absent),
         cmocka_unit_test(test_pcg_iterations),
         cmocka_unit_test(test_threads_bitwise),
         cmocka_unit_test(test_iteration_cap),

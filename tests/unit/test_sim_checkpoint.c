@@ -2,7 +2,9 @@
  * sph_sim_save / sph_sim_restore: a run saved at step 150 and restored continues bitwise like the
  * run that was never interrupted (positions, velocities, densities, time, step), with 1 thread and
  * with 2; a damaged state is refused. The MPS dam break with Koshizuka & Oka's settings (the
- * collision model) and the dynamic stabilization gives the same bits with 1 and 2 threads.
+ * collision model) and the dynamic stabilization gives the same bits with 1 and 2 threads. The
+ * AMG preconditioner (mps.preconditioner "amg"): with -DSPH_HYPRE=ON the MPS dam break saved and
+ * restored continues bitwise; without it, the case is refused at /mps/preconditioner.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -134,12 +136,58 @@ static void test_mps_threads(void **state)
     sph_sim_destroy(sim[1]);
 }
 
+/* The MPS dam break at L/40 with mps.preconditioner "amg". */
+static void test_mps_amg(void **state)
+{
+    (void)state;
+    char path[4096];
+    const char *src = getenv("SPH_SOURCE_DIR");
+    snprintf(path, sizeof path, "%s/cases/mps_dambreak.json", src ? src : ".");
+    json_t *root;
+    sph_error err;
+    assert_int_equal(sph_case_load(path, &root, &err), 0);
+    assert_int_equal(sph_json_apply_set(root, "dx=0.00365", &err), 0);
+    assert_int_equal(sph_json_apply_set(root, "mps.preconditioner=amg", &err), 0);
+    sph_case *c = calloc(1, sizeof *c);
+    const int rc = sph_case_from_json(root, c, &err);
+    json_decref(root);
+#ifdef SPH_HYPRE
+    assert_int_equal(rc, 0);
+    const sph_config cfg = c->sim;
+    free(c);
+    sph_sim *a = sph_sim_create(&cfg, &err);
+    assert_non_null(a);
+    assert_int_equal(sph_sim_step(a, 100, &err), 0);
+    void *buf;
+    size_t len;
+    assert_int_equal(sph_sim_save(a, &buf, &len, &err), 0);
+    assert_int_equal(sph_sim_step(a, 60, &err), 0);
+    sph_sim *b = sph_sim_restore(buf, len, &err);
+    assert_non_null(b);
+    assert_int_equal(sph_sim_step(b, 60, &err), 0);
+    compare(a, b);
+    const sph_diag *d = sph_sim_diag(a);
+    printf("amg: step %ld, CG %ld iterations, residual %.2e\n", d->step, (long)d->cg_iterations,
+           d->cg_residual);
+    assert_true(d->cg_residual <= cfg.mps.tol);
+    free(buf);
+    sph_sim_destroy(a);
+    sph_sim_destroy(b);
+#else
+    free(c);
+    assert_int_not_equal(rc, 0);
+    assert_string_equal(err.path, "/mps/preconditioner");
+    assert_non_null(strstr(err.message, "built without hypre"));
+#endif
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_restore_one_thread),
         cmocka_unit_test(test_restore_two_threads),
         cmocka_unit_test(test_mps_threads),
+        cmocka_unit_test(test_mps_amg),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
