@@ -66,23 +66,23 @@ static void compare(const sph_sim *a, const sph_sim *b)
     assert_int_equal(sph_sim_diag(a)->step, sph_sim_diag(b)->step);
 }
 
-static void run_case(int threads)
+/* Runs cfg n1 steps, saves, runs n2 more; the restored state runs the same n2 steps to the same
+ * bits; a damaged state is refused. Returns the first sim (the caller destroys it). */
+static sph_sim *save_restore(const sph_config *cfg, long n1, long n2)
 {
-    omp_set_num_threads(threads);
-    sph_config cfg = dambreak();
     sph_error err;
-    sph_sim *a = sph_sim_create(&cfg, &err);
+    sph_sim *a = sph_sim_create(cfg, &err);
     assert_non_null(a);
-    assert_int_equal(sph_sim_step(a, 150, &err), 0);
+    assert_int_equal(sph_sim_step(a, n1, &err), 0);
     void *buf;
     size_t len;
     assert_int_equal(sph_sim_save(a, &buf, &len, &err), 0);
-    assert_int_equal(sph_sim_step(a, 120, &err), 0);
+    assert_int_equal(sph_sim_step(a, n2, &err), 0);
 
     sph_sim *b = sph_sim_restore(buf, len, &err);
     assert_non_null(b);
-    assert_int_equal(sph_sim_diag(b)->step, 150);
-    assert_int_equal(sph_sim_step(b, 120, &err), 0);
+    assert_int_equal(sph_sim_diag(b)->step, n1);
+    assert_int_equal(sph_sim_step(b, n2, &err), 0);
     compare(a, b);
 
     /* damaged: truncated, bad magic */
@@ -92,8 +92,15 @@ static void run_case(int threads)
     assert_null(sph_sim_restore(buf, len, &err));
     assert_int_equal(err.code, SPH_ERR_IO);
     free(buf);
-    sph_sim_destroy(a);
     sph_sim_destroy(b);
+    return a;
+}
+
+static void run_case(int threads)
+{
+    omp_set_num_threads(threads);
+    const sph_config cfg = dambreak();
+    sph_sim_destroy(save_restore(&cfg, 150, 120));
 }
 
 static void test_restore_one_thread(void **state)
@@ -155,24 +162,12 @@ static void test_mps_amg(void **state)
     assert_int_equal(rc, 0);
     const sph_config cfg = c->sim;
     free(c);
-    sph_sim *a = sph_sim_create(&cfg, &err);
-    assert_non_null(a);
-    assert_int_equal(sph_sim_step(a, 100, &err), 0);
-    void *buf;
-    size_t len;
-    assert_int_equal(sph_sim_save(a, &buf, &len, &err), 0);
-    assert_int_equal(sph_sim_step(a, 60, &err), 0);
-    sph_sim *b = sph_sim_restore(buf, len, &err);
-    assert_non_null(b);
-    assert_int_equal(sph_sim_step(b, 60, &err), 0);
-    compare(a, b);
+    sph_sim *a = save_restore(&cfg, 100, 60);
     const sph_diag *d = sph_sim_diag(a);
     printf("amg: step %ld, CG %ld iterations, residual %.2e\n", d->step, (long)d->cg_iterations,
            d->cg_residual);
     assert_true(d->cg_residual <= cfg.mps.tol);
-    free(buf);
     sph_sim_destroy(a);
-    sph_sim_destroy(b);
 #else
     free(c);
     assert_int_not_equal(rc, 0);
