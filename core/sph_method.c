@@ -22,3 +22,10 @@ int sph_sim_has_method(sph_method m)
 {
     return sph_method_ops_of(m) != NULL;
 }
+
+void sph_core_init(void)
+{
+#ifdef SPH_HYPRE /* MPS's AMG solves (sph_mps_amg.c) */
+    sph_mps_amg_process_init();
+#endif
+}

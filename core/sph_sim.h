@@ -94,6 +94,12 @@ typedef struct sph_timing {
     long active;         /* particles in the latest force evaluation */
 } sph_timing;
 
+/* Once at the start of a program that runs simulations, before it starts any thread: the
+ * process-wide set-up of the optional libraries of this build (with -DSPH_HYPRE, Open MPI's
+ * singleton in isolated mode for MPS's AMG solves: no helper process). Does nothing otherwise;
+ * a program that skips it still works. */
+void sph_core_init(void);
+
 /* 1 if this build runs method m as a particle simulation (a row of the method table). */
 int sph_sim_has_method(sph_method m);
 

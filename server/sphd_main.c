@@ -4,6 +4,7 @@
 #include "sphd_h5_util.h"
 
 #include "sph_endpoint.h"
+#include "sph_sim.h"
 
 #include <ctype.h>
 #include <getopt.h>
@@ -166,6 +167,7 @@ int main(int argc, char **argv)
         OPT_REQCPU,
         OPT_WNICE
     };
+    sph_core_init(); /* before any thread */
     static const struct option longopts[] = {
         {"run", required_argument, NULL, OPT_RUN},
         {"out", required_argument, NULL, OPT_OUT},

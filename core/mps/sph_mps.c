@@ -503,6 +503,11 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
                                      c->mps.tol, c->mps.maxit, &m->cg);
     double t3 = omp_get_wtime();
     s->timing.solve += t3 - t2;
+    if (rc == -2)
+        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                             "the AMG pressure solve failed at step %ld (hypre or MPI could not "
+                             "start or solve; \"ic0\" needs neither)",
+                             step);
     if (rc < 0)
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the pressure solve");
     if (rc > 0)

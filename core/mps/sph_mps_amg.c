@@ -10,10 +10,11 @@
  * built every solve.
  *
  * hypre is MPI-parallel in Debian's build: the process becomes an MPI singleton on the first
- * solve (MPI_Init_thread, MPI_THREAD_SERIALIZED; never finalised: the library keeps no file or
- * socket of ours), and every solve runs under one mutex, since hypre's global state (its error
- * flag, memory bookkeeping) is not documented as thread-safe: the solves of concurrent jobs take
- * turns. Serial and deterministic: the same system and start give the same bits.
+ * solve (MPI_Init_thread, MPI_THREAD_SERIALIZED; never finalised), in Open MPI's isolated mode
+ * when the program called sph_core_init first (sphd does: no orted helper process is forked),
+ * and every solve runs under one mutex, since hypre's global state (its error flag, memory
+ * bookkeeping) is not documented as thread-safe: the solves of concurrent jobs take turns.
+ * Serial and deterministic: the same system and start give the same bits.
  */
 #include "sph_mps_ppe.h"
 
@@ -26,22 +27,36 @@
 #include <stdlib.h>
 
 static pthread_mutex_t amg_lock = PTHREAD_MUTEX_INITIALIZER;
-static int amg_ready; /* MPI and hypre initialised (under amg_lock) */
+static int mpi_ready, hypre_ready; /* under amg_lock */
+
+/* Before any thread (sph_core_init): Open MPI's singleton in isolated mode, so that its
+ * MPI_Init forks no orted helper process (the user's own setting is kept). */
+void sph_mps_amg_process_init(void)
+{
+    setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+}
 
 static int amg_init(void)
 {
-    if (amg_ready)
-        return 0;
-    int inited = 0;
-    if (MPI_Initialized(&inited) != MPI_SUCCESS)
-        return -1;
-    if (!inited) { /* else the program did both (bench_mps_amg) */
-        int provided = 0;
-        if (MPI_Init_thread(NULL, NULL, MPI_THREAD_SERIALIZED, &provided) != MPI_SUCCESS ||
-            HYPRE_Init() != 0)
+    if (!mpi_ready) {
+        int inited = 0;
+        if (MPI_Initialized(&inited) != MPI_SUCCESS)
             return -1;
+        if (inited) { /* the program did both (bench_mps_amg) */
+            hypre_ready = 1;
+        } else {
+            int provided = 0;
+            if (MPI_Init_thread(NULL, NULL, MPI_THREAD_SERIALIZED, &provided) != MPI_SUCCESS ||
+                provided < MPI_THREAD_SERIALIZED)
+                return -1;
+        }
+        mpi_ready = 1;
     }
-    amg_ready = 1;
+    if (!hypre_ready) {
+        if (HYPRE_Init() != 0)
+            return -1;
+        hypre_ready = 1;
+    }
     return 0;
 }
 
@@ -110,7 +125,8 @@ static int amg_locked(const sph_mps_ppe *S, const double *b, double *x, double t
     bad |= HYPRE_ParCSRPCGCreate(MPI_COMM_SELF, &pcg);
     bad |= HYPRE_PCGSetTol(pcg, tol);
     bad |= HYPRE_PCGSetAbsoluteTol(pcg, 0.0);
-    bad |= HYPRE_PCGSetTwoNorm(pcg, 1); /* ||r||_2 <= tol ||b||_2, as sphd's CG */
+    bad |= HYPRE_PCGSetTwoNorm(pcg, 1);           /* ||r||_2 <= tol ||b||_2, as sphd's CG */
+    bad |= HYPRE_PCGSetRecomputeResidual(pcg, 1); /* that ||r|| recomputed, not the recurrence's */
     bad |= HYPRE_PCGSetMaxIter(pcg, (HYPRE_Int)(maxit < 1000000000L ? maxit : 1000000000L));
     bad |= HYPRE_PCGSetPrintLevel(pcg, 0);
     bad |= HYPRE_PCGSetPrecond(pcg, (HYPRE_PtrToSolverFcn)HYPRE_BoomerAMGSolve,

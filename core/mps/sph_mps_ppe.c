@@ -328,28 +328,34 @@ static void scatter(const sph_mps_ppe *S, const double *xv, double *p)
         p[i] = row[i] >= 0 ? xv[row[i]] : 0.0;
 }
 
-/* SPH_MPS_PC_AMG: hypre's CG and BoomerAMG (sph_mps_amg.c) on b, the warm start xv; the
- * residual reported is recomputed here, as sphd's CG defines it. */
+/* SPH_MPS_PC_AMG: hypre's CG and BoomerAMG (sph_mps_amg.c) on b, the warm start xv (not called
+ * when the start already meets tol: hypre's CG always iterates); the residual reported is
+ * recomputed here, as sphd's CG defines it. */
 static int solve_amg(sph_mps_ppe *S, const double *b, double *xv, double bnorm, double tol,
                      long maxit, sph_mps_cg_stats *st, double *p)
 {
 #ifdef SPH_HYPRE
     const long n = S->n;
     double *r = S->w[2], *q = S->w[5];
-    int rc = sph_mps_amg_solve(S, b, xv, tol, maxit, &st->iterations);
-    if (rc < 0)
-        return -1;
-    sph_mps_ppe_matvec(S, xv, q);
+    int rc = 0;
+    for (int k = 0; k < 2; k++) { /* the start's residual: converged already (warm start)? */
+        sph_mps_ppe_matvec(S, xv, q);
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-    for (long u = 0; u < n; u++)
-        r[u] = b[u] - q[u];
-    st->residual = sqrt(dot(S, r, r)) / bnorm;
+        for (long u = 0; u < n; u++)
+            r[u] = b[u] - q[u];
+        st->residual = sqrt(dot(S, r, r)) / bnorm;
+        if (k == 1 || !(st->residual > tol))
+            break;
+        rc = sph_mps_amg_solve(S, b, xv, tol, maxit, &st->iterations);
+        if (rc < 0)
+            return -2;
+    }
     st->converged = rc == 0;
     scatter(S, xv, p);
     return rc;
 #else
     (void)S, (void)b, (void)xv, (void)bnorm, (void)tol, (void)maxit, (void)st, (void)p;
-    return -1; /* refused before: sph_mps_amg_available() */
+    return -2; /* refused before: sph_mps_amg_available() */
 #endif
 }
 

@@ -95,7 +95,8 @@ int sph_mps_ppe_assemble_kinds(sph_mps_ppe *S, const sph_mps_nbr *L, const doubl
 /* Solves A p = b for the latest assembly; rhs and p are per particle. p holds the starting
  * guess on entry (its unknowns' entries; warm start), the solution on return, and 0 for every
  * particle that is not an unknown. Returns 0 when converged, 1 when maxit iterations did not
- * reach tol (p then holds the last iterate), -1 when out of memory. */
+ * reach tol (p then holds the last iterate), -1 when out of memory, -2 when the AMG solve failed
+ * (hypre or MPI: sph_mps_amg_solve) or is not in this build. */
 int sph_mps_ppe_solve(sph_mps_ppe *S, const double *rhs, double *p, sph_mps_precond pc, double tol,
                       long maxit, sph_mps_cg_stats *st);
 
@@ -121,6 +122,9 @@ int sph_mps_amg_available(void);
  * when hypre failed or memory ran out. Thread-safe (the solves take turns). */
 int sph_mps_amg_solve(const sph_mps_ppe *S, const double *b, double *x, double tol, long maxit,
                       long *iterations);
+
+/* sph_mps_amg.c: once at the start of a program, before its threads (sph_core_init). */
+void sph_mps_amg_process_init(void);
 
 /* Case-file name of a preconditioner ("none", "jacobi", "ic0", "amg") and back (-1 if
  * unknown). */

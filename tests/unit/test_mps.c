@@ -8,7 +8,9 @@
  * exact, next to the walls included; the free-surface condition mps.surface = 1: the hydrostatic
  * pressure zero on the water line exact in its rows; the dynamic stabilization idle on a slowly
  * moving lattice, momentum-conserving, stopping an approaching pair; the stabilization and the
- * collision model independent of the particles' order.
+ * collision model independent of the particles' order. With -DSPH_HYPRE, the AMG
+ * preconditioner: equal to the dense solve, fewer iterations than IC(0), two solves at once from
+ * two threads as each alone; without it, refused.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -685,11 +687,47 @@ static void test_amg_absent(void **state)
     ppe_setup(&tk, &S, SPH_KERNEL_SHEU_QUARTIC, 2.0, 14, 20, &rhs);
     double *p = calloc(tk.n, sizeof *p);
     sph_mps_cg_stats st;
-    assert_int_equal(sph_mps_ppe_solve(&S, rhs, p, SPH_MPS_PC_AMG, 1e-8, 100, &st), -1);
+    assert_int_equal(sph_mps_ppe_solve(&S, rhs, p, SPH_MPS_PC_AMG, 1e-8, 100, &st), -2);
     free(p);
     free(rhs);
     sph_mps_ppe_free(&S);
     lattice_free(&tk);
+}
+
+/* With -DSPH_HYPRE: two AMG solves at once from two threads (two jobs of the daemon) give the
+ * bits each gives alone (the solves take turns under sph_mps_amg.c's lock). */
+static void test_amg_concurrent(void **state)
+{
+    (void)state;
+    if (!sph_mps_amg_available())
+        skip();
+    lattice tk[2];
+    sph_mps_ppe S[2];
+    double *rhs[2], *alone[2], *both[2];
+    for (int k = 0; k < 2; k++) {
+        ppe_setup(&tk[k], &S[k], k ? SPH_KERNEL_SHEU_QUARTIC : SPH_KERNEL_KOSHIZUKA, 2.1,
+                  40 + 10 * k, 60, &rhs[k]);
+        alone[k] = calloc(tk[k].n, sizeof(double));
+        both[k] = calloc(tk[k].n, sizeof(double));
+        sph_mps_cg_stats st;
+        assert_int_equal(
+            sph_mps_ppe_solve(&S[k], rhs[k], alone[k], SPH_MPS_PC_AMG, 1e-10, 500, &st), 0);
+    }
+    int rc[2] = {-9, -9};
+#pragma omp parallel for num_threads(2) schedule(static, 1)
+    for (int k = 0; k < 2; k++) {
+        sph_mps_cg_stats st;
+        rc[k] = sph_mps_ppe_solve(&S[k], rhs[k], both[k], SPH_MPS_PC_AMG, 1e-10, 500, &st);
+    }
+    for (int k = 0; k < 2; k++) {
+        assert_int_equal(rc[k], 0);
+        assert_memory_equal(both[k], alone[k], tk[k].n * sizeof(double));
+        free(alone[k]);
+        free(both[k]);
+        free(rhs[k]);
+        sph_mps_ppe_free(&S[k]);
+        lattice_free(&tk[k]);
+    }
 }
 
 static void test_pcg_iterations(void **state)
@@ -961,6 +999,7 @@ int main(void)
         cmocka_unit_test(test_ppe_symmetric),
         cmocka_unit_test(test_ppe_dense),
         cmocka_unit_test(test_amg_absent),
+        cmocka_unit_test(test_amg_concurrent),
         cmocka_unit_test(test_pcg_iterations),
         cmocka_unit_test(test_threads_bitwise),
         cmocka_unit_test(test_iteration_cap),
