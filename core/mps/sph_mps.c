@@ -14,7 +14,7 @@
  *      pressure, or with the corrective matrix and without it); u = u* + u', r = r* + dt u';
  *   5. optionally the dynamic stabilization (after Tsuruta, Khayyer & Gotoh 2013: pairs that would
  *      end the next step closer than `stabilization` dx lose the relative velocity that brings
- *      them closer, stabilize() below), then Koshizuka's collision model (pairs closer than
+ *      them closer, sph_mps_stabilize), then Koshizuka's collision model (pairs closer than
  *      `collision` dx that approach each other exchange momentum with restitution e), a standard
  *      stabiliser of MPS codes.
  *
@@ -356,27 +356,12 @@ static double mps_dt(const sph_sim *s)
     return dt;
 }
 
-/* Koshizuka's collision model (sph_mps_collide, sph_mps_ops.h) on the velocities after the
- * correction and the stabilization. */
-static void collide(sph_sim *s, mps_state *m, double dt)
+/* The velocities before a pair pass (sph_mps_stabilize, sph_mps_collide read them). */
+static void keep_velocities(const sph_sim *s, mps_state *m)
 {
-    sph_particles *P = &s->P;
-    const long na = s->nactive;
-    memcpy(m->vx0, P->vx, (size_t)na * sizeof(double));
-    memcpy(m->vy0, P->vy, (size_t)na * sizeof(double));
-    sph_mps_collide(&m->L, m->kind, s->cfg.mps.collision * s->cfg.dx, s->cfg.mps.restitution, dt,
-                    m->vx0, m->vy0, P->x, P->y, P->vx, P->vy);
-}
-
-/* The dynamic stabilization (sph_mps_stabilize, sph_mps_ops.h) on the corrected velocities. */
-static void stabilize(sph_sim *s, mps_state *m, double dt)
-{
-    sph_particles *P = &s->P;
-    const long na = s->nactive;
-    memcpy(m->vx0, P->vx, (size_t)na * sizeof(double));
-    memcpy(m->vy0, P->vy, (size_t)na * sizeof(double));
-    sph_mps_stabilize(&m->L, m->kind, s->cfg.mps.stabilization * s->cfg.dx, dt, m->vx0, m->vy0,
-                      P->x, P->y, P->vx, P->vy);
+    const size_t bytes = (size_t)s->nactive * sizeof(double);
+    memcpy(m->vx0, s->P.vx, bytes);
+    memcpy(m->vy0, s->P.vy, bytes);
 }
 
 static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
@@ -538,10 +523,17 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
         P->x[i] += dt * ux;
         P->y[i] += dt * uy;
     }
-    if (c->mps.stabilization > 0.0)
-        stabilize(s, m, dt);
-    if (c->mps.collision > 0.0)
-        collide(s, m, dt);
+    /* 5. the pair passes (sph_mps_ops.h): the stabilization, then the collision model */
+    if (c->mps.stabilization > 0.0) {
+        keep_velocities(s, m);
+        sph_mps_stabilize(&m->L, m->kind, c->mps.stabilization * c->dx, dt, m->vx0, m->vy0, P->x,
+                          P->y, P->vx, P->vy);
+    }
+    if (c->mps.collision > 0.0) {
+        keep_velocities(s, m);
+        sph_mps_collide(&m->L, m->kind, c->mps.collision * c->dx, c->mps.restitution, dt, m->vx0,
+                        m->vy0, P->x, P->y, P->vx, P->vy);
+    }
     for (long i = 0; i < na; i++) {
         if (m->kind[i] != SPH_MPS_FLUID)
             continue;

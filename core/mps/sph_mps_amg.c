@@ -21,7 +21,6 @@
 #include <HYPRE.h>
 #include <HYPRE_krylov.h>
 #include <HYPRE_parcsr_ls.h>
-#include <math.h>
 #include <mpi.h>
 #include <pthread.h>
 #include <stdlib.h>

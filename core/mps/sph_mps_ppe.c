@@ -328,27 +328,32 @@ static void scatter(const sph_mps_ppe *S, const double *xv, double *p)
         p[i] = row[i] >= 0 ? xv[row[i]] : 0.0;
 }
 
-/* SPH_MPS_PC_AMG: hypre's CG and BoomerAMG (sph_mps_amg.c) on b, the warm start xv (not called
- * when the start already meets tol: hypre's CG always iterates); the residual reported is
- * recomputed here, as sphd's CG defines it. */
+/* ||b - A x|| / bnorm over the unknowns; r = b - A x, q scratch. */
+static double residual_of(const sph_mps_ppe *S, const double *b, const double *xv, double *r,
+                          double *q, double bnorm)
+{
+    const long n = S->n;
+    sph_mps_ppe_matvec(S, xv, q);
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
+    for (long u = 0; u < n; u++)
+        r[u] = b[u] - q[u];
+    return sqrt(dot(S, r, r)) / bnorm;
+}
+
+/* SPH_MPS_PC_AMG: hypre's CG and BoomerAMG (sph_mps_amg.c) on b, the warm start xv; the
+ * residual reported is recomputed here, as sphd's CG defines it. */
 static int solve_amg(sph_mps_ppe *S, const double *b, double *xv, double bnorm, double tol,
                      long maxit, sph_mps_cg_stats *st, double *p)
 {
 #ifdef SPH_HYPRE
-    const long n = S->n;
     double *r = S->w[2], *q = S->w[5];
     int rc = 0;
-    for (int k = 0; k < 2; k++) { /* the start's residual: converged already (warm start)? */
-        sph_mps_ppe_matvec(S, xv, q);
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-        for (long u = 0; u < n; u++)
-            r[u] = b[u] - q[u];
-        st->residual = sqrt(dot(S, r, r)) / bnorm;
-        if (k == 1 || !(st->residual > tol))
-            break;
+    st->residual = residual_of(S, b, xv, r, q, bnorm);
+    if (st->residual > tol) { /* hypre's CG always iterates: not on a start that meets tol */
         rc = sph_mps_amg_solve(S, b, xv, tol, maxit, &st->iterations);
         if (rc < 0)
             return -2;
+        st->residual = residual_of(S, b, xv, r, q, bnorm);
     }
     st->converged = rc == 0;
     scatter(S, xv, p);
@@ -391,11 +396,7 @@ int sph_mps_ppe_solve(sph_mps_ppe *S, const double *rhs, double *p, sph_mps_prec
             return solve_amg(S, b, xv, bnorm, tol, maxit, st, p);
         if (pc == SPH_MPS_PC_IC0 && !S->factored)
             sph_mps_ppe_factor(S);
-        sph_mps_ppe_matvec(S, xv, q);
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-        for (long u = 0; u < n; u++)
-            r[u] = b[u] - q[u];
-        double res = sqrt(dot(S, r, r)) / bnorm;
+        double res = residual_of(S, b, xv, r, q, bnorm);
         long it = 0;
         if (res > tol) {
             precondition(S, pc, r, z);
@@ -449,15 +450,16 @@ double sph_mps_ppe_bytes(const sph_mps_ppe *S)
 }
 
 static const char *const pc_names[] = {"none", "jacobi", "ic0", "amg"};
+#define NPC (int)(sizeof pc_names / sizeof pc_names[0])
 
 const char *sph_mps_precond_name(sph_mps_precond pc)
 {
-    return (unsigned)pc < 4 ? pc_names[pc] : NULL;
+    return (unsigned)pc < NPC ? pc_names[pc] : NULL;
 }
 
 int sph_mps_precond_from_name(const char *name)
 {
-    for (int i = 0; i < 4; i++)
+    for (int i = 0; i < NPC; i++)
         if (strcmp(name, pc_names[i]) == 0)
             return i;
     return -1;
