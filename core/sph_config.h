@@ -12,6 +12,8 @@
 #define SPH_CONFIG_MAX_BOXES  16
 #define SPH_CONFIG_MAX_BODIES 8
 #define SPH_BODY_NAME_MAX     32
+#define SPH_CONFIG_MAX_GAUGES 8
+#define SPH_GAUGE_NAME_MAX    32
 #define SPH_H_OVER_DX_MIN     0.5 /* smoothing length range, in units of dx */
 #define SPH_H_OVER_DX_MAX     4.5
 
@@ -67,6 +69,13 @@ typedef enum {
 
 /* Degrees of freedom of a rigid body (mask bits). */
 enum { SPH_DOF_X = 1 << 0, SPH_DOF_Y = 1 << 1, SPH_DOF_ROTATION = 1 << 2, SPH_DOF_ALL = 7 };
+
+/* A height gauge: the free surface's height above the tank's bottom (the domain's without a
+ * tank) on the vertical line at x, sampled with the diagnostics (sph_diag.c). */
+typedef struct sph_gauge_spec {
+    char name[SPH_GAUGE_NAME_MAX]; /* its key in diag events and its series in diag.h5 */
+    double x;                      /* the line's abscissa [m] */
+} sph_gauge_spec;
 
 /* A rigid body of boundary particles (boundary/sph_body.h): its shape, its mass (density or
  * mass: the other is 0), its initial motion and the degrees of freedom the forces move. */
@@ -143,8 +152,10 @@ typedef struct sph_config {
     double dt_fixed;          /* fixed time step, 0 = adaptive [s] */
     long diag_every;          /* steps between diagnostics events [-] */
     unsigned probes;          /* SPH_PROBE_* mask */
-    double max_bytes;         /* memory a simulation may use [bytes] */
-    sph_mps_config mps;       /* method mps only */
+    int ngauges;              /* height gauges */
+    sph_gauge_spec gauges[SPH_CONFIG_MAX_GAUGES];
+    double max_bytes;   /* memory a simulation may use [bytes] */
+    sph_mps_config mps; /* method mps only */
 
     /* rigid bodies of boundary particles (boundary/sph_body.h) */
     int nbodies;

@@ -7,7 +7,8 @@
  * bins. The front is the right edge (x + dx/2) of the last particle reached: droplets farther
  * ahead than a kernel support from the connected fluid do not count. The height at the left
  * wall is the same walk upwards over the fluid within 2 dx of the wall; the run-up, the same at
- * the right wall.
+ * the right wall; a height gauge, the same over the fluid within dx of its line (0 when there is
+ * none: a dry gauge).
  */
 #include "sph_sim_impl.h"
 
@@ -113,6 +114,12 @@ void sph_diag_compute(sph_sim *s)
     d->height_left = probe(s, P->y, P->x, bottom, wall, wall + 2.0 * c->dx) - bottom;
     const double right = c->has_tank ? c->tank.max[0] : c->domain.max[0];
     d->runup = probe(s, P->y, P->x, bottom, right - 2.0 * c->dx, right) - bottom;
+    d->ngauges = c->ngauges;
+    for (int k = 0; k < c->ngauges; k++) {
+        const double xg = c->gauges[k].x;
+        const double top = probe(s, P->y, P->x, bottom, xg - c->dx, xg + c->dx);
+        d->gauge[k] = isnan(top) ? 0.0 : top - bottom; /* a dry gauge reads 0 */
+    }
     if (s->ops->diag)
         s->ops->diag(s);
 }

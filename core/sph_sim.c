@@ -139,6 +139,65 @@ double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nbounda
     return (double)(nf + nb + ghosts) * per + cells * sizeof(int) + bins + sizeof(sph_sim);
 }
 
+/* The names that a gauge may not take: the diag series' own and diag.h5's tables (PROTOCOL.md
+ * section 4), and the diag events' members. */
+static const char *const reserved_names[] = {"step",        "t",
+                                             "dt",          "ekin",
+                                             "epot",        "vmax",
+                                             "rho_min",     "rho_max",
+                                             "front_x",     "height_left",
+                                             "lost",        "penetration",
+                                             "runup",       "cg_iterations",
+                                             "cg_residual", "free_surface",
+                                             "bodies",      "gauges",
+                                             "job",         "seq",
+                                             "type",        "diag",
+                                             "rows",        NULL};
+
+/* The height gauges: distinct names of letters, digits, '_' and '-' (they name diag.h5's
+ * series) that are not the diag series' own, each line inside the tank (the domain without one). */
+static int gauge_check(const sph_config *c, sph_error *err)
+{
+    if (c->ngauges < 0 || c->ngauges > SPH_CONFIG_MAX_GAUGES)
+        return sph_error_set(err, SPH_ERR_INVALID, "/diagnostics/gauges", "at most %d gauges",
+                             SPH_CONFIG_MAX_GAUGES);
+    const double lo = c->has_tank ? c->tank.min[0] : c->domain.min[0];
+    const double hi = c->has_tank ? c->tank.max[0] : c->domain.max[0];
+    char path[64];
+    for (int k = 0; k < c->ngauges; k++) {
+        const sph_gauge_spec *g = &c->gauges[k];
+        const size_t len = strnlen(g->name, SPH_GAUGE_NAME_MAX);
+        snprintf(path, sizeof path, "/diagnostics/gauges/%d/name", k);
+        if (len == 0 || len >= SPH_GAUGE_NAME_MAX)
+            return sph_error_set(err, SPH_ERR_INVALID, path,
+                                 "a gauge needs a name of 1 to %d characters",
+                                 SPH_GAUGE_NAME_MAX - 1);
+        if (g->name[strspn(g->name, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                    "0123456789_-")])
+            return sph_error_set(err, SPH_ERR_INVALID, path,
+                                 "the gauge name '%s' may hold only letters, digits, '_' and '-' "
+                                 "(it names the gauge's series in diag.h5)",
+                                 g->name);
+        for (int r = 0; reserved_names[r]; r++)
+            if (strcmp(g->name, reserved_names[r]) == 0)
+                return sph_error_set(err, SPH_ERR_INVALID, path,
+                                     "the gauge name '%s' is taken by the diagnostics' own "
+                                     "series: choose another",
+                                     g->name);
+        for (int j = 0; j < k; j++)
+            if (strcmp(c->gauges[j].name, g->name) == 0)
+                return sph_error_set(err, SPH_ERR_INVALID, path, "two gauges are named '%s'",
+                                     g->name);
+        snprintf(path, sizeof path, "/diagnostics/gauges/%d/x", k);
+        if (!(g->x > lo && g->x < hi))
+            return sph_error_set(err, SPH_ERR_INVALID, path,
+                                 "the gauge '%s' at x = %g m must lie inside the %s (x in "
+                                 "(%g, %g) m)",
+                                 g->name, g->x, c->has_tank ? "tank" : "domain", lo, hi);
+    }
+    return 0;
+}
+
 /* The checks of a configuration that the table of the case parser cannot make, and the ones it
  * makes repeated for direct API users and for a configuration read back from a saved state
  * (sph_checkpoint.c), which no parser has seen. */
@@ -191,6 +250,8 @@ int sph_sim_check(const sph_config *c, sph_error *err)
         return sph_error_set(err, SPH_ERR_INVALID, "/time/cfl", "cfl must be positive");
     if (sph_body_check(c, err))
         return err ? err->code : SPH_ERR_INVALID;
+    if (gauge_check(c, err))
+        return SPH_ERR_INVALID;
     return ops->check(c, err);
 }
 

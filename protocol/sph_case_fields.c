@@ -17,6 +17,10 @@
 #define BODY(member)                                                                               \
     .dst = SPH_CF_CFG, .off = offsetof(sph_body_spec, member),                                     \
     .size = sizeof(((sph_body_spec *)0)->member)
+/* A field of a height gauge (an element of /diagnostics/gauges): relative to its sph_gauge_spec. */
+#define GAUGE(member)                                                                              \
+    .dst = SPH_CF_CFG, .off = offsetof(sph_gauge_spec, member),                                    \
+    .size = sizeof(((sph_gauge_spec *)0)->member)
 /* A field of the MPS method's settings. */
 #define MPS(member)                                                                                \
     .dst = SPH_CF_CFG, .off = offsetof(sph_config, mps.member),                                    \
@@ -365,6 +369,18 @@ const sph_case_field sph_case_fields[] = {
      .def_mask = SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT, CFG(probes),
      .doc = "probes added to diag (ekin, epot, vmax are always there); penetration: the first "
             "body's"},
+    {.path = "/diagnostics/gauges", .type = SPH_CF_ARRAY, .methods = SPH_CF_SIMS, .lo = 0,
+     .hi = SPH_CONFIG_MAX_GAUGES, CFG(gauges), .stride = sizeof(sph_gauge_spec),
+     .count_off = offsetof(sph_config, ngauges),
+     .doc = "array of 0-8 height gauges: the free surface's height above the tank's bottom on a "
+            "vertical line, in diag under gauges.NAME; absent: none"},
+    {.path = "/diagnostics/gauges/*/name", .type = SPH_CF_STRING, .methods = SPH_CF_SIMS,
+     .required = SPH_CF_SIMS, GAUGE(name),
+     .doc = "the gauge's name, 1-31 letters, digits, '_' or '-', distinct, not a diag series' "
+            "own: its key in diag events' gauges and its series in diag.h5"},
+    {.path = "/diagnostics/gauges/*/x", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .required = SPH_CF_SIMS, .lo = -1e6, .hi = 1e6, GAUGE(x),
+     .doc = "the vertical line's abscissa [m], inside the tank (the domain without one)"},
     {.path = NULL},
 };
 /* clang-format on */

@@ -140,6 +140,12 @@ static json_t *diag_json(const sph_diag *d, const sph_config *c, int solves_pres
         json_object_set_new(b, "runup", num(d->runup));
     if (d->nbodies > 0)
         json_object_set_new(b, "bodies", bodies_json(d, c));
+    if (d->ngauges > 0) {
+        json_t *g = json_object();
+        for (int k = 0; k < d->ngauges && k < c->ngauges; k++)
+            json_object_set_new(g, c->gauges[k].name, num(d->gauge[k]));
+        json_object_set_new(b, "gauges", g);
+    }
     if (solves_pressure) { /* the pressure solve of the latest step */
         json_object_set_new(b, "cg_iterations", json_integer(d->cg_iterations));
         json_object_set_new(b, "cg_residual", num(d->cg_residual));

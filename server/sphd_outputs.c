@@ -36,8 +36,9 @@ static const sphd_diag_column body_columns_2d[] = {
     {"x", "m", 0},       {"y", "m", 0},          {"vx", "m/s", 0}, {"vy", "m/s", 0},
     {"angle", "rad", 0}, {"omega", "rad/s", 0},  {"fx", "N/m", 0}, {"fy", "N/m", 0},
     {"torque", "N", 0},  {"penetration", "m", 0}};
-#define NBODYCOL     ((int)(sizeof body_columns_2d / sizeof body_columns_2d[0]))
-#define NCOLUMNS_MAX (NDIAG + NSOLVECOL + SPH_CONFIG_MAX_BODIES * NBODYCOL)
+#define NBODYCOL ((int)(sizeof body_columns_2d / sizeof body_columns_2d[0]))
+/* Then each height gauge's series, under the gauge's name, in the order of the case's gauges. */
+#define NCOLUMNS_MAX (NDIAG + NSOLVECOL + SPH_CONFIG_MAX_BODIES * NBODYCOL + SPH_CONFIG_MAX_GAUGES)
 
 struct sphd_outputs {
     char dir[4096];
@@ -51,6 +52,7 @@ struct sphd_outputs {
     int ncolumns; /* the diag series after "step" */
     int nsolve;   /* the pressure solve's series (NSOLVECOL or 0) */
     int nbodies;  /* bodies with series in diag.h5 */
+    int ngauges;  /* height gauges with series in diag.h5 */
     char body_names[SPH_CONFIG_MAX_BODIES * NBODYCOL][SPH_BODY_NAME_MAX + 16];
     sphd_xdmf_entry *entries; /* snapshots written */
     int nentries, capentries;
@@ -81,7 +83,8 @@ sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case
     o->nsolve = sph_sim_solves_pressure(s) ? NSOLVECOL : 0;
     memcpy(cols + NDIAG, solve_columns, (size_t)o->nsolve * sizeof solve_columns[0]);
     o->nbodies = c->sim.nbodies;
-    o->ncolumns = NDIAG + o->nsolve + o->nbodies * NBODYCOL;
+    o->ngauges = c->sim.ngauges;
+    o->ncolumns = NDIAG + o->nsolve + o->nbodies * NBODYCOL + o->ngauges;
     for (int b = 0; b < o->nbodies; b++)
         for (int m = 0; m < NBODYCOL; m++) {
             const int k = b * NBODYCOL + m;
@@ -90,6 +93,12 @@ sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case
             cols[NDIAG + o->nsolve + k] = body_columns_2d[m];
             cols[NDIAG + o->nsolve + k].name = o->body_names[k];
         }
+    for (int k = 0; k < o->ngauges; k++) {
+        sphd_diag_column *g = &cols[NDIAG + o->nsolve + o->nbodies * NBODYCOL + k];
+        g->name = c->sim.gauges[k].name; /* read by the open only */
+        g->units = "m";
+        g->integer = 0;
+    }
     o->diag = sphd_diagfile_open(path, cols, o->ncolumns, resume_step, err);
     if (!o->diag) {
         free(o);
@@ -117,6 +126,9 @@ int sphd_outputs_diag(sphd_outputs *o, const sph_diag *d, sph_error *err)
         for (int j = 0; j < NBODYCOL; j++)
             vb[k * NBODYCOL + j] = have ? m[j] : NAN;
     }
+    double *vg = vb + o->nbodies * NBODYCOL;
+    for (int k = 0; k < o->ngauges; k++)
+        vg[k] = k < d->ngauges ? d->gauge[k] : NAN;
     return sphd_diagfile_append(o->diag, d->step, v, err);
 }
 

@@ -374,13 +374,62 @@ static void test_probes(void **state)
     sph_sim_destroy(s);
 }
 
+/* A height gauge reads the water's height on its line: a droplet above it does not count, a
+ * hump on the surface does, a dry line reads 0; the checks refuse a bad gauge at its path. */
+static void test_gauges(void **state)
+{
+    (void)state;
+    sph_config c = sph_config_default();
+    c.dx = 0.01;
+    c.domain = (sph_box){{0, 0, 0}, {1.0, 1.0, 0}};
+    c.nfluid = 1;
+    c.fluid[0] = (sph_box){{0, 0, 0}, {0.2, 0.1, 0}}; /* 20 x 10 particles */
+    c.boundary = SPH_BOUNDARY_NONE;
+    c.t_end = 1.0;
+    c.ngauges = 2;
+    c.gauges[0] = (sph_gauge_spec){"wet", 0.105};
+    c.gauges[1] = (sph_gauge_spec){"dry", 0.5};
+    sph_error err;
+    sph_sim *s = sph_sim_create(&c, &err);
+    assert_non_null(s);
+    assert_int_equal(s->diag.ngauges, 2);
+    assert_true(fabs(s->diag.gauge[0] - 0.1) < 1e-12);
+    assert_true(s->diag.gauge[1] == 0.0);
+    /* column ix = 10 (x = 0.105): its top particle raised by 1.5 dx stays connected (the hump
+     * counts); one from column 11, within dx of the line, lifted far above is a droplet */
+    for (long i = 0; i < s->P.n; i++) {
+        if (s->P.id[i] == 109)
+            s->P.y[i] = 0.11;
+        if (s->P.id[i] == 115)
+            s->P.y[i] = 0.8;
+    }
+    sph_diag_compute(s);
+    assert_true(fabs(s->diag.gauge[0] - 0.115) < 1e-12);
+    assert_true(s->diag.gauge[1] == 0.0);
+    sph_sim_destroy(s);
+
+    c.gauges[1].x = 1.0; /* on the domain's edge */
+    assert_null(sph_sim_create(&c, &err));
+    assert_string_equal(err.path, "/diagnostics/gauges/1/x");
+    c.gauges[1] = (sph_gauge_spec){"wet", 0.5};
+    assert_null(sph_sim_create(&c, &err));
+    assert_string_equal(err.path, "/diagnostics/gauges/1/name");
+    c.gauges[1] = (sph_gauge_spec){"runup", 0.5};
+    assert_null(sph_sim_create(&c, &err));
+    assert_string_equal(err.path, "/diagnostics/gauges/1/name");
+    c.gauges[1] = (sph_gauge_spec){"a.b", 0.5};
+    assert_null(sph_sim_create(&c, &err));
+    assert_string_equal(err.path, "/diagnostics/gauges/1/name");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_sort),         cmocka_unit_test(test_artificial),
-        cmocka_unit_test(test_laminar_sps),  cmocka_unit_test(test_delta),
-        cmocka_unit_test(test_reproducible), cmocka_unit_test(test_probes),
-        cmocka_unit_test(test_monaghan),     cmocka_unit_test(test_wall_viscosity),
+        cmocka_unit_test(test_sort),           cmocka_unit_test(test_artificial),
+        cmocka_unit_test(test_laminar_sps),    cmocka_unit_test(test_delta),
+        cmocka_unit_test(test_reproducible),   cmocka_unit_test(test_probes),
+        cmocka_unit_test(test_gauges),         cmocka_unit_test(test_monaghan),
+        cmocka_unit_test(test_wall_viscosity),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -8,8 +8,12 @@ renormalised Gaussian at H/dx = 50, 100 and 200 (full level; 50 at the ci level)
 4 nu k^2 is the leading order in nu of the linear viscous wave's energy decay. At Re = 500 the
 next order is not small: the exact linear rate, -2 Re(s) for the root s of Lamb's dispersion
 relation (Hydrodynamics, section 349) (s + 2 nu k^2)^2 + omega^2 = 4 nu^2 k^4 sqrt(1 + s/(nu k^2)),
-is 7.5% below it (2.4% at Re = 5000). The errors against that rate are reported beside the
-issue's, and their convergence is checked too.
+is 7.5% below it (2.4% at Re = 5000). So (issue 22, section 2) Lamb's rate is the yardstick of
+convergence: Wendland C2's error against it must shrink from H/dx = 50 to 100 to 200 and be within
+3% at 200; against 4 nu k^2 the issue-10 bounds stay for the record (15% at 100, 10% at 200; a
+loose 20% at 50, the ci level's only rate check). The renormalised Gaussian's rate is reported
+against both and not bounded: that it does not converge to Lamb's rate is a finding about the
+kernel (paper 001's subject), not a failure.
 """
 import math
 
@@ -23,6 +27,7 @@ RESOLUTION = {"full": "H/dx = 50, 100 and 200 (5,000, 20,000 and 80,000 particle
 PERIOD_BOUND = 0.02                       # |T - T_theory| / T_theory, the issue's
 RATE_BOUND = {50: 0.20, 100: 0.15, 200: 0.10}  # |beta - 4 nu k^2| / 4 nu k^2 (Wendland): the
                                                # issue's 15% and 10%; a loose 20% at H/dx = 50
+LAMB_BOUND = {200: 0.03}  # |beta - beta_Lamb| / beta_Lamb (Wendland) at the finest resolution
 KERNELS = ("wendland_c2", "renormalized_gaussian")
 T_END = 6.7                               # 8.4 periods: the fit takes the first 8
 
@@ -56,8 +61,14 @@ def run(ctx):
             errors[kernel].append(rerr)
             exact = lamb_rate(w["decay_rate_theory"], w["period_theory"])
             lamb_errors[kernel].append((w["decay_rate"] - exact) / exact)
-            ctx.note("%s, H/dx = %d: decay rate %.4f 1/s against Lamb's exact linear %.4f 1/s: "
-                     "%+.1f%%" % (kernel, n, w["decay_rate"], exact, 100 * lamb_errors[kernel][-1]))
+            lamb_what = ("%s, H/dx = %d: decay rate %.4f 1/s against Lamb's exact linear rate "
+                         "%.4f 1/s (relative)" % (kernel, n, w["decay_rate"], exact))
+            if kernel == "wendland_c2" and n in LAMB_BOUND:
+                ctx.check(lamb_what, round(lamb_errors[kernel][-1], 4), LAMB_BOUND[n],
+                          abs(lamb_errors[kernel][-1]) <= LAMB_BOUND[n],
+                          "-2 Re(s), s the damped root of Lamb's relation (section 349)")
+            else:
+                ctx.note("%s: %+.1f%%" % (lamb_what, 100 * lamb_errors[kernel][-1]))
             ctx.check("%s, H/dx = %d: period %.4f s against 2 pi/omega = %.4f s (relative)" %
                       (kernel, n, w["period"], w["period_theory"]), perr, PERIOD_BOUND,
                       abs(perr) <= PERIOD_BOUND, "fitted to %d kinetic-energy peaks" % w["peaks"])
@@ -72,22 +83,32 @@ def run(ctx):
             series[(kernel, n)] = (diag["t"], diag["ekin"])
             beta, period = w["decay_rate_theory"], w["period_theory"]
     if len(res) > 1:
-        e = [abs(x) for x in errors["wendland_c2"]]
-        shrinks = all(a > b for a, b in zip(e, e[1:]))
-        ctx.check("wendland_c2: |rate error| shrinks from H/dx = %s" %
-                  " to ".join(str(n) for n in res), max(b - a for a, b in zip(e, e[1:])), 0.0,
-                  shrinks, "largest increase of |error| from one resolution to the next "
-                  "(negative: it shrinks); errors %s" % ", ".join("%+.2f%%" % (100 * x) for x in
-                                                                 errors["wendland_c2"]))
         e = [abs(x) for x in lamb_errors["wendland_c2"]]
         ctx.check("wendland_c2: |rate error| against Lamb's exact linear rate shrinks from H/dx "
                   "= %s" % " to ".join(str(n) for n in res), max(b - a for a, b in zip(e, e[1:])),
                   0.0, all(a > b for a, b in zip(e, e[1:])), "errors %s" % ", ".join(
                       "%+.2f%%" % (100 * x) for x in lamb_errors["wendland_c2"]))
-        ctx.note("renormalized_gaussian rate errors at H/dx = %s: %s" % (
-            ", ".join(str(n) for n in res),
-            ", ".join("%+.2f%%" % (100 * x) for x in errors["renormalized_gaussian"])))
-
+        ctx.note("wendland_c2 rate errors at H/dx = %s: %s against 4 nu k^2 (growing: the "
+                 "leading order's own error is 7.5%% here), %s against Lamb's exact rate "
+                 "(shrinking)" % (", ".join(str(n) for n in res), ", ".join(
+                     "%+.2f%%" % (100 * x) for x in errors["wendland_c2"]), ", ".join(
+                     "%+.2f%%" % (100 * x) for x in lamb_errors["wendland_c2"])))
+        ctx.note("renormalized_gaussian rate errors at H/dx = %s: %s against 4 nu k^2, %s "
+                 "against Lamb's exact rate. Reported, not bounded: the renormalised Gaussian "
+                 "does not converge to Lamb's rate as Wendland C2 does (its error stays near "
+                 "the same value as H/dx grows). That is a finding about the kernel, paper 001's "
+                 "subject, not a failure of the run." % (
+                     ", ".join(str(n) for n in res),
+                     ", ".join("%+.2f%%" % (100 * x) for x in errors["renormalized_gaussian"]),
+                     ", ".join("%+.2f%%" % (100 * x)
+                               for x in lamb_errors["renormalized_gaussian"])))
+    ctx.note("The exact linear decay rate used as the yardstick: the kinetic energy of a linear "
+             "standing wave in a viscous fluid decays as exp(-beta t) with beta = -2 Re(s), s the "
+             "damped root of Lamb's dispersion relation (s + 2 nu k^2)^2 + omega^2 = "
+             "4 nu^2 k^4 sqrt(1 + s/(nu k^2)) (Lamb, Hydrodynamics, 6th ed. 1932, section 349; "
+             "omega^2 = g k tanh(k H) the inviscid frequency, solved by Newton's method from the "
+             "inviscid root). Its leading order in nu is Lighthill's 4 nu k^2 (paper 001, eq. "
+             "(8)); here the exact rate is %.1f%% below it." % (100 * (1 - exact / beta)))
     fig = ctx.figure("ekin", figsize=(6.5, 4))
     ax = fig.add_subplot(111)
     finest = res[-1]
@@ -110,6 +131,8 @@ def run(ctx):
                 label=kernel + ", vs Lamb's exact")
     for n in res:
         ax.plot([n, n], [-100 * RATE_BOUND[n], 100 * RATE_BOUND[n]], "_", color="0.4", ms=14)
+        if n in LAMB_BOUND:
+            ax.plot([n, n], [-100 * LAMB_BOUND[n], 100 * LAMB_BOUND[n]], "_", color="C3", ms=10)
     ax.axhline(0, color="k", lw=0.6)
     ax.set_xscale("log")
     ax.minorticks_off()
@@ -117,5 +140,5 @@ def run(ctx):
     ax.set_xticklabels([str(n) for n in res])
     ax.set_xlabel("H/dx")
     ax.set_ylabel("decay rate error [%]")
-    ax.set_title("kinetic-energy decay rate (bars: Wendland's bounds)")
+    ax.set_title("decay rate error (bars: Wendland's bounds; red: against Lamb)")
     ax.legend(fontsize=8)
