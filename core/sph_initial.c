@@ -21,8 +21,8 @@
  * a wave about 8% higher than H.
  *
  * With "order": 3 it is Grimshaw's third-order solitary wave instead (R. Grimshaw 1971, "The
- * solitary wave in water of variable depth. Part 2", J. Fluid Mech. 46, 611-622, as written out by
- * J. D. Fenton 1972, J. Fluid Mech. 53, 257-271, and used by e.g. Wei & Kirby): with eps = H/d,
+ * solitary wave in water of variable depth. Part 2", J. Fluid Mech. 46, 611-622; J. D. Fenton's
+ * ninth-order series, J. Fluid Mech. 53 (1972) 257-271, extends it): with eps = H/d,
  * Y = (y - yb)/d, s = sech(alpha (x - x0)/d), t = tanh(alpha (x - x0)/d),
  *     alpha = sqrt(3 eps / 4) (1 - 5/8 eps + 71/128 eps^2)
  *     eta / d = eps s^2 - 3/4 eps^2 s^2 t^2 + eps^3 (5/8 s^2 t^2 - 101/80 s^4 t^2)
@@ -35,14 +35,16 @@
  *                              + Y^2 (-13/16 s^2 - 25/16 s^4 + 15/2 s^6)
  *                              + Y^4 (-3/40 s^2 + 9/8 s^4 - 27/16 s^6)))
  *     c / sqrt(g d) = 1 + 1/2 eps - 3/20 eps^2 + 3/56 eps^3 (its speed; the field does not use it).
- * Checked against OpenFOAM's IH-Cantabria wave model (src/waveModels/waveGenerationModels/derived/
- * Grimshaw/GrimshawWaveModel.C: alpha, c, eta and u agree; its vertical velocity lacks the factor
- * sqrt(3 eps) Y t and has -9/8 for +9/8, with which div u is only O(eps^3.5)) and numerically
- * (a throwaway numpy check, d = g = 1): div u and the kinematic surface condition
+ * The coefficients as in OpenFOAM's IH-Cantabria wave model (openfoam.com's src/waveModels/
+ * waveGenerationModels/derived/Grimshaw/GrimshawWaveModel.C: alpha, eta and u the same, its c the
+ * same to eps^3; its vertical velocity lacks the factor sqrt(3 eps) Y t and has -9/8 for +9/8,
+ * with which div u is only O(eps^3.5)), and checked numerically (a throwaway numpy check,
+ * d = g = 1; test_initial repeats it at two heights): div u and the kinematic surface condition
  * (u - c) d eta/dx = v at y = d + eta leave O(eps^4.5), curl u and Bernoulli's condition at the
  * surface O(eps^4) (each residual falls 2^4 to 2^4.5 times as eps halves from 0.2 to 0.0125).
- * Its range: H <= d/3. At the crest the exact wave's u has its maximum along x at every height, so
- * u_yy = -u_xx >= 0 there and, with u_y = 0 at the bed, u grows from the bed to the surface; the
+ * Its range: H <= d/3. The exact wave's u (harmonic: div u = curl u = 0) has its maximum along x
+ * under the crest at every height, so u_yy = -u_xx >= 0 there and, with u_y = 0 at the bed, u
+ * grows from the bed to the surface; the
  * series gives u_y = 3/2 eps^2 Y (1 - eps (3 - Y^2)) at the crest, which turns negative near the
  * bed once eps > 1/3 (and at eps > 0.57 the bed's velocity exceeds the surface's).
  */
