@@ -95,6 +95,9 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
         sph_error_set(err, SPH_ERR_IO, "", "not a simulation state of this version of sphd");
         return NULL;
     }
+    /* a solitary wave saved before its "order" option has 0 in that slot: the first order it ran */
+    if (h.cfg.initial.type == SPH_INITIAL_SOLITARY_WAVE && h.cfg.initial.param[2] == 0.0)
+        h.cfg.initial.param[2] = SPH_SOL_ORDER_DEFAULT;
     /* the configuration's particles are the state's: checked before they are allocated */
     long nf = 0, nb = 0;
     if (sph_sim_check(&h.cfg, err))

@@ -17,7 +17,36 @@
  *     u = sqrt(g d) (H/d) sech^2(K (x - x0))                                           eq. (5.2)
  *     v = sqrt(3 g d) (H/d)^(3/2) ((y - yb)/d) sech^2(K (x - x0)) tanh(K (x - x0)),
  * travelling towards +x at about sqrt(g (d + H)). It has no theory here: its run-up on the right
- * wall is compared with the reference table in the validation.
+ * wall is compared with the reference table in the validation. That first-order field adjusts into
+ * a wave about 8% higher than H.
+ *
+ * With "order": 3 it is Grimshaw's third-order solitary wave instead (R. Grimshaw 1971, "The
+ * solitary wave in water of variable depth. Part 2", J. Fluid Mech. 46, 611-622; J. D. Fenton's
+ * ninth-order series, J. Fluid Mech. 53 (1972) 257-271, extends it): with eps = H/d,
+ * Y = (y - yb)/d, s = sech(alpha (x - x0)/d), t = tanh(alpha (x - x0)/d),
+ *     alpha = sqrt(3 eps / 4) (1 - 5/8 eps + 71/128 eps^2)
+ *     eta / d = eps s^2 - 3/4 eps^2 s^2 t^2 + eps^3 (5/8 s^2 t^2 - 101/80 s^4 t^2)
+ *     u / sqrt(g d) = eps s^2 - eps^2 (-1/4 s^2 + s^4 + Y^2 (3/2 s^2 - 9/4 s^4))
+ *                     - eps^3 (19/40 s^2 + 1/5 s^4 - 6/5 s^6
+ *                              + Y^2 (-3/2 s^2 - 15/4 s^4 + 15/2 s^6)
+ *                              + Y^4 (-3/8 s^2 + 45/16 s^4 - 45/16 s^6))
+ *     v / sqrt(g d) = sqrt(3 eps) Y t (eps s^2 - eps^2 (3/8 s^2 + 2 s^4 + Y^2 (1/2 s^2 - 3/2 s^4))
+ *                     - eps^3 (49/640 s^2 - 17/20 s^4 - 18/5 s^6
+ *                              + Y^2 (-13/16 s^2 - 25/16 s^4 + 15/2 s^6)
+ *                              + Y^4 (-3/40 s^2 + 9/8 s^4 - 27/16 s^6)))
+ *     c / sqrt(g d) = 1 + 1/2 eps - 3/20 eps^2 + 3/56 eps^3 (its speed; the field does not use it).
+ * The coefficients as in OpenFOAM's IH-Cantabria wave model (openfoam.com's src/waveModels/
+ * waveGenerationModels/derived/Grimshaw/GrimshawWaveModel.C: alpha, eta and u the same, its c the
+ * same to eps^3; its vertical velocity lacks the factor sqrt(3 eps) Y t and has -9/8 for +9/8,
+ * with which div u is only O(eps^3.5)), and checked numerically (a throwaway numpy check,
+ * d = g = 1; test_initial repeats it at two heights): div u and the kinematic surface condition
+ * (u - c) d eta/dx = v at y = d + eta leave O(eps^4.5), curl u and Bernoulli's condition at the
+ * surface O(eps^4) (each residual falls 2^4 to 2^4.5 times as eps halves from 0.2 to 0.0125).
+ * Its range: H <= d/3. The exact wave's u (harmonic: div u = curl u = 0) has its maximum along x
+ * under the crest at every height, so u_yy = -u_xx >= 0 there and, with u_y = 0 at the bed, u
+ * grows from the bed to the surface; the
+ * series gives u_y = 3/2 eps^2 Y (1 - eps (3 - Y^2)) at the crest, which turns negative near the
+ * bed once eps > 1/3 (and at eps > 0.57 the bed's velocity exceeds the surface's).
  */
 #include "sph_initial.h"
 
@@ -147,10 +176,11 @@ static int sw_theory(const sph_config *c, sph_initial_theory *t)
 
 /* ---- solitary wave ---- */
 
-enum { SOL_HEIGHT = 0, SOL_CREST };
+enum { SOL_HEIGHT = 0, SOL_CREST, SOL_ORDER };
 
 typedef struct solitary {
     double H, d, K, x0, yb, g;
+    int order; /* 1 or 3 */
 } solitary;
 
 static solitary sol_of(const sph_config *c)
@@ -158,10 +188,18 @@ static solitary sol_of(const sph_config *c)
     solitary w;
     w.H = c->initial.param[SOL_HEIGHT];
     w.x0 = c->initial.param[SOL_CREST];
+    w.order = c->initial.param[SOL_ORDER] == 3.0 ? 3 : 1;
     w.yb = c->fluid[0].min[1];
     w.d = (double)sph_geometry_axis_count(w.yb, c->fluid[0].max[1], c->dx) * c->dx;
     w.g = -c->gravity[1];
-    w.K = w.d > 0.0 ? sqrt(3.0 * w.H / (4.0 * w.d * w.d * w.d)) : 0.0;
+    if (!(w.d > 0.0))
+        w.K = 0.0;
+    else if (w.order == 1)
+        w.K = sqrt(3.0 * w.H / (4.0 * w.d * w.d * w.d));
+    else { /* alpha / d */
+        const double e = w.H / w.d;
+        w.K = sqrt(0.75 * e) * (1.0 - 0.625 * e + 71.0 / 128.0 * e * e) / w.d;
+    }
     return w;
 }
 
@@ -169,12 +207,24 @@ static int sol_check(const sph_config *c, sph_error *err)
 {
     if (wave_tank_check(c, "solitary wave", err))
         return SPH_ERR_INVALID;
+    const double order = c->initial.param[SOL_ORDER];
+    if (order != 1.0 && order != 3.0)
+        return sph_error_set(err, SPH_ERR_INVALID, "/initial/order",
+                             "the solitary wave's order must be 1 (paper 004's first-order field) "
+                             "or 3 (Grimshaw's third order), got %g",
+                             order);
     const solitary w = sol_of(c);
     if (!(w.H <= SPH_SOL_HEIGHT_RATIO * w.d))
         return sph_error_set(err, SPH_ERR_INVALID, "/initial/height",
                              "the wave height %g m is more than %g times the still depth %g m: "
                              "such a wave breaks",
                              w.H, SPH_SOL_HEIGHT_RATIO, w.d);
+    if (w.order == 3 && !(w.H <= SPH_SOL_HEIGHT_RATIO_3 * w.d))
+        return sph_error_set(err, SPH_ERR_INVALID, "/initial/height",
+                             "the wave height %g m is more than a third of the still depth %g m, "
+                             "beyond the third-order field's range: its velocity under the crest "
+                             "no longer grows from the bed to the surface (order 1 allows %g d)",
+                             w.H, w.d, SPH_SOL_HEIGHT_RATIO);
     if (!(w.H >= c->dx))
         return sph_error_set(err, SPH_ERR_INVALID, "/initial/height",
                              "the wave height %g m is below the particle spacing dx = %g m: the "
@@ -202,10 +252,36 @@ static double sech2(double a)
     return isfinite(ch) ? 1.0 / (ch * ch) : 0.0;
 }
 
+/* Grimshaw's third order (the header's formulas) at a = alpha (x - x0) / d, Y = (y - yb) / d:
+ * u and v over sqrt(g d). */
+static void sol_velocity3(double e, double a, double Y, double *u, double *v)
+{
+    const double s2 = sech2(a), s4 = s2 * s2, s6 = s4 * s2, t = tanh(a);
+    const double Y2 = Y * Y, Y4 = Y2 * Y2;
+    *u = e * s2 - e * e * (-0.25 * s2 + s4 + Y2 * (1.5 * s2 - 2.25 * s4)) -
+         e * e * e *
+             (19.0 / 40.0 * s2 + 0.2 * s4 - 1.2 * s6 + Y2 * (-1.5 * s2 - 3.75 * s4 + 7.5 * s6) +
+              Y4 * (-0.375 * s2 + 45.0 / 16.0 * s4 - 45.0 / 16.0 * s6));
+    *v = sqrt(3.0 * e) * Y * t *
+         (e * s2 - e * e * (0.375 * s2 + 2.0 * s4 + Y2 * (0.5 * s2 - 1.5 * s4)) -
+          e * e * e *
+              (49.0 / 640.0 * s2 - 0.85 * s4 - 3.6 * s6 +
+               Y2 * (-13.0 / 16.0 * s2 - 25.0 / 16.0 * s4 + 7.5 * s6) +
+               Y4 * (-0.075 * s2 + 1.125 * s4 - 27.0 / 16.0 * s6)));
+}
+
 static void sol_velocity(const sph_config *c, const double *x, double *v)
 {
     const solitary w = sol_of(c);
-    const double a = w.K * (x[0] - w.x0), s = sech2(a), e = w.H / w.d;
+    const double a = w.K * (x[0] - w.x0), e = w.H / w.d;
+    if (w.order == 3) {
+        const double cg = sqrt(w.g * w.d);
+        sol_velocity3(e, a, (x[1] - w.yb) / w.d, &v[0], &v[1]);
+        v[0] *= cg;
+        v[1] *= cg;
+        return;
+    }
+    const double s = sech2(a);
     v[0] = sqrt(w.g * w.d) * e * s;
     v[1] = sqrt(3.0 * w.g * w.d) * e * sqrt(e) * ((x[1] - w.yb) / w.d) * s * tanh(a);
 }
@@ -213,11 +289,18 @@ static void sol_velocity(const sph_config *c, const double *x, double *v)
 static double sol_elevation(const sph_config *c, double x)
 {
     const solitary w = sol_of(c);
+    if (w.order == 3) {
+        const double e = w.H / w.d, a = w.K * (x - w.x0);
+        const double s2 = sech2(a), t2 = tanh(a) * tanh(a);
+        return w.d * (e * s2 - 0.75 * e * e * s2 * t2 +
+                      e * e * e * (0.625 * s2 * t2 - 101.0 / 80.0 * s2 * s2 * t2));
+    }
     return w.H * sech2(w.K * (x - w.x0));
 }
 
 /* the crest's height where it lies inside the tank, else the higher wall's elevation (the
- * surface falls off monotonically on each side of the crest) */
+ * surface falls off monotonically on each side of the crest, at the third order too up to
+ * H/d = 0.85) */
 static double sol_elevation_max(const sph_config *c)
 {
     const solitary w = sol_of(c);
@@ -243,11 +326,15 @@ static const field fields[SPH_INITIAL_COUNT] = {
          NULL},
     [SPH_INITIAL_SOLITARY_WAVE] =
         {"solitary_wave",
-         2,
+         3,
          {[SOL_HEIGHT] = {"height", "m", 0.0, 0.0, SPH_SOL_HEIGHT_MAX,
-                          "H: the crest's height above the still water (at most 0.7 d)"},
+                          "H: the crest's height above the still water (at most 0.7 d; d/3 at "
+                          "order 3)"},
           [SOL_CREST] = {"crest", "m", 0.0, -SPH_SOL_CREST_MAX, SPH_SOL_CREST_MAX,
-                         "x0: the crest's initial abscissa, inside the tank"}},
+                         "x0: the crest's initial abscissa, inside the tank"},
+          [SOL_ORDER] = {"order", "-", SPH_SOL_ORDER_DEFAULT, SPH_SOL_ORDER_MIN, SPH_SOL_ORDER_MAX,
+                         "1: paper 004's first-order field (the default); 3: Grimshaw's (1971) "
+                         "third order"}},
          sol_check,
          sol_velocity,
          NULL,

@@ -35,10 +35,12 @@ sph_config sph_config_default(void)
     c.probes = SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT;
     c.max_bytes = SPH_CONFIG_DEFAULT_MAX_BYTES;
     c.mps = sph_mps_config_default();
-    /* at rest; the standing wave's parameters at the defaults the case table gives them */
+    /* at rest; the standing wave's parameters and the solitary wave's order (the third slot) at
+     * the defaults the case table gives them */
     c.initial.type = SPH_INITIAL_REST;
     c.initial.param[0] = SPH_SW_EPSILON_DEFAULT;
     c.initial.param[1] = SPH_SW_WAVELENGTH_DEFAULT;
+    c.initial.param[2] = SPH_SOL_ORDER_DEFAULT;
     return c;
 }
 

@@ -271,8 +271,9 @@ const sph_case_field sph_case_fields[] = {
      .required = SPH_CF_SIMS, .names = initial_names, .has_def = 1, .def = 0,
      CFG(initial.type),
      .doc = "rest; standing_wave: u = grad phi0 of paper 001 eqs. (6)-(7) in a tank filled "
-            "from wall to wall; solitary_wave: paper 004 eqs. (5.1)-(5.2), the surface raised "
-            "by H sech^2(K (x - x0)) over the fluid box's top"},
+            "from wall to wall; solitary_wave: paper 004 eqs. (5.1)-(5.2) (or Grimshaw's third "
+            "order, initial.order), the surface raised by H sech^2(K (x - x0)) over the fluid "
+            "box's top"},
     {.path = "/initial/epsilon", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
      .when = "/initial/type=standing_wave", .lo = SPH_SW_EPSILON_MIN, .hi = SPH_SW_EPSILON_MAX,
      .has_def = 1, .def = SPH_SW_EPSILON_DEFAULT, CFG(initial.param[0]),
@@ -285,11 +286,17 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/initial/height", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
      .required = SPH_CF_SIMS, .when = "/initial/type=solitary_wave", .lo = 0.0, .lo_open = 1,
      .hi = SPH_SOL_HEIGHT_MAX, CFG(initial.param[0]),
-     .doc = "solitary_wave: H [m], the crest's height above the still water (dx <= H <= 0.7 d)"},
+     .doc = "solitary_wave: H [m], the crest's height above the still water (dx <= H <= 0.7 d; "
+            "d/3 at order 3)"},
     {.path = "/initial/crest", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
      .required = SPH_CF_SIMS, .when = "/initial/type=solitary_wave", .lo = -SPH_SOL_CREST_MAX,
      .hi = SPH_SOL_CREST_MAX, CFG(initial.param[1]),
      .doc = "solitary_wave: x0 [m], the crest's initial abscissa, inside the tank"},
+    {.path = "/initial/order", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .when = "/initial/type=solitary_wave", .lo = SPH_SOL_ORDER_MIN, .hi = SPH_SOL_ORDER_MAX,
+     .has_def = 1, .def = SPH_SOL_ORDER_DEFAULT, CFG(initial.param[2]),
+     .doc = "solitary_wave: 1 (paper 004's first-order field) or 3 (Grimshaw's 1971 third order, "
+            "H <= d/3)"},
     {.path = "/time", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS, .required = SPH_CF_SIMS,
      .doc = "the run's time"},
     {.path = "/time/end", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,

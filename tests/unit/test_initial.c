@@ -8,6 +8,13 @@
  *     dx of d + H, the hump's volume on the lattice within dx^2 + 0.1% of the exact 2H/K, the
  *     count the same as the memory estimate's),
  *     and its particles carry eq. (5.2)'s velocity;
+ *   - the solitary wave at "order": 3 (Grimshaw 1971, in Fenton 1972's form): the crest is H high,
+ *     u there at the surface and at the bed is the series' value written out at sech = 1,
+ *     tanh = 0, v vanishes there and is odd about the crest (u and eta even); div u, curl u and
+ *     the kinematic surface condition (u - c) eta_x = v leave residuals that fall at least 2^3.5
+ *     times as H/d halves (third order: O(eps^4)); order 1 stays eq. (5.2) bit for bit; an order
+ *     other than 1 or 3 is refused at /initial/order, H > d/3 at order 3 at /initial/height; a
+ *     state saved before the option (0 in its slot) restores as the first order;
  *   - fields that do not fit the case are refused at the case field's JSON path;
  *   - the envelope fit recovers the decay rate and period of eq. (8) sampled every 2 ms, with
  *     noise, within 0.5%.
@@ -238,6 +245,148 @@ static void test_solitary(void **state)
     expect_error(c, "/boundary/tank/max/1");
 }
 
+/* The largest residuals over a patch around the crest (|x - x0| < 3 d, the column below the
+ * surface) of Grimshaw's field of height H over the half-scale depth d = 4.8 m, as multiples of
+ * sqrt(g d) / d: div u, curl u, and (u - c) eta_x - v at the surface with the third-order c. */
+static void grimshaw_residuals(double H, double r[3])
+{
+    sph_config c = solitary_config();
+    c.initial.param[0] = H;
+    c.initial.param[2] = 3.0;
+    const double d = 4.8, g = 9.81, x0 = 30.0, e = H / d, h = 1e-4;
+    const double cw = sqrt(g * d) * (1.0 + 0.5 * e - 0.15 * e * e + 3.0 / 56.0 * e * e * e);
+    r[0] = r[1] = r[2] = 0.0;
+    for (double x = x0 - 3.0 * d; x <= x0 + 3.0 * d; x += 0.37 * d) {
+        const double top = d + sph_initial_elevation(&c, x);
+        for (double y = 0.05 * d; y < top; y += 0.15 * d) {
+            double vxp[2], vxm[2], vyp[2], vym[2];
+            sph_initial_velocity(&c, (double[]){x + h, y}, vxp);
+            sph_initial_velocity(&c, (double[]){x - h, y}, vxm);
+            sph_initial_velocity(&c, (double[]){x, y + h}, vyp);
+            sph_initial_velocity(&c, (double[]){x, y - h}, vym);
+            r[0] = fmax(r[0], fabs(vxp[0] - vxm[0] + vyp[1] - vym[1]) / (2.0 * h));
+            r[1] = fmax(r[1], fabs(vyp[0] - vym[0] - vxp[1] + vxm[1]) / (2.0 * h));
+        }
+        double v[2];
+        sph_initial_velocity(&c, (double[]){x, top}, v);
+        const double ex =
+            (sph_initial_elevation(&c, x + h) - sph_initial_elevation(&c, x - h)) / (2.0 * h);
+        r[2] = fmax(r[2], fabs((v[0] - cw) * ex - v[1]));
+    }
+    r[0] *= d / sqrt(g * d);
+    r[1] *= d / sqrt(g * d);
+    r[2] /= sqrt(g * d);
+}
+
+static void test_solitary_order3(void **state)
+{
+    (void)state;
+    sph_config c = solitary_config();
+    c.initial.param[2] = 3.0;
+    const double H = 1.0, d = 4.8, x0 = 30.0, g = 9.81, e = H / d, cg = sqrt(g * d);
+    close_to(sph_initial_elevation(&c, x0), H, 1e-12, "crest height");
+    close_to(sph_initial_elevation_max(&c), H, 1e-12, "largest elevation");
+    /* u at the crest (sech = 1, tanh = 0): sqrt(g d) (eps - eps^2 (3/4 - 3/4 Y^2)
+     * - eps^3 (-21/40 + 9/4 Y^2 - 3/8 Y^4)), Y = y/d; at the bed Y = 0, at the surface 1 + eps */
+    double v[2];
+    sph_initial_velocity(&c, (double[]){x0, 0.0}, v);
+    close_to(v[0], cg * (e - 0.75 * e * e + 21.0 / 40.0 * e * e * e), 1e-12, "u at the bed");
+    close_to(v[1], 0.0, 1e-15, "v at the bed");
+    const double Y = 1.0 + e, Y2 = Y * Y;
+    sph_initial_velocity(&c, (double[]){x0, d + H}, v);
+    close_to(v[0],
+             cg * (e - e * e * (0.75 - 0.75 * Y2) -
+                   e * e * e * (-21.0 / 40.0 + 9.0 / 4.0 * Y2 - 0.375 * Y2 * Y2)),
+             1e-12, "u at the crest's surface");
+    close_to(v[1], 0.0, 1e-15, "v at the crest");
+    /* about the crest: eta and u even, v odd (and v > 0 ahead of the crest: the water rises) */
+    for (double dxc = 0.7; dxc < 40.0; dxc += 3.1) {
+        close_to(sph_initial_elevation(&c, x0 + dxc), sph_initial_elevation(&c, x0 - dxc), 1e-12,
+                 "eta even about the crest");
+        for (double y = 0.3; y < d; y += 1.1) {
+            double a[2], b[2];
+            sph_initial_velocity(&c, (double[]){x0 + dxc, y}, a);
+            sph_initial_velocity(&c, (double[]){x0 - dxc, y}, b);
+            close_to(a[0], b[0], 1e-12, "u even about the crest");
+            close_to(a[1], -b[1], 1e-12, "v odd about the crest");
+            if (!(a[1] > 0.0))
+                fail_msg("v = %g ahead of the crest at x0 + %g, y = %g", a[1], dxc, y);
+        }
+    }
+    /* third order: the residuals are below 5 eps^4 and fall as eps^4 (eps^4.5 for div u and the
+     * surface condition) */
+    double r1[3], r2[3];
+    grimshaw_residuals(1.0, r1);
+    grimshaw_residuals(0.5, r2);
+    const char *what[3] = {"div u", "curl u", "kinematic surface condition"};
+    for (int k = 0; k < 3; k++) {
+        printf("%s: %.3e at H/d = %.4f, %.3e at half of it (ratio %.1f)\n", what[k], r1[k], 1.0 / d,
+               r2[k], r1[k] / r2[k]);
+        if (!(r1[k] < 5.0 * pow(1.0 / d, 4.0) && r1[k] / r2[k] > pow(2.0, 3.5)))
+            fail_msg("%s: %.3e at H/d = %.3f, %.3e at half of it: not third order", what[k], r1[k],
+                     1.0 / d, r2[k]);
+    }
+    /* it fills like the first order: the crest's column reaches d + H */
+    sph_error err;
+    sph_sim *s = sph_sim_create(&c, &err);
+    if (!s)
+        fail_msg("%s", err.message);
+    sph_particle_view pv;
+    sph_sim_particles(s, &pv);
+    double ytop = 0.0;
+    for (long i = 0; i < pv.n; i++)
+        if (pv.type[i] == 0 && fabs(pv.pos[0][i] - x0) < c.dx)
+            ytop = fmax(ytop, pv.pos[1][i]);
+    close_to(ytop + 0.5 * c.dx, d + H, c.dx, "the crest column's top");
+    sph_sim_destroy(s);
+    /* order 1 (the default) is eq. (5.2) as before, to the bit (d as the code forms it: 12 dx) */
+    c = solitary_config();
+    assert_true(c.initial.param[2] == 1.0);
+    const double d1 = 12.0 * c.dx, e1 = H / d1, K = sqrt(3.0 * H / (4.0 * d1 * d1 * d1));
+    const double xa = x0 + 2.3, ya = 1.7, s2 = 1.0 / (cosh(K * (xa - x0)) * cosh(K * (xa - x0)));
+    sph_initial_velocity(&c, (double[]){xa, ya}, v);
+    assert_true(v[0] == sqrt(g * d1) * e1 * s2);
+    assert_true(v[1] == sqrt(3.0 * g * d1) * e1 * sqrt(e1) * (ya / d1) * s2 * tanh(K * (xa - x0)));
+    assert_true(sph_initial_elevation(&c, xa) == H * s2);
+    /* a state saved before the option (0 in its slot) restores as the first order */
+    c = solitary_config();
+    s = sph_sim_create(&c, &err);
+    assert_non_null(s);
+    void *buf;
+    size_t len;
+    assert_int_equal(sph_sim_save(s, &buf, &len, &err), 0);
+    sph_sim_destroy(s);
+    const double slots[3] = {c.initial.param[0], c.initial.param[1], 1.0};
+    unsigned char *hit = NULL;
+    for (size_t k = 0; k + sizeof slots <= len && !hit; k++)
+        if (memcmp((unsigned char *)buf + k, slots, sizeof slots) == 0)
+            hit = (unsigned char *)buf + k;
+    assert_non_null(hit);
+    memset(hit + 2 * sizeof(double), 0, sizeof(double));
+    s = sph_sim_restore(buf, len, &err);
+    free(buf);
+    if (!s)
+        fail_msg("an old state: %s", err.message);
+    assert_true(sph_sim_config(s)->initial.param[2] == 1.0);
+    sph_sim_destroy(s);
+    /* refusals */
+    c = solitary_config();
+    c.initial.param[2] = 2.0;
+    expect_error(c, "/initial/order");
+    c.initial.param[2] = 0.0;
+    expect_error(c, "/initial/order");
+    c = solitary_config();
+    c.initial.param[2] = 3.0;
+    c.initial.param[0] = 1.7; /* H/d = 0.354 > 1/3, within order 1's 0.7 */
+    c.tank.max[1] = 9.0;
+    expect_error(c, "/initial/height");
+    c.initial.param[2] = 1.0;
+    s = sph_sim_create(&c, &err);
+    if (!s)
+        fail_msg("order 1 at H/d = 0.354: %s", err.message);
+    sph_sim_destroy(s);
+}
+
 static void test_envelope(void **state)
 {
     (void)state;
@@ -294,9 +443,10 @@ static void test_restore(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_velocity), cmocka_unit_test(test_energy),
-        cmocka_unit_test(test_misfits),  cmocka_unit_test(test_solitary),
-        cmocka_unit_test(test_envelope), cmocka_unit_test(test_restore),
+        cmocka_unit_test(test_velocity),        cmocka_unit_test(test_energy),
+        cmocka_unit_test(test_misfits),         cmocka_unit_test(test_solitary),
+        cmocka_unit_test(test_solitary_order3), cmocka_unit_test(test_envelope),
+        cmocka_unit_test(test_restore),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
