@@ -332,17 +332,24 @@ static void test_reproducible(void **state)
     sph_sim_destroy(c);
 }
 
-/* The front and height probes ignore a droplet far ahead of (or above) the connected fluid. */
-static void test_probes(void **state)
+/* A block of 20 x 10 fluid particles (dx = 0.01 m) at the left of a 1 m domain, no walls. */
+static sph_config block_config(void)
 {
-    (void)state;
     sph_config c = sph_config_default();
     c.dx = 0.01;
     c.domain = (sph_box){{0, 0, 0}, {1.0, 1.0, 0}};
     c.nfluid = 1;
-    c.fluid[0] = (sph_box){{0, 0, 0}, {0.2, 0.1, 0}}; /* 20 x 10 particles */
+    c.fluid[0] = (sph_box){{0, 0, 0}, {0.2, 0.1, 0}};
     c.boundary = SPH_BOUNDARY_NONE;
     c.t_end = 1.0;
+    return c;
+}
+
+/* The front and height probes ignore a droplet far ahead of (or above) the connected fluid. */
+static void test_probes(void **state)
+{
+    (void)state;
+    sph_config c = block_config();
     sph_error err;
     sph_sim *s = sph_sim_create(&c, &err);
     assert_non_null(s);
@@ -379,13 +386,7 @@ static void test_probes(void **state)
 static void test_gauges(void **state)
 {
     (void)state;
-    sph_config c = sph_config_default();
-    c.dx = 0.01;
-    c.domain = (sph_box){{0, 0, 0}, {1.0, 1.0, 0}};
-    c.nfluid = 1;
-    c.fluid[0] = (sph_box){{0, 0, 0}, {0.2, 0.1, 0}}; /* 20 x 10 particles */
-    c.boundary = SPH_BOUNDARY_NONE;
-    c.t_end = 1.0;
+    sph_config c = block_config();
     c.ngauges = 2;
     c.gauges[0] = (sph_gauge_spec){"wet", 0.105};
     c.gauges[1] = (sph_gauge_spec){"dry", 0.5};
