@@ -188,10 +188,12 @@
  *   them while the flow beside it stretches away too (sph_mps.c: the wall column of the draining
  *   dam break hung on the wall). Still water at dx 0.005, vmax % / bottom row % at 0.5, 1, 1.5,
  *   2 s: koshizuka 0.003 0.006 0.025 0.28 / -2.62 -2.63 -2.65 -3.26 (before: 0.003 0.006 0.026
- *   0.264 / -2.62 -2.62 -2.64 -3.29); sheu_quartic 0.001 0.000 at 0.5, 1 s (2 s pending at this
- *   commit). Past 2 s (before the change, `test_mps_still 0.005 koshizuka -1 0.9 10`): the
- *   Koshizuka checkerboard keeps growing, vmax 3.34% at 2.5 s (bottom row -3.30%): the 1% bound
- *   is crossed between 2 and 2.5 s. The quartic (the cases' weight) shows no such mode.
+ *   0.264 / -2.62 -2.62 -2.64 -3.29); sheu_quartic 0.001 0.000 0.000 0.00 / -2.59 at each
+ *   (before: 0.00 / -2.58 at 2 s). Past 2 s (before the change, `test_mps_still 0.005 koshizuka
+ *   -1 0.9 10`): the Koshizuka checkerboard keeps growing, vmax 3.34% at 2.5 s (bottom row
+ *   -3.30%), 4.41% at 3 s (+0.75%): the 1% bound is crossed between 2 and 2.5 s, the growth slows
+ *   past 2.5 s (nonlinear); the run did not reach 10 s in the session. The quartic (the cases'
+ *   weight) shows no such mode.
  * Earlier sessions: the first (walls as unknowns of the pressure equation): vmax after 2 s
  *   0.11-0.4 m/s (8-29% of sqrt(gH)) over every option tried: the fluid column next to each side
  *   wall slid down and drove a circulation that never settled. Walls as a Neumann boundary cured
