@@ -39,6 +39,18 @@
  * second (G_ij = (rho/dt) u*_i in every direction) also stopped the tangential motion along a wall
  * with a gain rho/dt: an odd-even mode of the columns next to a side wall under the free surface
  * grew from it (faster with a smaller dt), and blew the Koshizuka weight up at dx = H/40.
+ * The normal term (rho/dt) u*_n stops the particle's normal motion both ways: it also pulls
+ * back a particle that moves away from the wall. In a flow that stretches away from a wall (a
+ * column draining along a side wall: du/dx = -dv/dy > 0) that held the column of particles next
+ * to the wall at u_n = 0: it could not spread, so (div u = 0) it could not shorten either, and
+ * hung on the wall as a vertically packed stack (spacing 0.8 dx, pressure gradient 4 rho g)
+ * while the water beside it drained (issue 22: its top 0.12-0.24 L above its neighbours' at
+ * t sqrt(g/L) = 2.5 in paper 004's dam break; a wall that only pushes, never pulls, removes it,
+ * but lets still water's noise pump the fluid off the walls: vmax 6.5% of sqrt(gH) by 0.5 s).
+ * So a wall does not pull back (the normal term is the body forces' only, as along the wall) a
+ * particle that moves away from it while the flow beside it stretches away too (du_n/dn > 0 over
+ * the fluid neighbours): the flow's own separation. A particle of still water that drifts off the
+ * wall has neighbours at rest (du_n/dn < 0 through it) and is held as before.
  *
  * The handle's arrays: P.p the pressure (kept across steps for the warm start: permuted here
  * when the particles are sorted), P.rho = rho0 n* / n0 (what a view shows as density); P.ax,
@@ -97,6 +109,7 @@ typedef struct mps_state {
     double *vx0, *vy0;           /* collision model, stabilization: velocities before them */
     double *gvx, *gvy;           /* Neumann walls: (rho / dt) u* of the fluid particles [Pa/m] */
     double *tvx, *tvy;           /* Neumann walls: (rho / dt) u of the fluid particles [Pa/m] */
+    double *uvx, *uvy;           /* Neumann walls: (rho / dt) U of the fluid particles [Pa/m] */
     unsigned char *normal_by_id; /* SPH_MPS_NORMAL_* of each boundary particle's wall, by id */
     unsigned char *normal;       /* the same in the current order */
     sph_mps_nbr L;               /* neighbour lists */
@@ -243,6 +256,8 @@ static void mps_destroy(sph_sim *s)
     free(m->gvy);
     free(m->tvx);
     free(m->tvy);
+    free(m->uvx);
+    free(m->uvy);
     free(m->normal_by_id);
     free(m->normal);
     sph_mps_nbr_free(&m->L);
@@ -296,6 +311,8 @@ static int mps_init(sph_sim *s, sph_error *err)
     m->gvy = calloc((size_t)n, sizeof(double));
     m->tvx = calloc((size_t)n, sizeof(double));
     m->tvy = calloc((size_t)n, sizeof(double));
+    m->uvx = calloc((size_t)n, sizeof(double));
+    m->uvy = calloc((size_t)n, sizeof(double));
     m->normal_by_id = calloc((size_t)n, 1);
     m->normal = calloc((size_t)n, 1);
     const int pairs = c->mps.collision > 0.0 || c->mps.stabilization > 0.0;
@@ -304,7 +321,8 @@ static int mps_init(sph_sim *s, sph_error *err)
         m->vy0 = calloc((size_t)n, sizeof(double));
     }
     if (!m->kind_by_id || !m->kind || !m->surface || !m->ghost || !m->gvx || !m->gvy || !m->tvx ||
-        !m->tvy || !m->normal_by_id || !m->normal || (pairs && (!m->vx0 || !m->vy0)))
+        !m->tvy || !m->uvx || !m->uvy || !m->normal_by_id || !m->normal ||
+        (pairs && (!m->vx0 || !m->vy0)))
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for %ld particles", n);
     /* walls or dummies by depth outside the tank's inner faces (particles are in creation
      * order here: id = index) */
@@ -479,7 +497,21 @@ static int mps_step(sph_sim *s, double dt_cap, sph_error *err)
         m->tvx[i] = fl ? f * P->ax0[i] : 0.0;
         m->tvy[i] = fl ? f * P->ay0[i] : 0.0;
     }
-    const sph_mps_ghost G = {m->gvx, m->gvy, m->tvx, m->tvy, m->normal};
+    /* U: the normal velocity a wall does not stop: u^n_n of a fluid particle that moves away
+     * from the wall's face while the flow beside it stretches away from it too (du_n/dn > 0,
+     * the strain of u^n over the fluid neighbours); 0 otherwise */
+    sph_mps_strain_fluid(&m->L, P->x, P->y, m->kind, &m->wg, m->grad_coef, P->ax0, P->ay0, m->uvx,
+                         m->uvy);
+    const double txlo = c->tank.min[0], txhi = c->tank.max[0];
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (na >= SPH_OMP_MIN)
+    for (long i = 0; i < na; i++) {
+        const int fl = m->kind[i] == SPH_MPS_FLUID;
+        const double ux = fl ? P->ax0[i] : 0.0, uy = fl ? P->ay0[i] : 0.0;
+        const int left = P->x[i] - txlo < txhi - P->x[i];
+        m->uvx[i] = m->uvx[i] > 0.0 && (left ? ux > 0.0 : ux < 0.0) ? f * ux : 0.0;
+        m->uvy[i] = m->uvy[i] > 0.0 && uy > 0.0 ? f * uy : 0.0;
+    }
+    const sph_mps_ghost G = {m->gvx, m->gvy, m->tvx, m->tvy, m->normal, m->uvx, m->uvy};
     sph_mps_neumann_rhs(&m->L, P->x, P->y, m->kind, &m->wn, m->lap_coef, &G, rhs);
     if (sph_mps_ppe_assemble_kinds(&m->ppe, &m->L, P->x, P->y, m->kind, m->surface,
                                    ghosts ? m->ghost : NULL, &m->wn, m->lap_coef, SPH_MPS_FLUID))

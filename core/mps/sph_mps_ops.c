@@ -86,8 +86,12 @@ static inline __attribute__((always_inline)) void ghost_grad(const sph_mps_ghost
         const int nm = G->normal[j];
         if (!(nm & SPH_MPS_NORMAL_X))
             x -= G->tx[i];
+        else if (G->ux)
+            x -= G->ux[i];
         if (!(nm & SPH_MPS_NORMAL_Y))
             y -= G->ty[i];
+        else if (G->uy)
+            y -= G->uy[i];
     }
     *gx = x;
     *gy = y;
@@ -317,6 +321,59 @@ void sph_mps_divergence_fluid(const sph_mps_nbr *L, const double *x, const doubl
 #define DIV(T) div_generic(T, L, x, y, kind, k, coef, SPH_MPS_FLUID, ux, uy, div)
     SPH_KERNEL_DISPATCH(k->type, DIV);
 #undef DIV
+}
+
+static inline __attribute__((always_inline)) void
+strain_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
+               const double *restrict y, const unsigned char *restrict kind, const sph_kernel *k,
+               double coef, const double *restrict ux, const double *restrict uy,
+               double *restrict dudx, double *restrict dvdy)
+{
+    const long np = L->n;
+    const double re2 = k->support * k->support;
+    const double rmin = SPH_MPS_RMIN * k->support, rmin2 = rmin * rmin;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (np >= SPH_OMP_MIN)
+    for (long i = 0; i < np; i++) {
+        dudx[i] = dvdy[i] = 0.0;
+        if (kind[i] != SPH_MPS_FLUID)
+            continue;
+        double sux = 0.0, suy = 0.0, svx = 0.0, svy = 0.0, mxx = 0.0, mxy = 0.0, myy = 0.0;
+        for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
+            const long j = L->j[e];
+            if (kind[j] != SPH_MPS_FLUID)
+                continue;
+            const double dx = x[j] - x[i], dy = y[j] - y[i];
+            const double r2 = dx * dx + dy * dy;
+            if (r2 >= re2)
+                continue;
+            const double wr = weight(T, k, sqrt(r2)) / (r2 > rmin2 ? r2 : rmin2);
+            const double du = (ux[j] - ux[i]) * wr, dv = (uy[j] - uy[i]) * wr;
+            sux += du * dx;
+            suy += du * dy;
+            svx += dv * dx;
+            svy += dv * dy;
+            mxx += wr * dx * dx;
+            mxy += wr * dx * dy;
+            myy += wr * dy * dy;
+        }
+        const double det = mxx * myy - mxy * mxy, ref = 1.0 / (coef * coef);
+        if (det > 1e-2 * ref) {
+            dudx[i] = (myy * sux - mxy * suy) / det;
+            dvdy[i] = (mxx * svy - mxy * svx) / det;
+        } else {
+            dudx[i] = coef * sux;
+            dvdy[i] = coef * svy;
+        }
+    }
+}
+
+void sph_mps_strain_fluid(const sph_mps_nbr *L, const double *x, const double *y,
+                          const unsigned char *kind, const sph_kernel *k, double coef,
+                          const double *ux, const double *uy, double *dudx, double *dvdy)
+{
+#define STR(T) strain_generic(T, L, x, y, kind, k, coef, ux, uy, dudx, dvdy)
+    SPH_KERNEL_DISPATCH(k->type, STR);
+#undef STR
 }
 
 /* ---- Neumann wall terms of the Poisson equation --------------------------------------------- */

@@ -103,7 +103,9 @@ void sph_mps_divergence(const sph_mps_nbr *L, const double *x, const double *y,
  * Adams 2012's wall pressure extrapolation, dp/dn = rho (g - a_wall) . n, with the projection's
  * velocity term on the normal. sph_mps_ghost holds G = (rho / dt) u* per fluid particle and
  * T = (rho / dt) u, taken off G along the directions that are not j's normal (normal[j]:
- * SPH_MPS_NORMAL_X | _Y; a floor corner has both); T NULL: G in every direction. Then
+ * SPH_MPS_NORMAL_X | _Y; a floor corner has both); T NULL: G in every direction. U = (rho / dt)
+ * times the normal velocity a wall does not stop (that of a particle moving away from it in a flow
+ * that stretches away from it; sph_mps.c), taken off G on j's normal directions; NULL: none. Then
  *   sph_mps_neumann_rhs:      b[i] += coef sum_walls G_ij . (r_j - r_i) w_ij (coef = 2d/(lambda
  *                             n0)), the ghosts' share of row i of A p = b, A assembled with
  *                             sph_mps_ppe_assemble_kinds(..., SPH_MPS_FLUID);
@@ -116,7 +118,14 @@ typedef struct sph_mps_ghost {
     const double *gx, *gy;       /* (rho / dt) u* of the fluid particles [Pa/m] */
     const double *tx, *ty;       /* (rho / dt) u of the fluid particles, or NULL [Pa/m] */
     const unsigned char *normal; /* per wall particle: SPH_MPS_NORMAL_* of its wall's normal */
+    const double *ux, *uy;       /* (rho / dt) U on x / y normals, or NULL [Pa/m] */
 } sph_mps_ghost;
+/* The strain along the walls that sets U (sph_mps.c): (dudx[i], dvdy[i]) the diagonal of the
+ * corrected gradient (as sph_mps_gradient's) of the velocity (ux, uy) over the fluid neighbours
+ * only (d/n0 where their matrix is near-singular), for fluid particles (others get 0). */
+void sph_mps_strain_fluid(const sph_mps_nbr *L, const double *x, const double *y,
+                          const unsigned char *kind, const sph_kernel *k, double coef,
+                          const double *ux, const double *uy, double *dudx, double *dvdy);
 void sph_mps_neumann_rhs(const sph_mps_nbr *L, const double *x, const double *y,
                          const unsigned char *kind, const sph_kernel *k, double coef,
                          const sph_mps_ghost *G, double *b);

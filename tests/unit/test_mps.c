@@ -441,7 +441,7 @@ static void test_neumann_hydrostatic(void **state)
         sph_mps_ppe S;
         memset(&S, 0, sizeof S);
         const double c = 4.0 / (lam * n0);
-        const sph_mps_ghost G = {gvx, gvy, NULL, NULL, NULL};
+        const sph_mps_ghost G = {gvx, gvy, NULL, NULL, NULL, NULL, NULL};
         sph_mps_neumann_rhs(&tk.L, tk.P.x, tk.P.y, tk.kind, &k, c, &G, b);
         assert_int_equal(sph_mps_ppe_assemble_kinds(&S, &tk.L, tk.P.x, tk.P.y, tk.kind, surf, NULL,
                                                     &k, c, SPH_MPS_FLUID),
@@ -531,7 +531,7 @@ static void test_surface_ghost_hydrostatic(void **state)
         sph_mps_surface_ghost(&tk.L, tk.P.x, tk.P.y, &k, c, dx, surf, ghost);
         sph_mps_ppe S;
         memset(&S, 0, sizeof S);
-        const sph_mps_ghost G = {gvx, gvy, NULL, NULL, NULL};
+        const sph_mps_ghost G = {gvx, gvy, NULL, NULL, NULL, NULL, NULL};
         sph_mps_neumann_rhs(&tk.L, tk.P.x, tk.P.y, tk.kind, &k, c, &G, b); /* source 0 */
         assert_int_equal(sph_mps_ppe_assemble_kinds(&S, &tk.L, tk.P.x, tk.P.y, tk.kind, surf, ghost,
                                                     &k, c, SPH_MPS_FLUID),
