@@ -18,7 +18,7 @@
  *     v = sqrt(3 g d) (H/d)^(3/2) ((y - yb)/d) sech^2(K (x - x0)) tanh(K (x - x0)),
  * travelling towards +x at about sqrt(g (d + H)). It has no theory here: its run-up on the right
  * wall is compared with the reference table in the validation. That first-order field adjusts into
- * a wave about 8% higher than H.
+ * a wave about 3-4% higher than H (the validation's gauge, 5 depths before the wall).
  *
  * With "order": 3 it is Grimshaw's third-order solitary wave instead (R. Grimshaw 1971, "The
  * solitary wave in water of variable depth. Part 2", J. Fluid Mech. 46, 611-622; J. D. Fenton's

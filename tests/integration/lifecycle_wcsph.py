@@ -78,8 +78,13 @@ try:
     rc, out, err = ctl("step", "db", "--until", "0.03")
     F.check(rc == 0, "sphctl step --until", err)
 
-    # -- particles of a paused job, downsampled
-    time.sleep(0.3)
+    # -- particles of a paused job, downsampled (once the step has ended: a query with fields
+    # while a step runs may get `busy`, ask again, which a loaded machine showed)
+    for _ in range(1000):
+        st = d.ok("query", {"job": "db"})
+        if st["state"] == "paused" and not st.get("pending_step"):
+            break
+        time.sleep(0.01)
     q = d.ok("query", {"job": "db", "fields": ["pos", "rho"], "max": 10})
     parts = q.get("particles", {})
     F.check(parts.get("count", 99) <= 10 and len(parts.get("fields", {}).get("pos", [])) <= 10,
