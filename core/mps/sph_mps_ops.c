@@ -209,6 +209,24 @@ void sph_mps_laplacian(const sph_mps_nbr *L, const double *x, const double *y,
 
 /* ---- gradient (3.4) ------------------------------------------------------------------------ */
 
+/* The corrected gradient's solve (Khayyer & Gotoh 2011): (gx, gy) = M^-1 (sx, sy) for the
+ * corrective matrix M = sum w r r^T / r^2 = [[mxx, mxy], [mxy, myy]], which is (n0 / d) I on a full
+ * lattice; where M is near-singular (det below 1e-2 (n0 / d)^2, coef = d / n0) the uncorrected
+ * coef (sx, sy) instead. Returns 1 when corrected. */
+static inline int corrective_solve(double mxx, double mxy, double myy, double coef, double sx,
+                                   double sy, double *gx, double *gy)
+{
+    const double det = mxx * myy - mxy * mxy, ref = 1.0 / (coef * coef);
+    if (det > 1e-2 * ref) {
+        *gx = (myy * sx - mxy * sy) / det;
+        *gy = (mxx * sy - mxy * sx) / det;
+        return 1;
+    }
+    *gx = coef * sx;
+    *gy = coef * sy;
+    return 0;
+}
+
 static inline __attribute__((always_inline)) void
 grad_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
              const double *restrict y, const unsigned char *restrict kind, const sph_kernel *k,
@@ -261,13 +279,8 @@ grad_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x,
             }
         }
         if (corrected) {
-            /* sum w r r^T / r^2 = (n0 / d) I on a full lattice; its inverse replaces d / n0 */
-            const double det = mxx * myy - mxy * mxy, ref = 1.0 / (coef * coef);
-            if (det > 1e-2 * ref) {
-                gx[i] = (myy * sx - mxy * sy) / det;
-                gy[i] = (mxx * sy - mxy * sx) / det;
-                continue;
-            }
+            corrective_solve(mxx, mxy, myy, coef, sx, sy, &gx[i], &gy[i]);
+            continue;
         }
         gx[i] = coef * sx;
         gy[i] = coef * sy;
@@ -337,6 +350,13 @@ strain_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x
         dudx[i] = dvdy[i] = 0.0;
         if (kind[i] != SPH_MPS_FLUID)
             continue;
+        /* only a wall's ghost reads the strain (ghost_grad: fluid i, wall j among i's
+         * neighbours): the interior skips the weighted pass */
+        long e0 = L->ptr[i];
+        while (e0 < L->ptr[i + 1] && kind[L->j[e0]] == SPH_MPS_FLUID)
+            e0++;
+        if (e0 == L->ptr[i + 1])
+            continue;
         double sux = 0.0, suy = 0.0, svx = 0.0, svy = 0.0, mxx = 0.0, mxy = 0.0, myy = 0.0;
         for (long e = L->ptr[i]; e < L->ptr[i + 1]; e++) {
             const long j = L->j[e];
@@ -356,14 +376,9 @@ strain_generic(sph_kernel_type T, const sph_mps_nbr *L, const double *restrict x
             mxy += wr * dx * dy;
             myy += wr * dy * dy;
         }
-        const double det = mxx * myy - mxy * mxy, ref = 1.0 / (coef * coef);
-        if (det > 1e-2 * ref) {
-            dudx[i] = (myy * sux - mxy * suy) / det;
-            dvdy[i] = (mxx * svy - mxy * svx) / det;
-        } else {
-            dudx[i] = coef * sux;
-            dvdy[i] = coef * svy;
-        }
+        double unused;
+        corrective_solve(mxx, mxy, myy, coef, sux, suy, &dudx[i], &unused);
+        corrective_solve(mxx, mxy, myy, coef, svx, svy, &unused, &dvdy[i]);
     }
 }
 

@@ -122,7 +122,8 @@ typedef struct sph_mps_ghost {
 } sph_mps_ghost;
 /* The strain along the walls that sets U (sph_mps.c): (dudx[i], dvdy[i]) the diagonal of the
  * corrected gradient (as sph_mps_gradient's) of the velocity (ux, uy) over the fluid neighbours
- * only (d/n0 where their matrix is near-singular), for fluid particles (others get 0). */
+ * only (d/n0 where their matrix is near-singular), for fluid particles with a wall or dummy among
+ * their neighbours, the only ones a wall's ghost reads (others get 0). */
 void sph_mps_strain_fluid(const sph_mps_nbr *L, const double *x, const double *y,
                           const unsigned char *kind, const sph_kernel *k, double coef,
                           const double *ux, const double *uy, double *dudx, double *dvdy);
