@@ -57,7 +57,7 @@ expect_rc "alice submits a kernel study and watches it" 0 \
   A submit "$SRC/cases/kernel_study.json" --id ks --watch --json
 check "it is done" grep -q '"state": *"done"' "$tmp/out"
 expect_rc "alice submits a dam break and watches its stream" 0 \
-  A submit "$SRC/cases/dambreak.json" --id db --set dx=0.02 --set time.end=0.05 --watch --json
+  A submit "$SRC/cases/dambreak.json" --id db --set dx=0.02 --set time.end=0.5 --watch --json
 check "the stream carried diag events" grep -q '"type": *"diag"' "$tmp/out"
 check "and the final state" grep -q '"state": *"done"' "$tmp/out"
 # the environment instead of the config file
