@@ -22,6 +22,7 @@
 #include "sph_cells.h"
 #include "sph_mps_ops.h"
 #include "sph_mps_ppe.h"
+#include "sph_sim.h"
 
 #include <math.h>
 #include <omp.h>
@@ -817,6 +818,48 @@ static void test_iteration_cap(void **state)
     lattice_free(&tk);
 }
 
+/* The Koshizuka weight's step limit (sph_mps.c, MPS_KOSHIZUKA_MAX_STEPS = 8000, estimated as
+ * time.end over the step at rest): a still tank H = 0.2 m at dx = H/40 and cfl 0.1 has
+ * dt = 0.1 dx / sqrt(2 g H) = 2.524e-4 s, so 2.0 s (7924 steps) runs and 2.1 s (8320) is refused
+ * at /kernel/type; the quartic is not limited; a fixed dt of 1 ms allows 8 s exactly. */
+static void test_koshizuka_steps(void **state)
+{
+    (void)state;
+    sph_config c = sph_config_default();
+    c.method = SPH_METHOD_MPS;
+    c.kernel = sph_kernel_spec_default(SPH_KERNEL_KOSHIZUKA);
+    c.dx = 0.005;
+    c.domain = (sph_box){{-0.1, -0.1, 0}, {0.5, 0.5, 0}};
+    c.nfluid = 1;
+    c.fluid[0] = (sph_box){{0, 0, 0}, {0.4, 0.2, 0}};
+    c.boundary = SPH_BOUNDARY_DYNAMIC;
+    c.layers = 4;
+    c.has_tank = 1;
+    c.tank = (sph_box){{0, 0, 0}, {0.4, 0.4, 0}};
+    c.visc = SPH_VISC_LAMINAR;
+    c.nu = 1e-6;
+    c.cfl = 0.1;
+    sph_error err;
+    c.t_end = 2.0;
+    assert_int_equal(sph_sim_check(&c, &err), 0);
+    c.t_end = 2.1;
+    assert_int_not_equal(sph_sim_check(&c, &err), 0);
+    assert_int_equal(err.code, SPH_ERR_INVALID);
+    assert_string_equal(err.path, "/kernel/type");
+    assert_non_null(strstr(err.message, "needs 8320"));
+    c.kernel = sph_kernel_spec_default(SPH_KERNEL_SHEU_QUARTIC);
+    c.mps.re = c.mps.re_grad = 2.0;
+    c.t_end = 100.0;
+    assert_int_equal(sph_sim_check(&c, &err), 0);
+    c.kernel = sph_kernel_spec_default(SPH_KERNEL_KOSHIZUKA);
+    c.mps = sph_mps_config_default();
+    c.dt_fixed = 1e-3;
+    c.t_end = 8.0;
+    assert_int_equal(sph_sim_check(&c, &err), 0);
+    c.t_end = 8.01;
+    assert_int_not_equal(sph_sim_check(&c, &err), 0);
+}
+
 /* ---- dynamic stabilization ------------------------------------------------------------------ */
 
 /* sph_mps_stabilize: untouched on a lattice moving slower than (dx - d) / dt (walls included);
@@ -1003,6 +1046,7 @@ int main(void)
         cmocka_unit_test(test_pcg_iterations),
         cmocka_unit_test(test_threads_bitwise),
         cmocka_unit_test(test_iteration_cap),
+        cmocka_unit_test(test_koshizuka_steps),
         cmocka_unit_test(test_neumann_hydrostatic),
         cmocka_unit_test(test_surface_ghost_hydrostatic),
         cmocka_unit_test(test_stabilize),

@@ -196,9 +196,17 @@
  *   at 3 s, 6.03% at 4 s, 4.72% at 5 s, 5.30% at 7 s, 5.83% at 8 s, 7.87% at 9 s, 7.70% at
  *   10 s (bottom row -4.72% at 8 s, -22.2% at 9.5 s, -8.17% at 10 s): past 2.5 s it grows more
  *   slowly but keeps growing and the pressure swings, so a still tank with that weight is not at
- *   rest past 2.5 s and fails both bounds by 10 s. TODO (issue 22, item 5): damp the mode or
- *   refuse the Koshizuka weight for long runs at /kernel/type. The quartic (the cases' weight)
- *   shows no such mode.
+ *   rest past 2.5 s and fails both bounds by 10 s. The quartic (the cases' weight) shows no such
+ *   mode. At H/20 (`test_mps_still 0.01 koshizuka -1 0.9 8`, dt twice as long) the same mode
+ *   comes at the same step, not the same time: vmax 0.013% to 3 s, 0.026% at 3.5 s, 0.066% at
+ *   4 s (7920 steps; H/40: 0.28% at 7924), 0.265% at 4.5 s, 2.19% at 5 s (9900 steps), 3.9% at
+ *   6 s, 5.8% at 6.5 s, 6.32% at 8 s (15856 steps; H/40: 6.03% at 15848), the bottom row -8.9%
+ *   at 7.5 s. So it is a mode of the step (its rate scales with sqrt(relax) / dt, above), and
+ *   since nothing tried here damps it for both weights, sphd refuses the Koshizuka weight at
+ *   /kernel/type for runs estimated at more than 8000 steps (time.end over the step at rest;
+ *   sph_mps.c, MPS_KOSHIZUKA_MAX_STEPS), where the mode is still 0.07-0.3% of sqrt(gH). The
+ *   cases' Koshizuka runs stay well below it (the dam breaks under 3000 steps, the solitary wave
+ *   at dx 0.4 m about 4900). This test's END goes past it through the core's advance (run()).
  * Earlier sessions: the first (walls as unknowns of the pressure equation): vmax after 2 s
  *   0.11-0.4 m/s (8-29% of sqrt(gH)) over every option tried: the fluid column next to each side
  *   wall slid down and drove a circulation that never settled. Walls as a Neumann boundary cured
@@ -254,7 +262,10 @@ static int run(sph_kernel_type type, double dx, int surface, double stab, double
     c.tank = (sph_box){{0, 0, 0}, {W, 0.4, 0}};
     c.visc = SPH_VISC_LAMINAR;
     c.nu = 1e-6;
-    c.t_end = t_end;
+    /* sphd refuses the Koshizuka weight for runs of more than 8000 steps (sph_mps.c: the mode
+     * below); the core's advance is not bound by time.end, so END studies it past that: the
+     * configuration holds at most 2 s (7924 steps at H/40), the loop below runs to END */
+    c.t_end = fmin(t_end, 2.0);
     c.cfl = 0.1;      /* dt = 0.1 dx / sqrt(2 g H) */
     c.mps.source = 1; /* mixed (Tanaka & Masunaga 2010) */
     c.mps.relax = 0.005;
@@ -271,9 +282,9 @@ static int run(sph_kernel_type type, double dx, int surface, double stab, double
         return 1;
     }
     const double pH = c.rho0 * g * H, prow = c.rho0 * g * (H - 0.5 * dx), vref = sqrt(g * H);
-    const int nq = (int)ceil(c.t_end / 0.5 - 1e-9);
+    const int nq = (int)ceil(t_end / 0.5 - 1e-9);
     for (int q = 1; q <= nq; q++) { /* figures every 0.5 s and at the end */
-        const double tq = q < nq ? 0.5 * q : c.t_end;
+        const double tq = q < nq ? 0.5 * q : t_end;
         while (sph_sim_time(s) < tq)
             if (sph_sim_advance(s, 1000, tq, &err)) {
                 fprintf(stderr, "%s dx %g: %s\n", sph_kernel_type_name(type), dx, err.message);
