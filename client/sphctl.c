@@ -302,9 +302,17 @@ static int cmd_submit(sphctl *c, int argc, char **argv)
     if (json_array_size(so.sets))
         json_object_set(args, "set", so.sets);
     json_decref(so.sets);
-    json_t *r;
-    if ((rc = sphctl_request(c, "submit", args, &r, NULL, 0)))
+    /* --watch: listen before the job exists, so that a short one cannot end unseen */
+    sphctl_stream st = {0};
+    if (so.watch && (rc = sphctl_stream_open(c, so.id ? so.id : "", &st)) != 0) {
+        json_decref(args);
         return rc;
+    }
+    json_t *r;
+    if ((rc = sphctl_request(c, "submit", args, &r, NULL, 0))) {
+        sphctl_stream_close(&st);
+        return rc;
+    }
     char job[128];
     snprintf(job, sizeof job, "%s", json_string_value(json_object_get(r, "job")));
     if (c->json && !so.watch)
@@ -312,10 +320,11 @@ static int cmd_submit(sphctl *c, int argc, char **argv)
     else if (!c->json)
         fprintf(so.watch ? stderr : stdout, "%s%s\n", job,
                 json_is_false(json_object_get(r, "created")) ? " (already submitted)" : "");
+    const int created = !json_is_false(json_object_get(r, "created"));
     json_decref(r);
     if (!so.watch)
         return 0;
-    return sphctl_watch(c, job);
+    return sphctl_watch_stream(c, &st, job, created);
 }
 
 static int cmd_status(sphctl *c, int argc, char **argv)

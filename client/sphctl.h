@@ -51,18 +51,37 @@ int sphctl_settings(sphctl *c, const char *endpoint, const char *server_key, con
 int sphctl_config_dir(char *out, size_t n);
 /* Sets the CURVE client keys on sock when CURVE is on. Returns 0 or -1 (said). */
 int sphctl_secure(sphctl *c, void *sock);
-/* A PAIR receiving sock's handshake failures (name: unique per socket), or NULL. */
+/* A PAIR receiving sock's handshake events (name: unique per socket), or NULL. */
 void *sphctl_monitor(sphctl *c, void *sock, const char *name);
 /* Reads what mon has; 1 when it reports that sphd refused the handshake (said on stderr, with
  * why: key not authorised, CURVE required, ...), else 0. */
 int sphctl_refused(sphctl *c, void *mon, const char *endpoint);
+/* The same, and sets *connected (when not NULL) if a handshake succeeded. */
+int sphctl_monitor_read(sphctl *c, void *mon, const char *endpoint, int *connected);
 int sphctl_cmd_keygen(sphctl *c, int argc, char **argv);
 
 /* Prints a JSON value as one line (compact) or indented, to stdout. */
 void sphctl_print_json(const json_t *v, int compact);
 
-/* sphctl_watch.c: follows a job to its end (subscribe, then snapshot). Returns the exit code:
- * 0 done, 1 failed or stopped, 69 server gone. */
+/* sphctl_watch.c: the event stream, subscribed and connected. */
+typedef struct sphctl_stream {
+    void *sub;                 /* SUB socket */
+    void *mon;                 /* its monitor */
+    char topic[128];           /* what it is subscribed to ("" = every job) */
+    char ep[SPH_ENDPOINT_MAX]; /* the stream endpoint */
+    int connected;             /* its handshake was seen before sphctl_stream_open returned */
+} sphctl_stream;
+/* Subscribes to topic (a job id, or "" for every job, when the id is not known yet) and waits
+ * up to c->timeout for the connection's handshake, so that events published after it returns
+ * reach it. Returns 0 or the exit code (said). */
+int sphctl_stream_open(sphctl *c, const char *topic, sphctl_stream *st);
+void sphctl_stream_close(sphctl_stream *st);
+/* Follows job to its end on an open stream (subscribe, then snapshot), and closes it; with
+ * from_start (the stream was connected before the job was created) every event of the job is
+ * on the stream, so it is followed from its first event, without a snapshot. Returns the exit
+ * code: 0 done, 1 failed or stopped, 69 server gone. */
+int sphctl_watch_stream(sphctl *c, sphctl_stream *st, const char *job, int from_start);
+/* Both: watch JOB. */
 int sphctl_watch(sphctl *c, const char *job);
 
 /* sphctl_files.c: results, fetch and export (argv[0] is the command's name). */

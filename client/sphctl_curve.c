@@ -214,7 +214,8 @@ void *sphctl_monitor(sphctl *c, void *sock, const char *name)
     snprintf(ep, sizeof ep, "inproc://sphctl-monitor-%s", name);
     if (zmq_socket_monitor(sock, ep,
                            ZMQ_EVENT_HANDSHAKE_FAILED_AUTH | ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL |
-                               ZMQ_EVENT_HANDSHAKE_FAILED_NO_DETAIL) != 0)
+                               ZMQ_EVENT_HANDSHAKE_FAILED_NO_DETAIL |
+                               ZMQ_EVENT_HANDSHAKE_SUCCEEDED) != 0)
         return NULL;
     void *mon = zmq_socket(c->ctx, ZMQ_PAIR);
     int zero = 0;
@@ -228,6 +229,11 @@ void *sphctl_monitor(sphctl *c, void *sock, const char *name)
 }
 
 int sphctl_refused(sphctl *c, void *mon, const char *ep)
+{
+    return sphctl_monitor_read(c, mon, ep, NULL);
+}
+
+int sphctl_monitor_read(sphctl *c, void *mon, const char *ep, int *connected)
 {
     int refused = 0;
     for (;;) {
@@ -250,6 +256,8 @@ int sphctl_refused(sphctl *c, void *mon, const char *ep)
             more = zmq_msg_recv(&m, mon, 0) >= 0 && zmq_msg_more(&m);
             zmq_msg_close(&m);
         }
+        if (event == ZMQ_EVENT_HANDSHAKE_SUCCEEDED && connected)
+            *connected = 1;
         if (refused)
             continue;
         if (event == ZMQ_EVENT_HANDSHAKE_FAILED_AUTH) {

@@ -240,7 +240,67 @@ static int finish(watch *w)
     return strcmp(w->state, "done") == 0 ? SPHCTL_EX_OK : SPHCTL_EX_FAILED;
 }
 
+int sphctl_stream_open(sphctl *c, const char *topic, sphctl_stream *st)
+{
+    memset(st, 0, sizeof *st);
+    snprintf(st->topic, sizeof st->topic, "%s", topic);
+    int rc = stream_endpoint(c, st->ep, sizeof st->ep);
+    if (rc)
+        return rc;
+    st->sub = zmq_socket(c->ctx, ZMQ_SUB);
+    int zero = 0;
+    if (!st->sub || zmq_setsockopt(st->sub, ZMQ_LINGER, &zero, sizeof zero) != 0 ||
+        sphctl_secure(c, st->sub) != 0 || !(st->mon = sphctl_monitor(c, st->sub, "stream")) ||
+        zmq_setsockopt(st->sub, ZMQ_SUBSCRIBE, topic, strlen(topic)) != 0 ||
+        zmq_connect(st->sub, st->ep) != 0) {
+        fprintf(stderr, "sphctl: cannot subscribe to %s: %s\n", st->ep, zmq_strerror(errno));
+        sphctl_stream_close(st);
+        return SPHCTL_EX_UNAVAILABLE;
+    }
+    /* The subscription goes out right after the handshake: wait for it, so that a job started
+     * after this returns cannot publish before we listen (a short job could otherwise end
+     * unseen). A stream that does not answer in time is no error: the watch loop's snapshots
+     * still follow the job. */
+    const double until = mono() + c->timeout;
+    int connected = 0;
+    while (!connected) {
+        const double left = until - mono();
+        if (left <= 0)
+            break;
+        zmq_pollitem_t it = {.socket = st->mon, .events = ZMQ_POLLIN};
+        int n = zmq_poll(&it, 1, (long)(left * 1000) + 1);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            break;
+        if (sphctl_monitor_read(c, st->mon, st->ep, &connected)) {
+            sphctl_stream_close(st);
+            return SPHCTL_EX_NOPERM;
+        }
+    }
+    st->connected = connected;
+    return 0;
+}
+
+void sphctl_stream_close(sphctl_stream *st)
+{
+    if (st->mon)
+        zmq_close(st->mon);
+    if (st->sub)
+        zmq_close(st->sub);
+    st->mon = st->sub = NULL;
+}
+
 int sphctl_watch(sphctl *c, const char *job)
+{
+    sphctl_stream st;
+    int rc = sphctl_stream_open(c, job, &st);
+    if (rc)
+        return rc;
+    return sphctl_watch_stream(c, &st, job, 0);
+}
+
+int sphctl_watch_stream(sphctl *c, sphctl_stream *st, const char *job, int from_start)
 {
     watch w = {.c = c,
                .job = job,
@@ -249,26 +309,32 @@ int sphctl_watch(sphctl *c, const char *job)
                .t_end = NAN,
                .rate = NAN,
                .eta = NAN};
-    char ep[SPH_ENDPOINT_MAX];
-    int rc = stream_endpoint(c, ep, sizeof ep);
-    if (rc)
-        return rc;
-    void *sub = zmq_socket(c->ctx, ZMQ_SUB);
-    int zero = 0;
-    void *mon = NULL;
-    if (!sub || zmq_setsockopt(sub, ZMQ_LINGER, &zero, sizeof zero) != 0 ||
-        sphctl_secure(c, sub) != 0 || !(mon = sphctl_monitor(c, sub, "stream")) ||
-        zmq_setsockopt(sub, ZMQ_SUBSCRIBE, job, strlen(job)) != 0 || zmq_connect(sub, ep) != 0) {
-        fprintf(stderr, "sphctl: cannot subscribe to %s: %s\n", ep, zmq_strerror(errno));
-        if (mon)
-            zmq_close(mon);
-        if (sub)
-            zmq_close(sub);
-        return SPHCTL_EX_UNAVAILABLE;
+    int rc;
+    void *sub = st->sub, *mon = st->mon;
+    const char *ep = st->ep;
+    if (strcmp(st->topic, job) != 0) {
+        /* subscribed to every job before the id was known: narrow it (the new subscription
+         * goes out before the old one's cancellation, so nothing of this job is missed) */
+        if (zmq_setsockopt(sub, ZMQ_SUBSCRIBE, job, strlen(job)) != 0 ||
+            zmq_setsockopt(sub, ZMQ_UNSUBSCRIBE, st->topic, strlen(st->topic)) != 0) {
+            fprintf(stderr, "sphctl: cannot subscribe to %s: %s\n", ep, zmq_strerror(errno));
+            sphctl_stream_close(st);
+            return SPHCTL_EX_UNAVAILABLE;
+        }
+        snprintf(st->topic, sizeof st->topic, "%s", job);
     }
-    /* subscribe first, then the snapshot */
-    if ((rc = snapshot(&w)) != 0)
+    if (from_start && st->connected) {
+        /* listening since before the job existed: its events from the first on are the whole
+         * story (a jump in seq still takes a snapshot, below); a quiet query gives the end
+         * time for the progress line */
+        json_t *r;
+        if ((rc = sphctl_request(c, "query", json_pack("{s:s}", "job", job), &r, NULL, 0)) != 0)
+            goto out;
+        w.t_end = sphctl_num(json_object_get(r, "progress"), "t_end");
+        json_decref(r);
+    } else if ((rc = snapshot(&w)) != 0) { /* subscribed first, then the snapshot */
         goto out;
+    }
     int first = 1;
     double last_heard = mono();
     while (!final_state(w.state)) {
@@ -355,7 +421,6 @@ int sphctl_watch(sphctl *c, const char *job)
     rc = finish(&w);
 out:
     json_decref(w.diag);
-    zmq_close(mon);
-    zmq_close(sub);
+    sphctl_stream_close(st);
     return rc;
 }

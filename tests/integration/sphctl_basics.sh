@@ -45,6 +45,18 @@ check "ping --json is one JSON document" jtrue "$tmp/out" 'd["pong"]'
 expect_rc "submit --watch a kernel study" 0 "$C" --json submit "$KS" --id ks1 --watch
 check "watch ends with the job done" jlast "$tmp/out" 'd.get("state")=="done" or d.get("status",{}).get("state")=="done"'
 
+# submit --watch listens before it submits: a job of a few steps, ended before a watch that
+# subscribed after the submit could connect, still shows its diag events and its end (with and
+# without an id of its own, so with the daemon's id too)
+for k in 1 2 3; do
+  expect_rc "submit --watch a short dam break ($k, its own id)" 0 "$C" --json submit \
+    "$SRC/cases/dambreak.json" --id "short$k" --set dx=0.04 --set time.end=0.0002 --watch
+  check "short$k: diag events on the stream" "$PY" -c 'import json,sys; ev=[json.loads(l) for l in open(sys.argv[1])]; sys.exit(0 if any(e.get("type")=="diag" and e.get("job")=="short'"$k"'" for e in ev) else 1)' "$tmp/out"
+  expect_rc "submit --watch a short dam break ($k, the daemon's id)" 0 "$C" --json submit \
+    "$SRC/cases/dambreak.json" --set dx=0.04 --set time.end=0.0002 --set name="anon$k" --watch
+  check "anon$k: diag events on the stream" "$PY" -c 'import json,sys; ev=[json.loads(l) for l in open(sys.argv[1])]; sys.exit(0 if any(e.get("type")=="diag" for e in ev) and ev[-1].get("state")=="done" else 1)' "$tmp/out"
+done
+
 expect_rc "status ks1 --json" 0 "$C" status ks1 --json
 check "status: done, with its result" jtrue "$tmp/out" 'd["state"]=="done" and d["result"]["method"]=="kernel_study"'
 check "result.json and case.json in the job dir" test -s "$STATE/jobs/ks1/result.json" -a -s "$STATE/jobs/ks1/case.json"
