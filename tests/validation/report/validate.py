@@ -25,6 +25,7 @@ file in cases/; nothing else changes.
 """
 import argparse
 import datetime
+import fcntl
 import glob
 import html
 import importlib.util
@@ -107,6 +108,19 @@ class Context:
         return events, d
 
     def sphd_run_long(self, case, sets, job):
+        """A long run in the runs directory: resumed from its checkpoint, or taken as it is when
+        it finished earlier with the same case and sets. Another process's run of the same job
+        (a second report sharing --runs) is waited for, not run twice."""
+        os.makedirs(self.runs_dir, exist_ok=True)
+        with open(os.path.join(self.runs_dir, job + ".lock"), "w") as lock:
+            try:
+                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                print("  %s: another process is running it; waiting" % job, flush=True)
+                fcntl.flock(lock, fcntl.LOCK_EX)
+            return self._sphd_run_long(case, sets, job)
+
+    def _sphd_run_long(self, case, sets, job):
         d = os.path.join(self.runs_dir, job)
         stamp_path = os.path.join(d, "report-run.json")
         stamp = {"case": case, "sets": list(sets)}
