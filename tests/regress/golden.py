@@ -32,7 +32,8 @@ import h5py
 import numpy as np
 
 # name: (case, sets). Short runs (about a second each), each system of the 2D core once: WCSPH
-# with dynamic and with ghost walls, a rigid body, the laminar viscosity on an initial wave, MPS.
+# with dynamic and with ghost walls, a rigid body, Monaghan's viscosity on an initial wave, MPS,
+# the laminar viscosity with SPS turbulence.
 CASES = {
     "dambreak": ("cases/dambreak.json", ["dx=0.005", "time.end=0.1", "output.every=0.05"]),
     "dambreak_ghost": ("cases/dambreak_ghost.json",
@@ -41,6 +42,11 @@ CASES = {
     "standing_wave": ("cases/standing_wave.json", ["dx=0.02", "time.end=0.2",
                                                    "output.every=0.1"]),
     "mps_dambreak": ("cases/mps_dambreak.json", ["time.end=0.05", "output.every=0.025"]),
+    # the laminar viscosity with SPS turbulence and dynamic walls' viscosity factor 1
+    "dambreak_sps": ("cases/dambreak.json", ["dx=0.005", "time.end=0.1", "output.every=0.05",
+                                             'physics.viscosity={"type": "laminar", "nu": 1e-6}',
+                                             "physics.turbulence=sps",
+                                             "boundary.viscosity_factor=1"]),
 }
 HERE = os.path.dirname(os.path.abspath(__file__))
 # every per-particle field a snapshot can hold
