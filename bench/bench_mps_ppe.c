@@ -25,7 +25,7 @@ static void run(sph_kernel_type type, double re_dx, int res)
     const long nwall = (long)layers * (tx + 2 * layers) + 2L * layers * (2 * ny);
     const long n = (long)nx * ny + nwall;
     sph_particles P;
-    if (sph_particles_alloc(&P, n, 0)) {
+    if (sph_particles_alloc(&P, n, 2, 0)) {
         fprintf(stderr, "out of memory\n");
         exit(1);
     }
@@ -57,11 +57,11 @@ static void run(sph_kernel_type type, double re_dx, int res)
             }
     }
     const double re = re_dx * dx, m = (layers + 2) * dx;
-    const double lo[2] = {-m, -m}, hi[2] = {tx * dx + m, 2 * ny * dx + m};
+    const double lo[3] = {-m, -m, 0}, hi[3] = {tx * dx + m, 2 * ny * dx + m, 0};
     sph_cells cells;
     sph_mps_nbr nl = {0};
     sph_kernel w;
-    if (sph_cells_alloc(&cells, lo, hi, re, n) || sph_mps_weight_init(&w, type, re, NULL)) {
+    if (sph_cells_alloc(&cells, 2, lo, hi, re, n) || sph_mps_weight_init(&w, type, re, NULL)) {
         fprintf(stderr, "setup failed\n");
         exit(1);
     }

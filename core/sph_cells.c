@@ -9,21 +9,28 @@ static int axis_cells(double lo, double hi, double size)
     return (int)ceil((hi - lo) / size) + 2; /* plus one padding cell at each end */
 }
 
-double sph_cells_count(const double lo[2], const double hi[2], double size)
+double sph_cells_count(int dim, const double lo[3], const double hi[3], double size)
 {
-    return ((hi[0] - lo[0]) / size + 3.0) * ((hi[1] - lo[1]) / size + 3.0);
+    double n = 1.0;
+    for (int d = 0; d < dim; d++)
+        n *= (hi[d] - lo[d]) / size + 3.0;
+    return n;
 }
 
-int sph_cells_alloc(sph_cells *g, const double lo[2], const double hi[2], double size, long n)
+int sph_cells_alloc(sph_cells *g, int dim, const double lo[3], const double hi[3], double size,
+                    long n)
 {
     memset(g, 0, sizeof *g);
+    g->dim = dim;
     g->size = size;
     g->inv_size = 1.0 / size;
     g->nx = axis_cells(lo[0], hi[0], size);
     g->ny = axis_cells(lo[1], hi[1], size);
+    g->nz = dim == 3 ? axis_cells(lo[2], hi[2], size) : 1;
     g->x0 = lo[0] - size;
     g->y0 = lo[1] - size;
-    g->ncells = (long)g->nx * g->ny;
+    g->z0 = dim == 3 ? lo[2] - size : 0.0;
+    g->ncells = (long)g->nx * g->ny * g->nz;
     g->counts = calloc((size_t)g->ncells + 4, sizeof *g->counts);
     g->start = g->counts ? g->counts + 2 : NULL;
     g->key = calloc((size_t)(n > 0 ? n : 1), sizeof *g->key);
@@ -63,18 +70,33 @@ int sph_cells_reserve(sph_cells *g, long n)
 long sph_cells_sort(sph_cells *g, sph_particles *P)
 {
     const long n = P->n, ncells = g->ncells;
-    const int nx = g->nx, ny = g->ny;
+    const int nx = g->nx, ny = g->ny, nz = g->nz;
     int *restrict key = g->key;
+    if (g->dim == 3) {
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++) {
-        const double fx = (P->x[i] - g->x0) * g->inv_size, fy = (P->y[i] - g->y0) * g->inv_size;
-        int k = (int)ncells;
-        /* the comparisons are false for NaN: a non-finite particle is lost, never indexed */
-        if (P->type[i] != SPH_LOST && fx >= 1.0 && fx < nx - 1.0 && fy >= 1.0 && fy < ny - 1.0)
-            k = (int)fx * ny + (int)fy;
-        else
-            P->type[i] = SPH_LOST;
-        key[i] = k;
+        for (long i = 0; i < n; i++) {
+            const double fx = (P->x[i] - g->x0) * g->inv_size, fy = (P->y[i] - g->y0) * g->inv_size,
+                         fz = (P->z[i] - g->z0) * g->inv_size;
+            int k = (int)ncells;
+            if (P->type[i] != SPH_LOST && fx >= 1.0 && fx < nx - 1.0 && fy >= 1.0 &&
+                fy < ny - 1.0 && fz >= 1.0 && fz < nz - 1.0)
+                k = ((int)fx * ny + (int)fy) * nz + (int)fz;
+            else
+                P->type[i] = SPH_LOST;
+            key[i] = k;
+        }
+    } else {
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
+        for (long i = 0; i < n; i++) {
+            const double fx = (P->x[i] - g->x0) * g->inv_size, fy = (P->y[i] - g->y0) * g->inv_size;
+            int k = (int)ncells;
+            /* the comparisons are false for NaN: a non-finite particle is lost, never indexed */
+            if (P->type[i] != SPH_LOST && fx >= 1.0 && fx < nx - 1.0 && fy >= 1.0 && fy < ny - 1.0)
+                k = (int)fx * ny + (int)fy;
+            else
+                P->type[i] = SPH_LOST;
+            key[i] = k;
+        }
     }
     /* counts[k + 2]: particles in cell k; the prefix sum makes it the end of cell k; the
      * backward scatter moves it down to the beginning of cell k, so that start = counts + 2

@@ -3,32 +3,54 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Persistent double fields: follow their particle through reorderings. */
-#define SPH_NPERSIST 8
-#define SPH_NSPS     3
+/* The double arrays of P, in one order: the ones every particle set has (FIELDS2), the third
+ * axis's (FIELDS3: 3D only), the SPS tensors' (SPS2, and SPS3 in 3D). NULL where absent. */
+#define FIELDS2(P)                                                                                 \
+    &(P)->x, &(P)->y, &(P)->vx, &(P)->vy, &(P)->rho, &(P)->p, &(P)->pr, &(P)->ax, &(P)->ay,        \
+        &(P)->drho, &(P)->ax0, &(P)->ay0, &(P)->drho0, &(P)->scratch
+#define FIELDS3(P) &(P)->z, &(P)->vz, &(P)->az, &(P)->az0
+#define SPS2(P)    &(P)->gxx, &(P)->gxy, &(P)->gyy, &(P)->txx, &(P)->txy, &(P)->tyy
+#define SPS3(P)    &(P)->gzz, &(P)->gxz, &(P)->gyz, &(P)->tzz, &(P)->txz, &(P)->tyz
+#define N_FIELDS2  14
+#define N_FIELDS3  4
+#define N_SPS2     6
+#define N_SPS3     6
 
-size_t sph_particles_bytes_per_particle(int sps)
+size_t sph_particles_bytes_per_particle(int dim, int sps)
 {
-    /* x y vx vy rho p pr ax ay drho ax0 ay0 drho0 scratch + SPS 6, type, id, cell key, perm */
-    return (14 + (sps ? 6 : 0)) * sizeof(double) + 1 + sizeof(int) + sizeof(int) + sizeof(long);
+    /* the double arrays, type, id, cell key, perm */
+    const size_t nd =
+        N_FIELDS2 + (dim == 3 ? N_FIELDS3 : 0) + (sps ? N_SPS2 + (dim == 3 ? N_SPS3 : 0) : 0);
+    return nd * sizeof(double) + 1 + sizeof(int) + sizeof(int) + sizeof(long);
 }
 
-int sph_particles_alloc(sph_particles *P, long n, int sps)
+/* Every double array's address in P, the absent ones included (their pointers stay NULL). */
+static int all_fields(sph_particles *P, double ***d)
+{
+    double **all[] = {FIELDS2(P), FIELDS3(P), SPS2(P), SPS3(P)};
+    memcpy(d, all, sizeof all);
+    return (int)(sizeof all / sizeof all[0]);
+}
+
+int sph_particles_alloc(sph_particles *P, long n, int dim, int sps)
 {
     memset(P, 0, sizeof *P);
     P->n = n;
     P->cap = n;
+    P->dim = dim;
     const size_t nb = (size_t)(n > 0 ? n : 1) * sizeof(double);
-    double **d[] = {&P->x,  &P->y,  &P->vx,   &P->vy,  &P->rho, &P->p,     &P->pr,
-                    &P->ax, &P->ay, &P->drho, &P->ax0, &P->ay0, &P->drho0, &P->scratch};
-    for (size_t i = 0; i < sizeof d / sizeof d[0]; i++)
-        if (!(*d[i] = calloc(1, nb)))
-            goto fail;
-    if (sps) {
-        double **s[] = {&P->gxx, &P->gxy, &P->gyy, &P->txx, &P->txy, &P->tyy};
-        for (size_t i = 0; i < sizeof s / sizeof s[0]; i++)
-            if (!(*s[i] = calloc(1, nb)))
+    double **d[N_FIELDS2 + N_FIELDS3 + N_SPS2 + N_SPS3];
+    all_fields(P, d);
+    /* which of them this set has, in all_fields' order */
+    const int have[4] = {N_FIELDS2, dim == 3 ? N_FIELDS3 : 0, sps ? N_SPS2 : 0,
+                         sps && dim == 3 ? N_SPS3 : 0};
+    const int group[4] = {N_FIELDS2, N_FIELDS3, N_SPS2, N_SPS3};
+    int k = 0;
+    for (int g = 0; g < 4; g++) {
+        for (int i = 0; i < have[g]; i++)
+            if (!(*d[k + i] = calloc(1, nb)))
                 goto fail;
+        k += group[g];
     }
     P->type = calloc((size_t)(n > 0 ? n : 1), 1);
     P->id = calloc((size_t)(n > 0 ? n : 1), sizeof(int));
@@ -42,11 +64,10 @@ fail:
 
 void sph_particles_free(sph_particles *P)
 {
-    double *d[] = {P->x,   P->y,   P->vx,   P->vy,  P->rho, P->p,     P->pr,
-                   P->ax,  P->ay,  P->drho, P->ax0, P->ay0, P->drho0, P->scratch,
-                   P->gxx, P->gxy, P->gyy,  P->txx, P->txy, P->tyy};
-    for (size_t i = 0; i < sizeof d / sizeof d[0]; i++)
-        free(d[i]);
+    double **d[N_FIELDS2 + N_FIELDS3 + N_SPS2 + N_SPS3];
+    const int nd = all_fields(P, d);
+    for (int i = 0; i < nd; i++)
+        free(*d[i]);
     free(P->type);
     free(P->id);
     memset(P, 0, sizeof *P);
@@ -68,10 +89,9 @@ int sph_particles_reserve(sph_particles *P, long cap)
     const long old = P->cap > 0 ? P->cap : 1;
     if (cap <= old)
         return 0;
-    double **d[] = {&P->x,   &P->y,   &P->vx,   &P->vy,  &P->rho, &P->p,     &P->pr,
-                    &P->ax,  &P->ay,  &P->drho, &P->ax0, &P->ay0, &P->drho0, &P->scratch,
-                    &P->gxx, &P->gxy, &P->gyy,  &P->txx, &P->txy, &P->tyy};
-    for (size_t i = 0; i < sizeof d / sizeof d[0]; i++)
+    double **d[N_FIELDS2 + N_FIELDS3 + N_SPS2 + N_SPS3];
+    const int nd = all_fields(P, d);
+    for (int i = 0; i < nd; i++)
         if (*d[i] && grow((void **)d[i], sizeof(double), old, cap))
             return -1;
     if (grow((void **)&P->type, 1, old, cap) || grow((void **)&P->id, sizeof(int), old, cap))
@@ -95,14 +115,13 @@ static void permute_doubles(double **a, double **scratch, const long *perm, long
 void sph_particles_permute(sph_particles *P, const long *perm)
 {
     const long n = P->n;
-    double **d[] = {&P->x, &P->y, &P->vx, &P->vy, &P->rho, &P->ax0, &P->ay0, &P->drho0};
-    for (int f = 0; f < SPH_NPERSIST; f++)
-        permute_doubles(d[f], &P->scratch, perm, n);
-    if (P->gxx) {
-        double **s[] = {&P->gxx, &P->gxy, &P->gyy};
-        for (int f = 0; f < SPH_NSPS; f++)
-            permute_doubles(s[f], &P->scratch, perm, n);
-    }
+    /* the persistent fields: the state and the previous rates (the SPS velocity gradients of
+     * the latest evaluation too: the next one's stresses come from them) */
+    double **d[] = {&P->x,   &P->y,   &P->vx, &P->vy, &P->rho, &P->ax0, &P->ay0, &P->drho0, &P->gxx,
+                    &P->gxy, &P->gyy, &P->z,  &P->vz, &P->az0, &P->gzz, &P->gxz, &P->gyz};
+    for (size_t f = 0; f < sizeof d / sizeof d[0]; f++)
+        if (*d[f])
+            permute_doubles(d[f], &P->scratch, perm, n);
     /* the 1- and 4-byte fields go through the scratch buffer too (it holds n doubles) */
     unsigned char *t = (unsigned char *)P->scratch;
     int *id = (int *)(t + ((n + 7) / 8) * 8); /* n bytes, then n ints: fits in n doubles */
@@ -129,9 +148,10 @@ long sph_particles_remove(sph_particles *P, unsigned char type, long *perm)
         if (P->type[i] == type)
             perm[k++] = i;
     sph_particles_permute(P, perm);
-    double **r[] = {&P->ax, &P->ay, &P->drho};
-    for (int f = 0; f < 3; f++)
-        permute_doubles(r[f], &P->scratch, perm, n);
+    double **r[] = {&P->ax, &P->ay, &P->drho, &P->az};
+    for (size_t f = 0; f < sizeof r / sizeof r[0]; f++)
+        if (*r[f])
+            permute_doubles(r[f], &P->scratch, perm, n);
     P->n = kept;
     return kept;
 }

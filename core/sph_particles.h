@@ -1,7 +1,9 @@
 /*
- * sph_particles: particle storage as structure of arrays (2D). Hot fields (what the pair loops
- * read and write) are separate arrays of doubles; every per-particle array that must follow a
- * particle when the particles are reordered by cell is listed in sph_particles_permute().
+ * sph_particles: particle storage as structure of arrays, in 2D or 3D. Hot fields (what the pair
+ * loops read and write) are separate arrays of doubles; every per-particle array that must follow
+ * a particle when the particles are reordered by cell is listed in sph_particles_permute(). The
+ * third axis's arrays (z, vz, az, az0 and the SPS tensors' z components) exist in 3D only: in 2D
+ * they are NULL, so 2D pays no memory for them.
  */
 #ifndef SPH_PARTICLES_H
 #define SPH_PARTICLES_H
@@ -31,27 +33,31 @@ typedef struct sph_particles {
     long n;                  /* particles stored (fluid + boundary, lost included; ghosts only
                                 inside a force evaluation) */
     long cap;                /* particles the arrays can hold (>= n) */
-    double *x, *y;           /* position [m] */
-    double *vx, *vy;         /* velocity [m/s] */
+    int dim;                 /* 2 or 3 */
+    double *x, *y, *z;       /* position [m] (z: 3D only) */
+    double *vx, *vy, *vz;    /* velocity [m/s] */
     double *rho;             /* density [kg/m^3] */
     double *p;               /* pressure [Pa] */
     double *pr;              /* p / rho^2, scratch of the force loop [m^5/(kg s^2)] */
-    double *ax, *ay;         /* acceleration of the latest force evaluation [m/s^2] */
+    double *ax, *ay, *az;    /* acceleration of the latest force evaluation [m/s^2] */
     double *drho;            /* density rate of the latest force evaluation [kg/(m^3 s)] */
-    double *ax0, *ay0;       /* acceleration of the previous evaluation [m/s^2] */
+    double *ax0, *ay0, *az0; /* acceleration of the previous evaluation [m/s^2] */
     double *drho0;           /* density rate of the previous evaluation [kg/(m^3 s)] */
     double *gxx, *gxy, *gyy; /* SPS: du/dx, du/dy + dv/dx, dv/dy [1/s] (NULL without SPS) */
+    double *gzz, *gxz, *gyz; /* SPS in 3D: dw/dz, du/dz + dw/dx, dv/dz + dw/dy [1/s] */
     double *txx, *txy, *tyy; /* SPS: sub-particle stress / rho, Yang et al. eq. (7) [m^2/s^2] */
+    double *tzz, *txz, *tyz; /* SPS in 3D: its z components [m^2/s^2] */
     unsigned char *type;     /* SPH_FLUID, SPH_BOUNDARY, SPH_LOST */
     int *id;                 /* creation index, stable across reorderings [-] */
     double *scratch;         /* n doubles for permutations */
 } sph_particles;
 
-/* Bytes per particle the storage needs (with or without the SPS arrays). */
-size_t sph_particles_bytes_per_particle(int sps);
+/* Bytes per particle the storage needs in dim dimensions (with or without the SPS arrays). */
+size_t sph_particles_bytes_per_particle(int dim, int sps);
 
-/* Allocates n particles (zeroed). Returns 0 or -1 when out of memory (then frees what it got). */
-int sph_particles_alloc(sph_particles *P, long n, int sps);
+/* Allocates n particles (zeroed) in dim (2 or 3) dimensions. Returns 0 or -1 when out of memory
+ * (then frees what it got). */
+int sph_particles_alloc(sph_particles *P, long n, int dim, int sps);
 void sph_particles_free(sph_particles *P);
 
 /* Makes room for cap particles (n unchanged, the new room zeroed). Returns 0 or -1 when out of
@@ -59,7 +65,7 @@ void sph_particles_free(sph_particles *P);
 int sph_particles_reserve(sph_particles *P, long cap);
 
 /* Removes every particle of kind `type`, keeping the order of the others: the persistent fields
- * and the rates of the latest evaluation (ax, ay, drho) follow their particles. perm: P->n
+ * and the rates of the latest evaluation (ax, ay, az, drho) follow their particles. perm: P->n
  * longs of scratch. Returns the new P->n. */
 long sph_particles_remove(sph_particles *P, unsigned char type, long *perm);
 

@@ -71,9 +71,10 @@ static double support_of(const sph_config *c)
 
 /* The box the cell grid covers: the domain and the tank with its walls (dynamic particles or
  * the band of ghosts, one support plus a spacing wide). */
-static void grid_bounds(const sph_config *c, double lo[2], double hi[2])
+static void grid_bounds(const sph_config *c, double lo[3], double hi[3])
 {
-    for (int d = 0; d < 2; d++) {
+    lo[2] = hi[2] = 0.0;
+    for (int d = 0; d < c->dim; d++) {
         lo[d] = c->domain.min[d];
         hi[d] = c->domain.max[d];
         if (c->has_tank && c->boundary != SPH_BOUNDARY_NONE) {
@@ -112,9 +113,11 @@ static long ghosts_estimate(const sph_config *c)
 
 static long nbins_of(const sph_config *c)
 {
-    double lo[2], hi[2];
+    double lo[3], hi[3];
     grid_bounds(c, lo, hi);
-    const double span = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    double span = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    if (c->dim == 3)
+        span = fmax(span, hi[2] - lo[2]);
     return (long)ceil(span / c->dx) + 2;
 }
 
@@ -131,12 +134,15 @@ double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nbounda
         *nboundary = nb;
     if (!(cfg->dx > 0.0))
         return 0.0;
-    double lo[2], hi[2];
+    double lo[3], hi[3];
     grid_bounds(cfg, lo, hi);
-    const double cells = sph_cells_count(lo, hi, support_of(cfg));
+    const double cells = sph_cells_count(cfg->dim, lo, hi, support_of(cfg));
     const sph_method_ops *ops = sph_method_ops_of(cfg->method);
     const double per = ops ? (double)ops->bytes_per_particle(cfg) : 0.0;
-    const double bins = (fmax(hi[0] - lo[0], hi[1] - lo[1]) / cfg->dx + 2.0) * 12.0;
+    double span = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    if (cfg->dim == 3)
+        span = fmax(span, hi[2] - lo[2]);
+    const double bins = (span / cfg->dx + 2.0) * 12.0;
     const double ghosts = 1.25 * (double)ghosts_estimate(cfg);
     return (double)(nf + nb + ghosts) * per + cells * sizeof(int) + bins + sizeof(sph_sim);
 }
@@ -209,8 +215,12 @@ int sph_sim_check(const sph_config *c, sph_error *err)
     if (!ops)
         return sph_error_set(err, SPH_ERR_INVALID, "/method",
                              "method %d is not a particle method of this build", (int)c->method);
-    if (c->dim != 2)
-        return sph_error_set(err, SPH_ERR_INVALID, "/dim", "only 2D simulations are available");
+    if (c->dim != 2 && c->dim != 3)
+        return sph_error_set(err, SPH_ERR_INVALID, "/dim", "dim must be 2 or 3");
+    if (c->dim == 3 && c->method != SPH_METHOD_WCSPH)
+        return sph_error_set(err, SPH_ERR_INVALID, "/dim",
+                             "the %s method runs in 2D only: 3D cases take \"method\": \"wcsph\"",
+                             c->method == SPH_METHOD_MPS ? "MPS" : "chosen");
     if (!(c->dx > 0.0) || !isfinite(c->dx))
         return sph_error_set(err, SPH_ERR_INVALID, "/dx", "dx must be a positive number");
     if (!(c->h_over_dx >= SPH_H_OVER_DX_MIN && c->h_over_dx <= SPH_H_OVER_DX_MAX))
@@ -230,7 +240,7 @@ int sph_sim_check(const sph_config *c, sph_error *err)
     if (c->boundary == SPH_BOUNDARY_DYNAMIC && (c->layers < 1 || c->layers > 8))
         return sph_error_set(err, SPH_ERR_INVALID, "/boundary/layers",
                              "layers must be from 1 to 8");
-    for (int d = 0; d < 2; d++)
+    for (int d = 0; d < c->dim; d++)
         if (!(c->domain.max[d] > c->domain.min[d]))
             return sph_error_set(err, SPH_ERR_INVALID, "/domain/max",
                                  "the domain's max must exceed its min");
@@ -289,11 +299,13 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
     /* MPS weights have support 2h = re (sph_kernel.h) */
     s->h = sph_kernel_is_mps(cfg->kernel.type) ? 0.5 * support_of(cfg) : cfg->h_over_dx * cfg->dx;
     s->mass = cfg->rho0 * cfg->dx * cfg->dx;
+    if (cfg->dim == 3)
+        s->mass *= cfg->dx;
     const long nbody = sph_body_count(cfg);
     s->nfluid = nf;
     s->nboundary = nb - nbody;
     s->max_lost = 10 + nf / 100;
-    if (sph_kernel_init(&s->kernel, &cfg->kernel, 2, s->h, err)) {
+    if (sph_kernel_init(&s->kernel, &cfg->kernel, cfg->dim, s->h, err)) {
         if (err) {
             char path[SPH_ERROR_PATH_MAX];
             memcpy(path, err->path, sizeof path);
@@ -307,15 +319,15 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
     if (cfg->boundary == SPH_BOUNDARY_GHOST)
         sph_wall_ghost_init(&s->ghost, cfg, s->kernel.support, NULL); /* checked above */
     const long cap = nf + nb + (long)(1.25 * (double)ghosts_estimate(cfg));
-    double lo[2], hi[2];
+    double lo[3], hi[3];
     grid_bounds(cfg, lo, hi);
     s->nbins = nbins_of(cfg);
     s->bin_count = calloc((size_t)s->nbins, sizeof *s->bin_count);
     s->bin_max = calloc((size_t)s->nbins, sizeof *s->bin_max);
     if (!s->bin_count || !s->bin_max ||
-        sph_particles_alloc(&s->P, nf + nb, cfg->turb == SPH_TURB_SPS) ||
+        sph_particles_alloc(&s->P, nf + nb, cfg->dim, cfg->turb == SPH_TURB_SPS) ||
         sph_particles_reserve(&s->P, cap) ||
-        sph_cells_alloc(&s->cells, lo, hi, s->kernel.support, cap) ||
+        sph_cells_alloc(&s->cells, cfg->dim, lo, hi, s->kernel.support, cap) ||
         sph_bodies_init(&s->bodies, cfg, nf + nb - nbody)) {
         sph_sim_destroy(s);
         sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for %ld particles", nf + nb);
@@ -324,11 +336,13 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
     sph_geometry_fill(cfg, &s->P);
     for (long i = 0; i < s->P.n; i++)
         if (s->P.type[i] == SPH_FLUID) {
-            const double x[3] = {s->P.x[i], s->P.y[i], 0.0};
+            const double x[3] = {s->P.x[i], s->P.y[i], s->P.z ? s->P.z[i] : 0.0};
             double v[3] = {0.0, 0.0, 0.0};
             sph_initial_velocity(cfg, x, v);
             s->P.vx[i] = v[0];
             s->P.vy[i] = v[1];
+            if (s->P.vz)
+                s->P.vz[i] = v[2];
         }
     sph_bodies_fill(&s->bodies, cfg, &s->P);
     s->vmax = sph_bodies_vmax(&s->bodies); /* the first step respects the bodies' speed */
@@ -348,9 +362,9 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
 int sph_sim_rpdf(const sph_sim *s, double qmax, int nbins, double *q, double *count,
                  double *density, sph_error *err)
 {
-    const sph_rpdf_input in = {.dim = 2,
+    const sph_rpdf_input in = {.dim = s->cfg.dim,
                                .n = s->nactive,
-                               .pos = {s->P.x, s->P.y, NULL},
+                               .pos = {s->P.x, s->P.y, s->P.z},
                                .type = s->P.type,
                                .h = s->h,
                                .dx = s->cfg.dx};
@@ -365,7 +379,7 @@ static double fluid_ekin(const sph_sim *s)
     double e = 0.0;
     for (long i = 0; i < s->nactive; i++)
         if (P->type[i] == SPH_FLUID)
-            e += P->vx[i] * P->vx[i] + P->vy[i] * P->vy[i];
+            e += P->vx[i] * P->vx[i] + P->vy[i] * P->vy[i] + (P->vz ? P->vz[i] * P->vz[i] : 0.0);
     return 0.5 * s->mass * e;
 }
 
@@ -453,11 +467,13 @@ void sph_sim_particles(const sph_sim *s, sph_particle_view *v)
     s->ops->pressure(s); /* a derived field: brought up to date for the view */
     memset(v, 0, sizeof *v);
     v->n = s->P.n;
-    v->dim = 2;
+    v->dim = s->cfg.dim;
     v->pos[0] = s->P.x;
     v->pos[1] = s->P.y;
+    v->pos[2] = s->P.z;
     v->vel[0] = s->P.vx;
     v->vel[1] = s->P.vy;
+    v->vel[2] = s->P.vz;
     v->rho = s->P.rho;
     v->p = s->P.p;
     v->type = s->P.type;

@@ -59,9 +59,94 @@ static long first_bad(const sph_particles *P, long n)
 {
     for (long i = 0; i < n; i++)
         if (!isfinite(P->x[i]) || !isfinite(P->y[i]) || !isfinite(P->vx[i]) ||
-            !isfinite(P->vy[i]) || !isfinite(P->rho[i]))
+            !isfinite(P->vy[i]) || !isfinite(P->rho[i]) ||
+            (P->z && (!isfinite(P->z[i]) || !isfinite(P->vz[i]))))
             return i;
     return -1;
+}
+
+/* The predictor over the first n particles: fluid moved (or lost when it leaves the domain; with
+ * ghost walls, reflected back first), every density advanced. Returns the particles whose new
+ * position is not finite. */
+static inline __attribute__((always_inline)) long predict(const int D, sph_sim *s, double dt,
+                                                          long n)
+{
+    const sph_config *c = &s->cfg;
+    sph_particles *P = &s->P;
+    double *const pos[3] = {P->x, P->y, P->z}, *const vel[3] = {P->vx, P->vy, P->vz};
+    const double *const acc0[3] = {P->ax0, P->ay0, P->az0};
+    const int ghosts = c->boundary == SPH_BOUNDARY_GHOST;
+    long bad = 0;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(+ : bad) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++) {
+        if (P->type[i] == SPH_FLUID) {
+            double x[3], v[3];
+            int in = 1;
+            for (int k = 0; k < D; k++) {
+                const double a = acc0[k][i];
+                x[k] = pos[k][i] + dt * (vel[k][i] + 0.5 * dt * a);
+                v[k] = vel[k][i] + dt * a;
+            }
+            for (int k = 0; k < D; k++)
+                bad += !isfinite(x[k]);
+            if (ghosts) /* a particle that crossed a free-slip wall comes back, before the domain
+                           check: a tank may fill the domain */
+                sph_wall_ghost_reflect(&s->ghost, x, v);
+            for (int k = 0; k < D; k++)
+                in &= x[k] >= c->domain.min[k] && x[k] <= c->domain.max[k];
+            if (in) {
+                for (int k = 0; k < D; k++) {
+                    pos[k][i] = x[k];
+                    vel[k][i] = v[k];
+                }
+            } else {
+                P->type[i] = SPH_LOST; /* frozen where it left */
+                for (int k = 0; k < D; k++)
+                    vel[k][i] = 0.0;
+            }
+        }
+        P->rho[i] += dt * P->drho0[i];
+    }
+    return bad;
+}
+
+/* The corrector over the first n particles: fluid velocities, every density (walls never below
+ * rho0); the largest fluid speed squared, the density range and the non-finite count out. */
+static inline __attribute__((always_inline)) long correct(const int D, sph_sim *s, double dt,
+                                                          long n, double *vmax2_out,
+                                                          double *rlo_out, double *rhi_out)
+{
+    sph_particles *P = &s->P;
+    double *const vel[3] = {P->vx, P->vy, P->vz};
+    const double *const acc[3] = {P->ax, P->ay, P->az}, *const acc0[3] = {P->ax0, P->ay0, P->az0};
+    const double rho0 = s->cfg.rho0;
+    double vmax2 = 0.0, rlo = INFINITY, rhi = -INFINITY;
+    long bad = 0;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(+ : bad) reduction(max : vmax2, rhi) if (n >= SPH_OMP_MIN)          \
+    reduction(min : rlo)
+    for (long i = 0; i < n; i++) {
+        double rho = P->rho[i] + 0.5 * dt * (P->drho[i] - P->drho0[i]);
+        if (P->type[i] == SPH_FLUID) {
+            double v2 = 0.0;
+            for (int k = 0; k < D; k++) {
+                const double v = vel[k][i] + 0.5 * dt * (acc[k][i] - acc0[k][i]);
+                vel[k][i] = v;
+                v2 = k == 0 ? v * v : v2 + v * v;
+            }
+            vmax2 = v2 > vmax2 ? v2 : vmax2;
+            bad += !isfinite(v2);
+        } else if (rho < rho0) {
+            rho = rho0; /* walls do not pull fluid in (as DualSPHysics does) */
+        }
+        P->rho[i] = rho;
+        bad += !isfinite(rho);
+        rlo = rho < rlo ? rho : rlo;
+        rhi = rho > rhi ? rho : rhi;
+    }
+    *vmax2_out = vmax2;
+    *rlo_out = rlo;
+    *rhi_out = rhi;
+    return bad;
 }
 
 static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
@@ -82,38 +167,13 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
     /* the latest rates become the old ones */
     swap(&P->ax, &P->ax0);
     swap(&P->ay, &P->ay0);
+    if (P->az)
+        swap(&P->az, &P->az0);
     swap(&P->drho, &P->drho0);
 
     /* predictor */
-    const double xlo = c->domain.min[0], xhi = c->domain.max[0];
-    const double ylo = c->domain.min[1], yhi = c->domain.max[1];
     const long n0 = s->nactive;
-    const int ghosts = c->boundary == SPH_BOUNDARY_GHOST;
-    long bad = 0;
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(+ : bad) if (n0 >= SPH_OMP_MIN)
-    for (long i = 0; i < n0; i++) {
-        if (P->type[i] == SPH_FLUID) {
-            const double ax = P->ax0[i], ay = P->ay0[i];
-            double xy[2] = {P->x[i] + dt * (P->vx[i] + 0.5 * dt * ax),
-                            P->y[i] + dt * (P->vy[i] + 0.5 * dt * ay)};
-            double v[2] = {P->vx[i] + dt * ax, P->vy[i] + dt * ay};
-            bad += !isfinite(xy[0]) || !isfinite(xy[1]);
-            if (ghosts) /* a particle that crossed a free-slip wall comes back, before the domain
-                           check: a tank may fill the domain */
-                sph_wall_ghost_reflect(&s->ghost, xy, v);
-            const double x = xy[0], y = xy[1];
-            if (x >= xlo && x <= xhi && y >= ylo && y <= yhi) {
-                P->x[i] = x;
-                P->y[i] = y;
-                P->vx[i] = v[0];
-                P->vy[i] = v[1];
-            } else {
-                P->type[i] = SPH_LOST; /* frozen where it left */
-                P->vx[i] = P->vy[i] = 0.0;
-            }
-        }
-        P->rho[i] += dt * P->drho0[i];
-    }
+    long bad = c->dim == 3 ? predict(3, s, dt, n0) : predict(2, s, dt, n0);
     if (bad)
         return sph_error_set(err, SPH_ERR_UNSTABLE, "",
                              "blow-up at step %ld (t = %g s, dt = %g s): non-finite position of "
@@ -140,28 +200,9 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
     const double t1 = omp_get_wtime();
     const long n = s->nactive;
     const double rho0 = c->rho0;
-    double vmax2 = 0.0, rlo = INFINITY, rhi = -INFINITY;
-    bad = 0;
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(+ : bad) reduction(max : vmax2, rhi) if (n >= SPH_OMP_MIN)          \
-    reduction(min : rlo)
-    for (long i = 0; i < n; i++) {
-        double rho = P->rho[i] + 0.5 * dt * (P->drho[i] - P->drho0[i]);
-        if (P->type[i] == SPH_FLUID) {
-            const double vx = P->vx[i] + 0.5 * dt * (P->ax[i] - P->ax0[i]);
-            const double vy = P->vy[i] + 0.5 * dt * (P->ay[i] - P->ay0[i]);
-            P->vx[i] = vx;
-            P->vy[i] = vy;
-            const double v2 = vx * vx + vy * vy;
-            vmax2 = v2 > vmax2 ? v2 : vmax2;
-            bad += !isfinite(v2);
-        } else if (rho < rho0) {
-            rho = rho0; /* walls do not pull fluid in (as DualSPHysics does) */
-        }
-        P->rho[i] = rho;
-        bad += !isfinite(rho);
-        rlo = rho < rlo ? rho : rlo;
-        rhi = rho > rhi ? rho : rhi;
-    }
+    double vmax2, rlo, rhi;
+    bad = c->dim == 3 ? correct(3, s, dt, n, &vmax2, &rlo, &rhi)
+                      : correct(2, s, dt, n, &vmax2, &rlo, &rhi);
     s->vmax = sqrt(vmax2);
     if (s->bodies.n > 0) {
         const double tb = omp_get_wtime();
@@ -209,7 +250,7 @@ static int wcsph_check(const sph_config *c, sph_error *err)
 
 static size_t wcsph_bytes_per_particle(const sph_config *c)
 {
-    return sph_particles_bytes_per_particle(c->turb == SPH_TURB_SPS);
+    return sph_particles_bytes_per_particle(c->dim, c->turb == SPH_TURB_SPS);
 }
 
 static int wcsph_init(sph_sim *s, sph_error *err)
@@ -232,9 +273,11 @@ static void wcsph_pressure(const sph_sim *s)
 static int wcsph_arrays(const sph_sim *s, double **d, int maxd)
 {
     const sph_particles *P = &s->P;
-    double *const all[] = {P->x,   P->y,   P->vx,   P->vy,  P->rho, P->p,
-                           P->ax,  P->ay,  P->drho, P->ax0, P->ay0, P->drho0,
-                           P->txx, P->txy, P->tyy,  P->gxx, P->gxy, P->gyy};
+    /* the third axis's arrays last (NULL in 2D: the 2D list is what it was) */
+    double *const all[] = {P->x,   P->y,    P->vx,  P->vy,  P->rho,   P->p,   P->ax,
+                           P->ay,  P->drho, P->ax0, P->ay0, P->drho0, P->txx, P->txy,
+                           P->tyy, P->gxx,  P->gxy, P->gyy, P->z,     P->vz,  P->az,
+                           P->az0, P->tzz,  P->txz, P->tyz, P->gzz,   P->gxz, P->gyz};
     return sph_method_arrays(all, (int)(sizeof all / sizeof all[0]), d, maxd);
 }
 

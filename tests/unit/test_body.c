@@ -118,7 +118,7 @@ static void test_spin_up_prescribed_torque(void **state)
     sph_bodies B;
     assert_int_equal(sph_bodies_init(&B, &c, 0), 0);
     sph_particles P;
-    assert_int_equal(sph_particles_alloc(&P, B.np, 0), 0);
+    assert_int_equal(sph_particles_alloc(&P, B.np, 2, 0), 0);
     sph_bodies_fill(&B, &c, &P);
     const double m = c.rho0 * c.dx * c.dx, a0 = 0.3; /* tangential acceleration [m/s^2] */
     const double R = 0.05, M = 500.0 * PI * R * R, I = 0.5 * M * R * R;

@@ -52,7 +52,7 @@ static void lattice_make(lattice *t, int nx, int ny, double dx, int layers, int 
     t->H = ny * dx;
     const long nwall = layers ? (long)layers * (nx + 2 * layers) + 2L * layers * ny : 0;
     const long n = (long)nx * ny + nwall;
-    assert_int_equal(sph_particles_alloc(&t->P, n, 0), 0);
+    assert_int_equal(sph_particles_alloc(&t->P, n, 2, 0), 0);
     long k = 0;
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
@@ -81,8 +81,8 @@ static void lattice_make(lattice *t, int nx, int ny, double dx, int layers, int 
     }
     assert_int_equal(k, n);
     const double m = (layers + 2) * dx;
-    const double lo[2] = {-m, -m}, hi[2] = {t->W + m, t->H + m};
-    assert_int_equal(sph_cells_alloc(&t->g, lo, hi, rc, n), 0);
+    const double lo[3] = {-m, -m, 0}, hi[3] = {t->W + m, t->H + m, 0};
+    assert_int_equal(sph_cells_alloc(&t->g, 2, lo, hi, rc, n), 0);
     t->n = sph_cells_sort(&t->g, &t->P);
     assert_int_equal(t->n, n);
     t->kind = malloc((size_t)n);
@@ -127,7 +127,7 @@ static void test_nbr_all_pairs(void **state)
     (void)state;
     const long n = 600;
     sph_particles P;
-    assert_int_equal(sph_particles_alloc(&P, n, 0), 0);
+    assert_int_equal(sph_particles_alloc(&P, n, 2, 0), 0);
     unsigned seed = 7;
     for (long i = 0; i < n; i++) {
         P.x[i] = urand(&seed);
@@ -136,8 +136,8 @@ static void test_nbr_all_pairs(void **state)
     }
     const double rc = 0.061;
     sph_cells g;
-    const double lo[2] = {0, 0}, hi[2] = {1, 0.5};
-    assert_int_equal(sph_cells_alloc(&g, lo, hi, rc, n), 0);
+    const double lo[3] = {0, 0, 0}, hi[3] = {1, 0.5, 0};
+    assert_int_equal(sph_cells_alloc(&g, 2, lo, hi, rc, n), 0);
     assert_int_equal(sph_cells_sort(&g, &P), n);
     sph_mps_nbr a = {0}, b = {0};
     assert_int_equal(sph_mps_nbr_build(&a, &g, P.x, P.y, n, rc), 0);
