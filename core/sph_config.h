@@ -71,10 +71,12 @@ typedef enum {
 enum { SPH_DOF_X = 1 << 0, SPH_DOF_Y = 1 << 1, SPH_DOF_ROTATION = 1 << 2, SPH_DOF_ALL = 7 };
 
 /* A height gauge: the free surface's height above the tank's bottom (the domain's without a
- * tank) on the vertical line at x, sampled with the diagnostics (sph_diag.c). */
+ * tank) on the vertical line at x (2D) or (x, y) (3D: z is the vertical), sampled with the
+ * diagnostics (sph_diag.c). */
 typedef struct sph_gauge_spec {
     char name[SPH_GAUGE_NAME_MAX]; /* its key in diag events and its series in diag.h5 */
     double x;                      /* the line's abscissa [m] */
+    double y;                      /* 3D: the line's y [m] */
 } sph_gauge_spec;
 
 /* A rigid body of boundary particles (boundary/sph_body.h): its shape, its mass (density or

@@ -38,8 +38,10 @@ static double walk(const int *count, const double *maxc, long nb, long gap)
     return best;
 }
 
-/* Histogram of coordinate u of the fluid particles with v in [vlo, vhi) over [lo, lo + nb dx). */
-static double probe(sph_sim *s, const double *u, const double *v, double lo, double vlo, double vhi)
+/* Histogram of coordinate u of the fluid particles with v in [vlo, vhi) (and, when w is not
+ * NULL, w in [wlo, whi)) over [lo, lo + nb dx). */
+static double probe2(sph_sim *s, const double *u, const double *v, double lo, double vlo,
+                     double vhi, const double *w, double wlo, double whi)
 {
     const sph_particles *P = &s->P;
     const double dx = s->cfg.dx;
@@ -47,7 +49,8 @@ static double probe(sph_sim *s, const double *u, const double *v, double lo, dou
     for (long b = 0; b < s->nbins; b++)
         s->bin_max[b] = -INFINITY;
     for (long i = 0; i < s->nactive; i++) {
-        if (P->type[i] != SPH_FLUID || v[i] < vlo || v[i] >= vhi)
+        if (P->type[i] != SPH_FLUID || v[i] < vlo || v[i] >= vhi ||
+            (w && (w[i] < wlo || w[i] >= whi)))
             continue;
         /* clamped as a double: a position far away (or NaN) is no long */
         const double fb = floor((u[i] - lo) / dx);
@@ -61,19 +64,29 @@ static double probe(sph_sim *s, const double *u, const double *v, double lo, dou
     return walk(s->bin_count, s->bin_max, s->nbins, gap) + 0.5 * dx;
 }
 
+static double probe(sph_sim *s, const double *u, const double *v, double lo, double vlo, double vhi)
+{
+    return probe2(s, u, v, lo, vlo, vhi, NULL, 0.0, 0.0);
+}
+
 void sph_diag_compute(sph_sim *s)
 {
     const sph_config *c = &s->cfg;
     const sph_particles *P = &s->P;
     sph_diag *d = &s->diag;
-    const double m = s->mass, gx = c->gravity[0], gy = c->gravity[1];
+    const double m = s->mass, gx = c->gravity[0], gy = c->gravity[1], gz = c->gravity[2];
     double ekin = 0.0, epot = 0.0, v2max = 0.0, rlo = INFINITY, rhi = -INFINITY;
     for (long i = 0; i < s->nactive; i++) {
         if (P->type[i] != SPH_FLUID)
             continue;
-        const double v2 = P->vx[i] * P->vx[i] + P->vy[i] * P->vy[i];
+        double v2 = P->vx[i] * P->vx[i] + P->vy[i] * P->vy[i];
+        if (P->z) {
+            v2 += P->vz[i] * P->vz[i];
+            epot -= m * (gx * P->x[i] + gy * P->y[i] + gz * P->z[i]);
+        } else {
+            epot -= m * (gx * P->x[i] + gy * P->y[i]);
+        }
         ekin += 0.5 * m * v2;
-        epot -= m * (gx * P->x[i] + gy * P->y[i]);
         v2max = v2 > v2max ? v2 : v2max;
         rlo = P->rho[i] < rlo ? P->rho[i] : rlo;
         rhi = P->rho[i] > rhi ? P->rho[i] : rhi;
@@ -108,16 +121,21 @@ void sph_diag_compute(sph_sim *s)
             d->penetration = o->penetration;
     }
 
+    /* heights along the vertical, the last axis (y in 2D, z in 3D) */
+    const int V = c->dim - 1;
+    const double *vert = V == 2 ? P->z : P->y;
     const double wall = c->has_tank ? c->tank.min[0] : c->domain.min[0];
-    const double bottom = c->has_tank ? c->tank.min[1] : c->domain.min[1];
-    d->front_x = probe(s, P->x, P->y, c->domain.min[0], -INFINITY, INFINITY);
-    d->height_left = probe(s, P->y, P->x, bottom, wall, wall + 2.0 * c->dx) - bottom;
+    const double bottom = c->has_tank ? c->tank.min[V] : c->domain.min[V];
+    d->front_x = probe(s, P->x, vert, c->domain.min[0], -INFINITY, INFINITY);
+    d->height_left = probe(s, vert, P->x, bottom, wall, wall + 2.0 * c->dx) - bottom;
     const double right = c->has_tank ? c->tank.max[0] : c->domain.max[0];
-    d->runup = probe(s, P->y, P->x, bottom, right - 2.0 * c->dx, right) - bottom;
+    d->runup = probe(s, vert, P->x, bottom, right - 2.0 * c->dx, right) - bottom;
     d->ngauges = c->ngauges;
     for (int k = 0; k < c->ngauges; k++) {
-        const double xg = c->gauges[k].x;
-        const double top = probe(s, P->y, P->x, bottom, xg - c->dx, xg + c->dx);
+        const double xg = c->gauges[k].x, yg = c->gauges[k].y;
+        /* the fluid within dx of the vertical line (x) in 2D, (x, y) in 3D */
+        const double top = probe2(s, vert, P->x, bottom, xg - c->dx, xg + c->dx,
+                                  V == 2 ? P->y : NULL, yg - c->dx, yg + c->dx);
         d->gauge[k] = isnan(top) ? 0.0 : top - bottom; /* a dry gauge reads 0 */
     }
     if (s->ops->diag)

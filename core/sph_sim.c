@@ -202,6 +202,16 @@ static int gauge_check(const sph_config *c, sph_error *err)
                                  "the gauge '%s' at x = %g m must lie inside the %s (x in "
                                  "(%g, %g) m)",
                                  g->name, g->x, c->has_tank ? "tank" : "domain", lo, hi);
+        if (c->dim == 3) {
+            const double ylo = c->has_tank ? c->tank.min[1] : c->domain.min[1];
+            const double yhi = c->has_tank ? c->tank.max[1] : c->domain.max[1];
+            snprintf(path, sizeof path, "/diagnostics/gauges/%d/y", k);
+            if (!(g->y > ylo && g->y < yhi))
+                return sph_error_set(err, SPH_ERR_INVALID, path,
+                                     "the gauge '%s' at y = %g m must lie inside the %s (y in "
+                                     "(%g, %g) m)",
+                                     g->name, g->y, c->has_tank ? "tank" : "domain", ylo, yhi);
+        }
     }
     return 0;
 }
@@ -260,6 +270,9 @@ int sph_sim_check(const sph_config *c, sph_error *err)
         return sph_error_set(err, SPH_ERR_INVALID, "/time/end", "the end time must be positive");
     if (!(c->cfl > 0.0) && !(c->dt_fixed > 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/time/cfl", "cfl must be positive");
+    if (c->dim == 3 && c->nbodies > 0)
+        return sph_error_set(err, SPH_ERR_INVALID, "/bodies",
+                             "rigid bodies are available in 2D only in this version (dim = 2)");
     if (sph_body_check(c, err))
         return err ? err->code : SPH_ERR_INVALID;
     if (gauge_check(c, err))

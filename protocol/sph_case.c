@@ -284,7 +284,16 @@ static int when_holds(const json_t *root, const sph_case_field *f, char *what, s
     char path[SPH_ERROR_PATH_MAX];
     snprintf(path, sizeof path, "%.*s", (int)(eq - f->when), f->when);
     const sph_case_field *ref = row_of(path);
-    const char *name = ref ? enum_name(root, ref, path) : "";
+    char num[32];
+    const char *name = "";
+    if (ref && ref->type == SPH_CF_INTEGER) { /* an integer row: its value, given or default */
+        const json_t *v = lookup(root, path);
+        snprintf(num, sizeof num, "%lld",
+                 json_is_integer(v) ? (long long)json_integer_value(v) : (long long)ref->def);
+        name = num;
+    } else if (ref) {
+        name = enum_name(root, ref, path);
+    }
     snprintf(what, n, "'%s' applies only when %s is %s", key_of(f->path), path + 1, eq + 1);
     for (char *p = what; *p; p++)
         if (*p == '|')
@@ -547,9 +556,10 @@ int sph_case_parse_sim(const json_t *root, sph_method m, sph_config *c, sph_outp
         const json_t *up = lookup(root, parent_of(f->path, parent, sizeof parent));
         if (parse_row(root, f, lookup(root, f->path), up != NULL, m, c, o, err))
             return SPH_ERR_INVALID;
-        if (strcmp(f->path, "/dim") == 0 && c->dim != 2)
+        if (strcmp(f->path, "/dim") == 0 && c->dim != 2 && m != SPH_METHOD_WCSPH)
             return sph_error_set(err, SPH_ERR_INVALID, "/dim",
-                                 "%s is available in 2D only in this version (dim = 2)",
+                                 "%s is available in 2D only in this version (dim = 2; 3D cases "
+                                 "take \"method\": \"wcsph\")",
                                  sph_method_name(m));
     }
     o->fields |= SPH_FIELD_POS;

@@ -132,8 +132,9 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/description", .type = SPH_CF_TEXT, .methods = SPH_CF_SIMS, .doc = "free text"},
     {.path = "/method", .type = SPH_CF_TEXT, .methods = SPH_CF_SIMS, .required = SPH_CF_SIMS,
      .doc = "what to run"},
-    {.path = "/dim", .type = SPH_CF_INTEGER, .methods = SPH_CF_SIMS, .lo = 1, .hi = 3,
-     .has_def = 1, .def = 2, CFG(dim), .doc = "dimensions; only 2 in this version"},
+    {.path = "/dim", .type = SPH_CF_INTEGER, .methods = SPH_CF_SIMS, .lo = 2, .hi = 3,
+     .has_def = 1, .def = 2, CFG(dim),
+     .doc = "dimensions: 2, or 3 (wcsph only; z is the vertical axis in 3D, y in 2D)"},
     {.path = "/kernel", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS, .required = SPH_CF_MPS,
      .doc = "the kernel (section 1.1) and, for wcsph, the smoothing length"},
     {.path = "/kernel/type", .type = SPH_CF_ENUM, .methods = SPH_CF_SIMS,
@@ -388,6 +389,9 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/diagnostics/gauges/*/x", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
      .required = SPH_CF_SIMS, .lo = -1e6, .hi = 1e6, GAUGE(x),
      .doc = "the vertical line's abscissa [m], inside the tank (the domain without one)"},
+    {.path = "/diagnostics/gauges/*/y", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .required = SPH_CF_SIMS, .when = "/dim=3", .lo = -1e6, .hi = 1e6, GAUGE(y),
+     .doc = "3D: the vertical line's y [m], inside the tank (the domain without one)"},
     {.path = NULL},
 };
 /* clang-format on */

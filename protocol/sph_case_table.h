@@ -49,7 +49,8 @@ typedef struct sph_case_field {
     unsigned methods;         /* SPH_CF_M(method) for each method it applies to */
     unsigned required;        /* methods for which it must be given (when its object is) */
     const char *when;         /* NULL, or "/path=a|b": applies only while the enum row at
-                               * /path (given or default) is a or b */
+                               * /path (given or default) is a or b (an integer row: its value,
+                               * e.g. "/dim=3") */
     double lo, hi;            /* inclusive bounds of numbers, integers, vector components */
     int lo_open;              /* numbers: lo itself is excluded (x > lo) */
     int hi_open;              /* numbers: hi itself is excluded (x < hi) */

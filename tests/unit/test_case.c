@@ -191,10 +191,12 @@ static void test_table_defaults(void **state)
             const char *eq = strchr(f->when, '=');
             int found = 0;
             for (const sph_case_field *g = sph_case_fields; g < f; g++)
-                found |= g->type == SPH_CF_ENUM && strlen(g->path) == (size_t)(eq - f->when) &&
+                found |= (g->type == SPH_CF_ENUM || g->type == SPH_CF_INTEGER) &&
+                         strlen(g->path) == (size_t)(eq - f->when) &&
                          strncmp(g->path, f->when, (size_t)(eq - f->when)) == 0;
             if (!found)
-                fail_msg("%s: its condition '%s' names no enum row before it", f->path, f->when);
+                fail_msg("%s: its condition '%s' names no enum or integer row before it", f->path,
+                         f->when);
         }
         if (f->dst != SPH_CF_CFG || !(f->has_def || f->type == SPH_CF_NAMES) || element)
             continue; /* element rows land in an element (no default element to compare) */

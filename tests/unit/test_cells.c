@@ -388,8 +388,8 @@ static void test_gauges(void **state)
     (void)state;
     sph_config c = block_config();
     c.ngauges = 2;
-    c.gauges[0] = (sph_gauge_spec){"wet", 0.105};
-    c.gauges[1] = (sph_gauge_spec){"dry", 0.5};
+    c.gauges[0] = (sph_gauge_spec){"wet", 0.105, 0.0};
+    c.gauges[1] = (sph_gauge_spec){"dry", 0.5, 0.0};
     sph_error err;
     sph_sim *s = sph_sim_create(&c, &err);
     assert_non_null(s);
@@ -412,13 +412,13 @@ static void test_gauges(void **state)
     c.gauges[1].x = 1.0; /* on the domain's edge */
     assert_null(sph_sim_create(&c, &err));
     assert_string_equal(err.path, "/diagnostics/gauges/1/x");
-    c.gauges[1] = (sph_gauge_spec){"wet", 0.5};
+    c.gauges[1] = (sph_gauge_spec){"wet", 0.5, 0.0};
     assert_null(sph_sim_create(&c, &err));
     assert_string_equal(err.path, "/diagnostics/gauges/1/name");
-    c.gauges[1] = (sph_gauge_spec){"runup", 0.5};
+    c.gauges[1] = (sph_gauge_spec){"runup", 0.5, 0.0};
     assert_null(sph_sim_create(&c, &err));
     assert_string_equal(err.path, "/diagnostics/gauges/1/name");
-    c.gauges[1] = (sph_gauge_spec){"a.b", 0.5};
+    c.gauges[1] = (sph_gauge_spec){"a.b", 0.5, 0.0};
     assert_null(sph_sim_create(&c, &err));
     assert_string_equal(err.path, "/diagnostics/gauges/1/name");
 }
