@@ -3,35 +3,16 @@
 #include "sph_body.h"
 #include "sph_eos.h"
 #include "sph_initial.h"
+#include "sph_lattice.h"
 
 #include <math.h>
-
-/* Particles along one axis, capped at SPH_AXIS_MAX so that counts never overflow (a case that
- * large is refused as too large anyway). */
-#define SPH_AXIS_MAX 10000000L
-
-long sph_geometry_axis_count(double lo, double hi, double dx)
-{
-    const double n = floor((hi - lo) / dx + 1e-6);
-    if (!(n > 0))
-        return 0;
-    return n < (double)SPH_AXIS_MAX ? (long)n : SPH_AXIS_MAX;
-}
-
-long sph_geometry_box_count(const sph_box *b, int dim, double dx)
-{
-    long n = 1;
-    for (int d = 0; d < dim; d++)
-        n *= sph_geometry_axis_count(b->min[d], b->max[d], dx);
-    return n;
-}
 
 /* Wall particles: bottom row (with the corners) and the two sides. */
 static void tank_counts(const sph_config *c, long *nbottom, long *nside)
 {
     const long L = c->layers;
-    *nbottom = (sph_geometry_axis_count(c->tank.min[0], c->tank.max[0], c->dx) + 2 * L) * L;
-    *nside = sph_geometry_axis_count(c->tank.min[1], c->tank.max[1], c->dx) * L;
+    *nbottom = (sph_lattice_axis_count(c->tank.min[0], c->tank.max[0], c->dx) + 2 * L) * L;
+    *nside = sph_lattice_axis_count(c->tank.min[1], c->tank.max[1], c->dx) * L;
 }
 
 /* Bodies take their place out of the fluid boxes: a box that overlaps one is counted particle
@@ -40,7 +21,7 @@ static void tank_counts(const sph_config *c, long *nbottom, long *nside)
 
 static int box_meets_bodies(const sph_config *c, const sph_box *f)
 {
-    if (c->nbodies == 0 || sph_geometry_box_count(f, c->dim, c->dx) > SPH_CARVE_MAX)
+    if (c->nbodies == 0 || sph_lattice_box_count(f, c->dim, c->dx) > SPH_CARVE_MAX)
         return 0;
     for (int k = 0; k < c->nbodies; k++) {
         const sph_body_spec *b = &c->bodies[k];
@@ -67,7 +48,7 @@ static long fluid_box_put(const sph_config *c, const sph_box *f, sph_particles *
 static long fluid_box_count(const sph_config *c, const sph_box *f)
 {
     if (!box_meets_bodies(c, f) && !(sph_initial_elevation_max(c) > 0.0))
-        return sph_geometry_box_count(f, c->dim, c->dx);
+        return sph_lattice_box_count(f, c->dim, c->dx);
     return fluid_box_put(c, f, NULL, 0);
 }
 
@@ -118,8 +99,8 @@ static void put(sph_particles *P, long i, double x, double y, int type, double r
 static long fluid_box_put(const sph_config *c, const sph_box *f, sph_particles *P, long i0)
 {
     const double dx = c->dx;
-    const long nx = sph_geometry_axis_count(f->min[0], f->max[0], dx);
-    const long ny0 = sph_geometry_axis_count(f->min[1], f->max[1], dx);
+    const long nx = sph_lattice_axis_count(f->min[0], f->max[0], dx);
+    const long ny0 = sph_lattice_axis_count(f->min[1], f->max[1], dx);
     const int carve = box_meets_bodies(c, f);
     /* The columns are raised by the initial field's elevation, in whole particles, by error
      * diffusion: column ix gets the rows of round(S_ix) - round(S_ix-1), S the running sum of
@@ -133,7 +114,7 @@ static long fluid_box_put(const sph_config *c, const sph_box *f, sph_particles *
         const double x = f->min[0] + (ix + 0.5) * dx;
         raised += fmax(sph_initial_elevation(c, x), 0.0) / dx;
         const double r = floor(raised + 0.5);
-        const long raise = r < (double)SPH_AXIS_MAX ? (long)r - rows : 0;
+        const long raise = r < (double)SPH_LATTICE_AXIS_MAX ? (long)r - rows : 0;
         rows += raise;
         const long ny = ny0 + raise;
         if (!P && !carve) {
@@ -164,8 +145,8 @@ void sph_geometry_fill(const sph_config *c, sph_particles *P)
     const long L = c->layers;
     const double margin = (L + 0.5) * dx;
     const sph_box *t = &c->tank;
-    const long nx = sph_geometry_axis_count(t->min[0], t->max[0], dx);
-    const long ny = sph_geometry_axis_count(t->min[1], t->max[1], dx);
+    const long nx = sph_lattice_axis_count(t->min[0], t->max[0], dx);
+    const long ny = sph_lattice_axis_count(t->min[1], t->max[1], dx);
     for (long k = 0; k < L; k++) {
         const double y = t->min[1] - (k + 0.5) * dx;
         for (long ix = -L; ix < nx + L; ix++) {

@@ -3,6 +3,7 @@
  * method-specific call goes through the method's row of the table (sph_method.h).
  */
 #include "sph_geometry.h"
+#include "sph_lattice.h"
 #include "sph_rpdf.h"
 #include "sph_sim_impl.h"
 
@@ -95,9 +96,9 @@ static long ghosts_estimate(const sph_config *c)
     long n = 0;
     for (int b = 0; b < c->nfluid; b++) {
         const sph_box *f = &c->fluid[b];
-        const double nx = (double)sph_geometry_axis_count(f->min[0], f->max[0], dx);
-        const double ny = (double)sph_geometry_axis_count(
-            f->min[1], f->max[1] + sph_initial_elevation_max(c), dx);
+        const double nx = (double)sph_lattice_axis_count(f->min[0], f->max[0], dx);
+        const double ny =
+            (double)sph_lattice_axis_count(f->min[1], f->max[1] + sph_initial_elevation_max(c), dx);
         const double kx = fmin(nx, ceil(band / dx)), ky = fmin(ny, ceil(band / dx));
         const int left = f->min[0] < c->tank.min[0] + band;
         const int right = f->max[0] > c->tank.max[0] - band;
