@@ -3,17 +3,19 @@
  * of a small table (sph_initial.c): its case-file name, its parameters (name, unit, default,
  * range: what the case parser, the schema and PROTOCOL.md list), a check that it fits the case
  * (errors at the case field's JSON path), the initial velocity at a point and, where there is
- * one, the theory a run is compared with. The pressure stays hydrostatic (sph_geometry), as the
+ * one, the theory a run is compared with. The pressure stays hydrostatic (sph_shapes.h), as the
  * fields here are defined at an instant when it is (paper 001, section IV-B).
  *
  * A field may also raise the free surface above the fluid box's top (the solitary wave): the
- * fill then stacks the fluid's columns up to the raised surface, and the initial pressure is
- * hydrostatic under it.
+ * fluid box's shape (sph_shapes.c) then stacks its columns up to the raised surface, and the
+ * initial pressure is hydrostatic under it.
  *
  * A later field (a moving body, a current) is one more enum value and one more row.
  *
- * Its types and constants, which the configuration holds, are in sph_initial_spec.h: the plain
- * configuration (sph_config.h) includes that, not this.
+ * Layer 2 of the set-up pipeline (DESIGN.md section 2): pure functions of the configuration. May
+ * call: the lattice (sph_lattice.h), the configuration's own helpers (sph_config.h), libm. Never
+ * the shapes, the fill, the bodies or the sim, which call it. Its types and constants, which the
+ * configuration holds, are in sph_initial_spec.h.
  */
 #ifndef SPH_INITIAL_H
 #define SPH_INITIAL_H

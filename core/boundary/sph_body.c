@@ -3,12 +3,12 @@
  *
  * Beside the fill in the set-up pipeline (DESIGN.md section 2), above the shapes: the bodies'
  * checks, state and dynamics. May call: the bodies' shapes (sph_body_shape.h), the other shapes
- * (sph_geometry.h: the hydrostatic density), libm. Never the fill or the sim; the
+ * (sph_shapes.h: the tank's walls, the hydrostatic density), libm. Never the fill or the sim; the
  * methods' steps (wcsph/) and the sim call it.
  */
 #include "sph_body.h"
 
-#include "sph_geometry.h"
+#include "sph_shapes.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -18,26 +18,6 @@
 
 /* More body particles than this is refused (the checks below visit them all). */
 #define SPH_BODY_MAX_PARTICLES 50000000L
-
-/* Distance from (x, y) to the rectangle [x0, x1] x [y0, y1] (0 inside). */
-static double rect_distance(double x, double y, double x0, double x1, double y0, double y1)
-{
-    const double ex = x < x0 ? x0 - x : x > x1 ? x - x1 : 0.0;
-    const double ey = y < y0 ? y0 - y : y > y1 ? y - y1 : 0.0;
-    return sqrt(ex * ex + ey * ey);
-}
-
-/* Distance from (x, y) to the tank's walls (dynamic particles: `layers` layers outside its
- * bottom, left and right faces). */
-static double wall_distance(const sph_config *c, double x, double y)
-{
-    const sph_box *t = &c->tank;
-    const double w = c->layers * c->dx;
-    const double db = rect_distance(x, y, t->min[0] - w, t->max[0] + w, t->min[1] - w, t->min[1]);
-    const double dl = rect_distance(x, y, t->min[0] - w, t->min[0], t->min[1], t->max[1]);
-    const double dr = rect_distance(x, y, t->max[0], t->max[0] + w, t->min[1], t->max[1]);
-    return fmin(db, fmin(dl, dr));
-}
 
 /* ---- configuration ------------------------------------------------------------------------ */
 
@@ -138,7 +118,7 @@ int sph_body_check(const sph_config *c, sph_error *err)
                                             0.5 * dx * (1.0 - SPH_BODY_EPS)))
                     bad = j;
             wall = c->has_tank && c->boundary == SPH_BOUNDARY_DYNAMIC &&
-                   wall_distance(c, xy[2 * p], xy[2 * p + 1]) < 0.5 * dx * (1.0 - SPH_BODY_EPS);
+                   sph_shapes_tank_distance(c, xy + 2 * p) < 0.5 * dx * (1.0 - SPH_BODY_EPS);
         }
         free(xy);
         if (bad >= 0)
@@ -245,9 +225,10 @@ void sph_bodies_fill(const sph_bodies *B, const sph_config *c, sph_particles *P)
         const long i = B->first + q;
         place(B, (const double(*)[2])cs, q, P, i);
         /* with the pressure from the fluid, the density is the contact's alone (rho0 at rest) */
-        P->rho[i] = B->b[B->owner[q]].from_fluid
-                        ? c->rho0
-                        : sph_geometry_hydrostatic_density(c, P->x[i], P->y[i]);
+        P->rho[i] =
+            B->b[B->owner[q]].from_fluid
+                ? c->rho0
+                : sph_shapes_hydrostatic_density(c, (const double[]){P->x[i], P->y[i]}, 0.0);
         P->type[i] = SPH_BODY;
         P->id[i] = (int)i;
     }

@@ -5,8 +5,8 @@
  * Nothing here moves: the bodies' dynamics is sph_body.c.
  *
  * Layer 3 of the set-up pipeline (the shapes; DESIGN.md section 2). May call: libm and the plain
- * configuration (sph_config.h) only. Called by the fluid boxes (sph_geometry.c: fluid leaves the
- * bodies' places, and how many particles a case has) and the bodies' dynamics (sph_body.c).
+ * configuration (sph_config.h) only. Called by the other shapes (sph_shapes.c: fluid leaves the
+ * bodies' places), the fill (sph_fill.c: how many) and the bodies' dynamics (sph_body.c).
  */
 #ifndef SPH_BODY_SHAPE_H
 #define SPH_BODY_SHAPE_H
