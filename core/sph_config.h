@@ -6,7 +6,7 @@
 #ifndef SPH_CONFIG_H
 #define SPH_CONFIG_H
 
-#include "sph_initial.h"
+#include "sph_initial_spec.h"
 #include "sph_kernel.h"
 
 #define SPH_CONFIG_MAX_BOXES  16

@@ -1,5 +1,6 @@
 /*
- * The table of initial fields (see sph_initial.h).
+ * The table of initial fields (see sph_initial.h). Layer 2 of the set-up pipeline: may call
+ * sph_lattice.h, sph_config.h and libm only.
  *
  * Standing wave (Macia et al., paper 001, section IV-B): a tank of length L holding water of
  * depth H, the wave number k = 2 pi / lambda with lambda = 2 L / n so that the side walls are
@@ -51,7 +52,7 @@
 #include "sph_initial.h"
 
 #include "sph_config.h"
-#include "sph_geometry.h"
+#include "sph_lattice.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -190,7 +191,7 @@ static solitary sol_of(const sph_config *c)
     w.x0 = c->initial.param[SOL_CREST];
     w.order = c->initial.param[SOL_ORDER] == 3.0 ? 3 : 1;
     w.yb = c->fluid[0].min[1];
-    w.d = (double)sph_geometry_axis_count(w.yb, c->fluid[0].max[1], c->dx) * c->dx;
+    w.d = (double)sph_lattice_axis_count(w.yb, c->fluid[0].max[1], c->dx) * c->dx;
     w.g = -c->gravity[1];
     if (!(w.d > 0.0))
         w.K = 0.0;

@@ -3,55 +3,27 @@
  * of a small table (sph_initial.c): its case-file name, its parameters (name, unit, default,
  * range: what the case parser, the schema and PROTOCOL.md list), a check that it fits the case
  * (errors at the case field's JSON path), the initial velocity at a point and, where there is
- * one, the theory a run is compared with. The pressure stays hydrostatic (sph_geometry), as the
+ * one, the theory a run is compared with. The pressure stays hydrostatic (sph_shapes.h), as the
  * fields here are defined at an instant when it is (paper 001, section IV-B).
  *
  * A field may also raise the free surface above the fluid box's top (the solitary wave): the
- * fill then stacks the fluid's columns up to the raised surface, and the initial pressure is
- * hydrostatic under it.
+ * fluid box's shape (sph_shapes.c) then stacks its columns up to the raised surface, and the
+ * initial pressure is hydrostatic under it.
  *
  * A later field (a moving body, a current) is one more enum value and one more row.
+ *
+ * Layer 2 of the set-up pipeline (DESIGN.md section 2): pure functions of the configuration. May
+ * call: the lattice (sph_lattice.h), the configuration's own helpers (sph_config.h), libm. Never
+ * the shapes, the fill, the bodies or the sim, which call it. Its types and constants, which the
+ * configuration holds, are in sph_initial_spec.h.
  */
 #ifndef SPH_INITIAL_H
 #define SPH_INITIAL_H
 
 #include "sph_error.h"
+#include "sph_initial_spec.h"
 
 struct sph_config;
-
-typedef enum {
-    SPH_INITIAL_REST = 0,      /* fluid at rest (the default) */
-    SPH_INITIAL_STANDING_WAVE, /* paper 001 eqs. (6)-(7): u = grad phi0 */
-    SPH_INITIAL_SOLITARY_WAVE, /* paper 004 eqs. (5.1)-(5.2), or Grimshaw's third order: a raised
-                                * surface and its velocities */
-    SPH_INITIAL_COUNT
-} sph_initial_type;
-
-#define SPH_INITIAL_MAX_PARAMS 4
-
-/* The standing wave's parameters (the table's row and the case parser's rows share them). */
-#define SPH_SW_EPSILON_DEFAULT    0.1
-#define SPH_SW_EPSILON_MIN        1e-6
-#define SPH_SW_EPSILON_MAX        0.5
-#define SPH_SW_WAVELENGTH_DEFAULT 0.0 /* the tank's length */
-#define SPH_SW_WAVELENGTH_MIN     0.0
-#define SPH_SW_WAVELENGTH_MAX     1e6
-
-/* The solitary wave's parameters: the crest's height above the still water, its position and the
- * order of the field (1: paper 004's first-order field, 3: Grimshaw's third order). */
-#define SPH_SOL_HEIGHT_MAX     1e3
-#define SPH_SOL_HEIGHT_RATIO   0.7 /* H / d at most: steeper waves break (theory: about 0.78) */
-#define SPH_SOL_HEIGHT_RATIO_3 (1.0 / 3.0) /* H / d at most at the third order (sph_initial.c) */
-#define SPH_SOL_CREST_MAX      1e6
-#define SPH_SOL_ORDER_DEFAULT  1.0
-#define SPH_SOL_ORDER_MIN      1.0
-#define SPH_SOL_ORDER_MAX      3.0
-
-/* What a case says: the field and its parameters, in the order of the row's `params`. */
-typedef struct sph_initial_spec {
-    sph_initial_type type;
-    double param[SPH_INITIAL_MAX_PARAMS];
-} sph_initial_spec;
 
 /* One parameter of a field, as the case file names it. */
 typedef struct sph_initial_param {

@@ -2,7 +2,8 @@
  * sph_sim: the simulation handle (creation, stepping, observation). Method-agnostic: every
  * method-specific call goes through the method's row of the table (sph_method.h).
  */
-#include "sph_geometry.h"
+#include "sph_fill.h"
+#include "sph_initial.h"
 #include "sph_rpdf.h"
 #include "sph_sim_impl.h"
 
@@ -11,50 +12,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-sph_config sph_config_default(void)
-{
-    sph_config c;
-    memset(&c, 0, sizeof c);
-    c.method = SPH_METHOD_WCSPH;
-    c.dim = 2;
-    c.kernel = sph_kernel_spec_default(SPH_KERNEL_WENDLAND_C2);
-    c.h_over_dx = 1.414; /* sqrt(2): what the shipped cases are validated with */
-    c.boundary = SPH_BOUNDARY_DYNAMIC;
-    c.layers = 3;
-    c.wall_viscosity = 1.0;
-    c.rho0 = 1000.0;
-    c.gravity[1] = -9.81;
-    c.eos = SPH_EOS_LINEAR;
-    c.c0 = 20.0;
-    c.visc = SPH_VISC_ARTIFICIAL;
-    c.alpha = 0.01;
-    c.turb = SPH_TURB_NONE;
-    c.cfl = 0.2;
-    c.diag_every = 100;
-    c.probes = SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT;
-    c.max_bytes = SPH_CONFIG_DEFAULT_MAX_BYTES;
-    c.mps = sph_mps_config_default();
-    /* at rest; the standing wave's parameters and the solitary wave's order (the third slot) at
-     * the defaults the case table gives them */
-    c.initial.type = SPH_INITIAL_REST;
-    c.initial.param[0] = SPH_SW_EPSILON_DEFAULT;
-    c.initial.param[1] = SPH_SW_WAVELENGTH_DEFAULT;
-    c.initial.param[2] = SPH_SOL_ORDER_DEFAULT;
-    return c;
-}
-
-double sph_config_monaghan_alpha(const sph_config *c)
-{
-    return 2.0 * (c->dim + 2) * c->nu / (c->h_over_dx * c->dx * c->c0);
-}
-
-double sph_config_viscosity_nu(const sph_config *c)
-{
-    if (c->visc == SPH_VISC_ARTIFICIAL)
-        return c->alpha * c->h_over_dx * c->dx * c->c0 / (2.0 * (c->dim + 2));
-    return c->nu;
-}
 
 static double support_of(const sph_config *c)
 {
@@ -86,29 +43,10 @@ static void grid_bounds(const sph_config *c, double lo[3], double hi[3])
     }
 }
 
-/* Ghosts the walls need for the initial lattice, counted on its geometry: every fluid box's
- * particles within a support of a wall, one ghost per wall and per corner. */
+/* Ghosts the walls need for the initial lattice (a ghost-wall tank; 0 otherwise). */
 static long ghosts_estimate(const sph_config *c)
 {
-    if (c->boundary != SPH_BOUNDARY_GHOST || !c->has_tank)
-        return 0;
-    const double band = support_of(c), dx = c->dx;
-    long n = 0;
-    for (int b = 0; b < c->nfluid; b++) {
-        const sph_box *f = &c->fluid[b];
-        const double nx = (double)sph_geometry_axis_count(f->min[0], f->max[0], dx);
-        const double ny = (double)sph_geometry_axis_count(
-            f->min[1], f->max[1] + sph_initial_elevation_max(c), dx);
-        const double kx = fmin(nx, ceil(band / dx)), ky = fmin(ny, ceil(band / dx));
-        const int left = f->min[0] < c->tank.min[0] + band;
-        const int right = f->max[0] > c->tank.max[0] - band;
-        const int bottom = f->min[1] < c->tank.min[1] + band;
-        const double e =
-            (left + right) * kx * ny + bottom * ky * nx + (left + right) * bottom * kx * ky;
-        if (e > 0.0) /* false for NaN: a config no check has seen yet (a saved state) */
-            n += e < 1e15 ? (long)e : (long)1e15;
-    }
-    return n;
+    return sph_fill_ghosts_estimate(c, support_of(c));
 }
 
 static long nbins_of(const sph_config *c)
@@ -125,8 +63,10 @@ double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nbounda
 {
     long nf = 0, nb = 0;
     if (cfg->dx > 0.0) {
-        sph_geometry_count(cfg, &nf, &nb);
-        nb += sph_body_count(cfg); /* the bodies' particles are boundary particles that move */
+        sph_fill_counts n;
+        sph_fill_count(cfg, &n);
+        nf = n.fluid;
+        nb = n.wall + n.body; /* the bodies' particles are boundary particles that move */
     }
     if (nfluid)
         *nfluid = nf;
@@ -346,17 +286,7 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
         sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for %ld particles", nf + nb);
         return NULL;
     }
-    sph_geometry_fill(cfg, &s->P);
-    for (long i = 0; i < s->P.n; i++)
-        if (s->P.type[i] == SPH_FLUID) {
-            const double x[3] = {s->P.x[i], s->P.y[i], s->P.z ? s->P.z[i] : 0.0};
-            double v[3] = {0.0, 0.0, 0.0};
-            sph_initial_velocity(cfg, x, v);
-            s->P.vx[i] = v[0];
-            s->P.vy[i] = v[1];
-            if (s->P.vz)
-                s->P.vz[i] = v[2];
-        }
+    sph_fill(cfg, &s->P); /* fluid and walls, then the bodies' particles from their state */
     sph_bodies_fill(&s->bodies, cfg, &s->P);
     s->vmax = sph_bodies_vmax(&s->bodies); /* the first step respects the bodies' speed */
     if (s->ops->init(s, err)) {

@@ -10,6 +10,7 @@
 #include "sph_config.h"
 #include "sph_envelope.h"
 #include "sph_eos.h"
+#include "sph_initial.h"
 #include "sph_kernel.h"
 #include "sph_method.h"
 #include "sph_particles.h"

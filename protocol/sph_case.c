@@ -1,7 +1,6 @@
 #include "sph_case.h"
 #include "sph_case_table.h"
 #include "sph_sim.h"
-#include "sph_geometry.h"
 #include "sph_json.h"
 
 #include <errno.h>

@@ -4,7 +4,7 @@
  * (schema/case.schema.json) and PROTOCOL.md section 1 say the same (tests/schema checks).
  */
 #include "sph_case_table.h"
-#include "sph_geometry.h"
+#include "sph_lattice.h"
 #include "sph_json.h"
 
 #include <stdio.h>
@@ -97,7 +97,7 @@ static int parse_fluid(const json_t *fluid, const char *path, sph_config *c, sph
                                      "the fluid is outside the domain");
             }
         }
-        if (sph_geometry_box_count(&c->fluid[i], c->dim, c->dx) == 0)
+        if (sph_lattice_box_count(&c->fluid[i], c->dim, c->dx) == 0)
             return sph_error_set(err, SPH_ERR_INVALID, bpath,
                                  "the box holds no particles at dx = %g m (it is thinner than dx)",
                                  c->dx);

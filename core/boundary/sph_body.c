@@ -1,9 +1,14 @@
 /*
  * sph_body: rigid bodies of boundary particles (sph_body.h). Yang, Peng & Liu 2014, section 2.3.
+ *
+ * Beside the fill in the set-up pipeline (DESIGN.md section 2), above the shapes: the bodies'
+ * checks, state and dynamics. May call: the bodies' shapes (sph_body_shape.h), the other shapes
+ * (sph_shapes.h: the tank's walls, the hydrostatic density), libm. Never the fill or the sim; the
+ * methods' steps (wcsph/) and the sim call it.
  */
 #include "sph_body.h"
 
-#include "sph_geometry.h"
+#include "sph_shapes.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -11,158 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Counting stops past this many particles: more than any simulation may hold (2e9). */
-#define SPH_BODY_COUNT_CAP 2100000000L
-
 /* More body particles than this is refused (the checks below visit them all). */
 #define SPH_BODY_MAX_PARTICLES 50000000L
-
-/* Rounding slack of the geometric tests, in units of dx. */
-#define SPH_BODY_EPS 1e-9
-
-/* ---- shapes ------------------------------------------------------------------------------- */
-
-static double shape_area(const sph_body_spec *b)
-{
-    if (b->shape == SPH_SHAPE_CIRCLE)
-        return 0.25 * M_PI * b->diameter * b->diameter;
-    return b->size[0] * b->size[1];
-}
-
-/* Moment of inertia of the uniform solid shape of mass m about its centre. */
-static double shape_inertia(const sph_body_spec *b, double m)
-{
-    if (b->shape == SPH_SHAPE_CIRCLE)
-        return m * b->diameter * b->diameter / 8.0; /* M R^2 / 2 */
-    return m * (b->size[0] * b->size[0] + b->size[1] * b->size[1]) / 12.0;
-}
-
-/* Half the vertical and horizontal extent of the shape at angle th. */
-static void shape_half_extent(const sph_body_spec *b, double th, double ext[2])
-{
-    if (b->shape == SPH_SHAPE_CIRCLE) {
-        ext[0] = ext[1] = 0.5 * b->diameter;
-        return;
-    }
-    const double c = fabs(cos(th)), s = fabs(sin(th));
-    ext[0] = 0.5 * (b->size[0] * c + b->size[1] * s);
-    ext[1] = 0.5 * (b->size[0] * s + b->size[1] * c);
-}
-
-/* 1 if x lies inside the shape grown by `grow`, the body at its initial place. */
-static int shape_contains(const sph_body_spec *b, const double *x, double grow)
-{
-    const double dx = x[0] - b->center[0], dy = x[1] - b->center[1];
-    if (b->shape == SPH_SHAPE_CIRCLE) {
-        const double r = 0.5 * b->diameter + grow;
-        return dx * dx + dy * dy < r * r;
-    }
-    const double c = cos(b->angle), s = sin(b->angle);
-    const double u = c * dx + s * dy, v = -s * dx + c * dy; /* into the body's frame */
-    return fabs(u) < 0.5 * b->size[0] + grow && fabs(v) < 0.5 * b->size[1] + grow;
-}
-
-/* Particles along an edge of length w at spacing dx (at least 1). */
-static long edge_count(double w, double dx)
-{
-    const long n = (long)floor(w / dx + 1e-6);
-    return n > 0 ? n : 1;
-}
-
-/* The body's particles in its own frame (angle 0): rings of radius R - (k + 1/2) dx for the
- * circle (ring k has round(2 pi r / dx) particles, every other ring turned by half a spacing;
- * what is left at the centre, less than dx across, gets one particle), a lattice centred in the
- * box for the box; all of it or the outer `layers`. Writes xy (2 per particle) when not NULL;
- * returns the count. */
-static long shape_points(const sph_body_spec *b, double dx, double *xy)
-{
-    long n = 0;
-    const long L = b->layers > 0 ? b->layers : (long)1 << 30;
-    if (b->shape == SPH_SHAPE_CIRCLE) {
-        const double R = 0.5 * b->diameter;
-        for (long k = 0; k < L; k++) {
-            const double r = R - (k + 0.5) * dx;
-            if (r < 0.5 * dx * (1.0 - SPH_BODY_EPS)) {
-                if (r > -0.5 * dx * (1.0 - SPH_BODY_EPS)) {
-                    if (xy)
-                        xy[2 * n] = xy[2 * n + 1] = 0.0;
-                    n++;
-                }
-                break;
-            }
-            long m = lround(2.0 * M_PI * r / dx);
-            m = m < 3 ? 3 : m;
-            if (!xy) { /* counted, not visited: a fuzzed state's absurd circle returns at once */
-                n += m;
-                if (n > SPH_BODY_COUNT_CAP)
-                    return n;
-                continue;
-            }
-            for (long j = 0; j < m; j++, n++) {
-                const double phi = 2.0 * M_PI * ((double)j + 0.5 * (double)(k % 2)) / (double)m;
-                xy[2 * n] = r * cos(phi);
-                xy[2 * n + 1] = r * sin(phi);
-            }
-        }
-        return n;
-    }
-    const long nx = edge_count(b->size[0], dx), ny = edge_count(b->size[1], dx);
-    if (!xy) { /* counted without visiting the lattice: all of it less the hollow core */
-        const long cx = nx - 2 * L > 0 ? nx - 2 * L : 0, cy = ny - 2 * L > 0 ? ny - 2 * L : 0;
-        return nx * ny - (b->layers > 0 ? cx * cy : 0);
-    }
-    for (long i = 0; i < nx; i++)
-        for (long j = 0; j < ny; j++) {
-            /* layers from the surface: the least of the distances to the four edges */
-            long depth = i < nx - 1 - i ? i : nx - 1 - i;
-            depth = j < depth ? j : depth;
-            depth = ny - 1 - j < depth ? ny - 1 - j : depth;
-            if (depth >= L)
-                continue;
-            xy[2 * n] = -0.5 * (double)nx * dx + ((double)i + 0.5) * dx;
-            xy[2 * n + 1] = -0.5 * (double)ny * dx + ((double)j + 0.5) * dx;
-            n++;
-        }
-    return n;
-}
-
-/* The points of body b at its initial place, as a new array (2 per point); NULL when out of
- * memory. */
-static double *world_points(const sph_body_spec *b, double dx, long *np)
-{
-    *np = shape_points(b, dx, NULL);
-    double *xy = malloc((size_t)*np * 2 * sizeof *xy);
-    if (!xy)
-        return NULL;
-    shape_points(b, dx, xy);
-    const double c = cos(b->angle), s = sin(b->angle);
-    for (long p = 0; p < *np; p++) {
-        const double u = xy[2 * p], v = xy[2 * p + 1];
-        xy[2 * p] = b->center[0] + c * u - s * v;
-        xy[2 * p + 1] = b->center[1] + s * u + c * v;
-    }
-    return xy;
-}
-
-/* Distance from (x, y) to the rectangle [x0, x1] x [y0, y1] (0 inside). */
-static double rect_distance(double x, double y, double x0, double x1, double y0, double y1)
-{
-    const double ex = x < x0 ? x0 - x : x > x1 ? x - x1 : 0.0;
-    const double ey = y < y0 ? y0 - y : y > y1 ? y - y1 : 0.0;
-    return sqrt(ex * ex + ey * ey);
-}
-
-/* Distance from (x, y) to the tank's walls (dynamic particles: `layers` layers outside its
- * bottom, left and right faces). */
-static double wall_distance(const sph_config *c, double x, double y)
-{
-    const sph_box *t = &c->tank;
-    const double w = c->layers * c->dx;
-    const double db = rect_distance(x, y, t->min[0] - w, t->max[0] + w, t->min[1] - w, t->min[1]);
-    const double dl = rect_distance(x, y, t->min[0] - w, t->min[0], t->min[1], t->max[1]);
-    const double dr = rect_distance(x, y, t->max[0], t->max[0] + w, t->min[1], t->max[1]);
-    return fmin(db, fmin(dl, dr));
-}
 
 /* ---- configuration ------------------------------------------------------------------------ */
 
@@ -237,7 +92,7 @@ int sph_body_check(const sph_config *c, sph_error *err)
                                       name, b->size[d], 2.0 * dx);
                 }
         double ext[2];
-        shape_half_extent(b, b->angle, ext);
+        sph_body_shape_half_extent(b, b->angle, ext);
         for (int d = 0; d < 2; d++)
             if (!(b->center[d] - ext[d] >= c->domain.min[d] &&
                   b->center[d] + ext[d] <= c->domain.max[d]))
@@ -253,16 +108,17 @@ int sph_body_check(const sph_config *c, sph_error *err)
      * tank's walls (a particle closer than dx/2 to a wall's particles' region) */
     for (int i = 0; i < c->nbodies; i++) {
         long np;
-        double *xy = world_points(&c->bodies[i], dx, &np);
+        double *xy = sph_body_shape_world_points(&c->bodies[i], dx, &np);
         if (!xy)
             return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory");
         int bad = -1, wall = 0;
         for (long p = 0; p < np && bad < 0 && !wall; p++) {
             for (int j = i + 1; j < c->nbodies && bad < 0; j++)
-                if (shape_contains(&c->bodies[j], xy + 2 * p, 0.5 * dx * (1.0 - SPH_BODY_EPS)))
+                if (sph_body_shape_contains(&c->bodies[j], xy + 2 * p,
+                                            0.5 * dx * (1.0 - SPH_BODY_EPS)))
                     bad = j;
             wall = c->has_tank && c->boundary == SPH_BOUNDARY_DYNAMIC &&
-                   wall_distance(c, xy[2 * p], xy[2 * p + 1]) < 0.5 * dx * (1.0 - SPH_BODY_EPS);
+                   sph_shapes_tank_distance(c, xy + 2 * p) < 0.5 * dx * (1.0 - SPH_BODY_EPS);
         }
         free(xy);
         if (bad >= 0)
@@ -272,22 +128,6 @@ int sph_body_check(const sph_config *c, sph_error *err)
             return body_error(err, i, "center", "the body '%s' overlaps a wall of the tank",
                               c->bodies[i].name);
     }
-    return 0;
-}
-
-long sph_body_count(const sph_config *c)
-{
-    long n = 0;
-    for (int i = 0; i < c->nbodies; i++)
-        n += shape_points(&c->bodies[i], c->dx, NULL);
-    return n;
-}
-
-int sph_body_covers(const sph_config *c, const double *x)
-{
-    for (int i = 0; i < c->nbodies; i++)
-        if (shape_contains(&c->bodies[i], x, 0.5 * c->dx * (1.0 - SPH_BODY_EPS)))
-            return 1;
     return 0;
 }
 
@@ -317,13 +157,13 @@ int sph_bodies_init(sph_bodies *B, const sph_config *c, long first)
     for (int k = 0; k < B->n; k++) {
         const sph_body_spec *bs = &c->bodies[k];
         sph_body *b = &B->b[k];
-        const double area = shape_area(bs);
+        const double area = sph_body_shape_area(bs);
         b->mass = bs->mass > 0.0 ? bs->mass : bs->density * area;
-        b->inertia = shape_inertia(bs, b->mass);
+        b->inertia = sph_body_shape_inertia(bs, b->mass);
         b->free = bs->free;
         b->from_fluid = bs->pressure == SPH_BODY_PRESSURE_FLUID;
         b->first = first + p;
-        b->np = shape_points(bs, c->dx, B->local + 2 * p);
+        b->np = sph_body_shape_points(bs, c->dx, B->local + 2 * p);
         for (long q = 0; q < b->np; q++) {
             const double *u = B->local + 2 * (p + q);
             B->owner[p + q] = k;
@@ -385,9 +225,10 @@ void sph_bodies_fill(const sph_bodies *B, const sph_config *c, sph_particles *P)
         const long i = B->first + q;
         place(B, (const double(*)[2])cs, q, P, i);
         /* with the pressure from the fluid, the density is the contact's alone (rho0 at rest) */
-        P->rho[i] = B->b[B->owner[q]].from_fluid
-                        ? c->rho0
-                        : sph_geometry_hydrostatic_density(c, P->x[i], P->y[i]);
+        P->rho[i] =
+            B->b[B->owner[q]].from_fluid
+                ? c->rho0
+                : sph_shapes_hydrostatic_density(c, (const double[]){P->x[i], P->y[i]}, 0.0);
         P->type[i] = SPH_BODY;
         P->id[i] = (int)i;
     }
@@ -499,6 +340,6 @@ double sph_bodies_amax(const sph_bodies *B)
 double sph_bodies_penetration(const sph_bodies *B, const sph_config *c, int k)
 {
     double ext[2];
-    shape_half_extent(&c->bodies[k], B->b[k].s.theta, ext);
+    sph_body_shape_half_extent(&c->bodies[k], B->b[k].s.theta, ext);
     return B->level - (B->b[k].s.x[1] - ext[1]);
 }

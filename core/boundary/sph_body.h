@@ -3,12 +3,11 @@
  * particles of a solid "can move as a rigid body but not as separate particles ... the sum of all
  * the reaction forces on the body particles from fluid particles is applied to the whole body").
  *
- * A body is a shape (a circle of diameter D, or a box of edges w x h) filled with boundary
- * particles at spacing dx (rings for the circle, a lattice for the box), all of it or `layers`
- * layers inside its surface; the outermost particles sit dx/2 inside the surface, as the tank's
- * wall particles sit dx/2 outside its faces. Its mass and moment of inertia are those of the
- * uniform solid shape, analytically (circle M = rho pi D^2/4, I = M D^2/8; box M = rho w h,
- * I = M (w^2 + h^2)/12), whatever the particles that represent its surface.
+ * A body is a shape (sph_body_shape.h: a circle of diameter D, or a box of edges w x h) filled
+ * with boundary particles at spacing dx (rings for the circle, a lattice for the box), all of it or
+ * `layers` layers inside its surface; the outermost particles sit dx/2 inside the surface, as the
+ * tank's wall particles sit dx/2 outside its faces. Its mass and moment of inertia are those of
+ * the uniform solid shape, analytically, whatever the particles that represent its surface.
  *
  * In the pair loops body particles are boundary particles that move: their pressure is the
  * fluid's around them (sph_body_pressure.c; or, with `pressure` "continuity", their density
@@ -31,6 +30,7 @@
 #ifndef SPH_BODY_H
 #define SPH_BODY_H
 
+#include "sph_body_shape.h"
 #include "sph_cells.h"
 #include "sph_config.h"
 #include "sph_error.h"
@@ -79,20 +79,14 @@ typedef struct sph_bodies {
  * overlapping another body or a tank wall. err->path names the case field (/bodies/i/...). */
 int sph_body_check(const sph_config *c, sph_error *err);
 
-/* Body particles of all of c's bodies. */
-long sph_body_count(const sph_config *c);
-
-/* 1 if a fluid particle at x would fall inside a body of c (its shape grown by dx/2): the fluid
- * lattice leaves that place to the body. */
-int sph_body_covers(const sph_config *c, const double *x);
-
 /* Builds the bodies of c, their particles getting ids from `first` on. Returns 0 or -1 (out of
  * memory). sph_bodies_free() frees what it allocated. */
 int sph_bodies_init(sph_bodies *B, const sph_config *c, long first);
 void sph_bodies_free(sph_bodies *B);
 
 /* Writes the body particles into P at indices [first, first + np) (ids the same), positions and
- * velocities from the bodies' state, density hydrostatic under the fluid (as the walls'). */
+ * velocities from the bodies' state, density hydrostatic under the fluid (as the walls'): the
+ * last of the set-up's particles, after sph_fill()'s. */
 void sph_bodies_fill(const sph_bodies *B, const sph_config *c, sph_particles *P);
 
 /* Sets the position and velocity of every body particle among P's first n from its body's

@@ -19,7 +19,7 @@
 #include <cmocka.h>
 
 #include "sph_body.h"
-#include "sph_geometry.h"
+#include "sph_fill.h"
 #include "sph_sim.h"
 
 #include <math.h>
@@ -275,8 +275,8 @@ static void test_carving(void **state)
 {
     (void)state;
     sph_config c = tank();
-    long nf, nb;
-    sph_geometry_count(&c, &nf, &nb);
+    sph_fill_counts n;
+    sph_fill_count(&c, &n);
     long inside = 0;
     for (int i = 0; i < 40; i++)
         for (int j = 0; j < 20; j++) {
@@ -284,11 +284,11 @@ static void test_carving(void **state)
             inside += hypot(x, y - 0.2) < 0.055;
         }
     assert_true(inside > 0);
-    assert_int_equal(nf, 800 - inside);
+    assert_int_equal(n.fluid, 800 - inside);
     sph_error err;
     sph_sim *s = sph_sim_create(&c, &err);
     assert_non_null(s);
-    assert_int_equal(sph_sim_diag(s)->nfluid, nf);
+    assert_int_equal(sph_sim_diag(s)->nfluid, n.fluid);
     sph_sim_destroy(s);
 }
 

@@ -27,6 +27,7 @@
 #include <cmocka.h>
 
 #include "sph_envelope.h"
+#include "sph_initial.h"
 #include "sph_sim.h"
 
 #include <math.h>

@@ -12,6 +12,7 @@
  * and the radial particle density function (q = r/h, pairs, density) at the start and at the end
  * to the --rpdf FILE (paper 001 figs. 8, 9, 15).
  */
+#include "sph_initial.h"
 #include "sph_sim.h"
 
 #include <math.h>

@@ -1,0 +1,54 @@
+/*
+ * sph_config: the plain configuration's defaults and the viscosities it implies (sph_config.h).
+ *
+ * Layer 0 of the set-up pipeline (DESIGN.md section 2): the configuration every layer reads. May
+ * call: the kernels' and the MPS method's defaults (sph_kernel_spec_default,
+ * sph_mps_config_default) only.
+ */
+#include "sph_config.h"
+
+#include <string.h>
+
+sph_config sph_config_default(void)
+{
+    sph_config c;
+    memset(&c, 0, sizeof c);
+    c.method = SPH_METHOD_WCSPH;
+    c.dim = 2;
+    c.kernel = sph_kernel_spec_default(SPH_KERNEL_WENDLAND_C2);
+    c.h_over_dx = 1.414; /* sqrt(2): what the shipped cases are validated with */
+    c.boundary = SPH_BOUNDARY_DYNAMIC;
+    c.layers = 3;
+    c.wall_viscosity = 1.0;
+    c.rho0 = 1000.0;
+    c.gravity[1] = -9.81;
+    c.eos = SPH_EOS_LINEAR;
+    c.c0 = 20.0;
+    c.visc = SPH_VISC_ARTIFICIAL;
+    c.alpha = 0.01;
+    c.turb = SPH_TURB_NONE;
+    c.cfl = 0.2;
+    c.diag_every = 100;
+    c.probes = SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT;
+    c.max_bytes = SPH_CONFIG_DEFAULT_MAX_BYTES;
+    c.mps = sph_mps_config_default();
+    /* at rest; the standing wave's parameters and the solitary wave's order (the third slot) at
+     * the defaults the case table gives them */
+    c.initial.type = SPH_INITIAL_REST;
+    c.initial.param[0] = SPH_SW_EPSILON_DEFAULT;
+    c.initial.param[1] = SPH_SW_WAVELENGTH_DEFAULT;
+    c.initial.param[2] = SPH_SOL_ORDER_DEFAULT;
+    return c;
+}
+
+double sph_config_monaghan_alpha(const sph_config *c)
+{
+    return 2.0 * (c->dim + 2) * c->nu / (c->h_over_dx * c->dx * c->c0);
+}
+
+double sph_config_viscosity_nu(const sph_config *c)
+{
+    if (c->visc == SPH_VISC_ARTIFICIAL)
+        return c->alpha * c->h_over_dx * c->dx * c->c0 / (2.0 * (c->dim + 2));
+    return c->nu;
+}

@@ -1,0 +1,86 @@
+/*
+ * sph_fill: the particles of a case from its shapes (sph_fill.h).
+ *
+ * Layer 4 of the set-up pipeline. May call: sph_shapes.h, sph_body_shape.h, sph_initial.h (the
+ * velocity), sph_lattice.h, libm. Never sph_body.c or sph_sim.c.
+ */
+#include "sph_fill.h"
+
+#include "sph_body_shape.h"
+#include "sph_initial.h"
+#include "sph_lattice.h"
+#include "sph_shapes.h"
+
+#include <math.h>
+
+static int has_walls(const sph_config *c)
+{
+    return c->has_tank && c->boundary == SPH_BOUNDARY_DYNAMIC;
+}
+
+void sph_fill_count(const sph_config *c, sph_fill_counts *n)
+{
+    n->fluid = 0;
+    for (int b = 0; b < c->nfluid; b++)
+        n->fluid += sph_shapes_fluid_points(c, &c->fluid[b], NULL);
+    n->wall = has_walls(c) ? sph_shapes_tank_points(c, NULL) : 0;
+    n->body = sph_body_count(c);
+}
+
+/* Particles [i0, i1) of P, whose positions a shape wrote: their type, id, velocity (the initial
+ * field's for the fluid, rest for walls) and hydrostatic density (looking `margin` across). */
+static void settle(const sph_config *c, sph_particles *P, long i0, long i1, int type, double margin)
+{
+    for (long i = i0; i < i1; i++) {
+        const double x[3] = {P->x[i], P->y[i], P->z ? P->z[i] : 0.0};
+        double v[3] = {0.0, 0.0, 0.0};
+        if (type == SPH_FLUID)
+            sph_initial_velocity(c, x, v);
+        P->vx[i] = v[0];
+        P->vy[i] = v[1];
+        if (P->vz)
+            P->vz[i] = v[2];
+        P->rho[i] = sph_shapes_hydrostatic_density(c, x, margin);
+        P->type[i] = (unsigned char)type;
+        P->id[i] = (int)i;
+    }
+}
+
+void sph_fill(const sph_config *c, sph_particles *P)
+{
+    long i = 0;
+    for (int b = 0; b < c->nfluid; b++) {
+        double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};
+        const long n = sph_shapes_fluid_points(c, &c->fluid[b], at);
+        settle(c, P, i, i + n, SPH_FLUID, 0.0);
+        i += n;
+    }
+    if (!has_walls(c))
+        return;
+    double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};
+    const long n = sph_shapes_tank_points(c, at);
+    settle(c, P, i, i + n, SPH_BOUNDARY, (c->layers + 0.5) * c->dx);
+}
+
+long sph_fill_ghosts_estimate(const sph_config *c, double band)
+{
+    if (c->boundary != SPH_BOUNDARY_GHOST || !c->has_tank)
+        return 0;
+    const double dx = c->dx;
+    long n = 0;
+    for (int b = 0; b < c->nfluid; b++) {
+        const sph_box *f = &c->fluid[b];
+        const sph_box r = sph_shapes_fluid_bounds(c, f);
+        const double nx = (double)sph_lattice_axis_count(r.min[0], r.max[0], dx);
+        const double ny = (double)sph_lattice_axis_count(r.min[1], r.max[1], dx);
+        const double kx = fmin(nx, ceil(band / dx)), ky = fmin(ny, ceil(band / dx));
+        const int left = f->min[0] < c->tank.min[0] + band;
+        const int right = f->max[0] > c->tank.max[0] - band;
+        const int bottom = f->min[1] < c->tank.min[1] + band;
+        const double e =
+            (left + right) * kx * ny + bottom * ky * nx + (left + right) * bottom * kx * ky;
+        if (e > 0.0) /* false for NaN: a config no check has seen yet (a saved state) */
+            n += e < 1e15 ? (long)e : (long)1e15;
+    }
+    return n;
+}

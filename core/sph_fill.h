@@ -1,0 +1,37 @@
+/*
+ * sph_fill: the particles of a case at its start, from its shapes. It asks each shape how many
+ * particles it has and where (sph_shapes.h, sph_body_shape.h), and writes them into the particle
+ * arrays: the fluid boxes' particles first, then the tank's wall particles (dynamic walls), each
+ * with its hydrostatic density, the fluid with the initial field's velocity (sph_initial.h), the
+ * walls at rest. The rigid bodies' particles come last: sph_bodies_fill() places them from the
+ * bodies' state (boundary/sph_body.h), after these.
+ *
+ * Layer 4 of the set-up pipeline (DESIGN.md section 2: case -> shapes -> particle fill -> sim).
+ * May call: the shapes (sph_shapes.h, sph_body_shape.h), the initial fields (sph_initial.h), the
+ * lattice (sph_lattice.h), libm. Never the bodies' dynamics or the sim, which call it.
+ */
+#ifndef SPH_FILL_H
+#define SPH_FILL_H
+
+#include "sph_config.h"
+#include "sph_particles.h"
+
+/* The particles of a case, counted without being built. */
+typedef struct sph_fill_counts {
+    long fluid; /* fluid particles */
+    long wall;  /* boundary particles of the tank's walls (dynamic walls; 0 with ghosts) */
+    long body;  /* particles of the rigid bodies */
+} sph_fill_counts;
+
+/* Counts the particles of c. */
+void sph_fill_count(const sph_config *c, sph_fill_counts *n);
+
+/* Fills P's first n.fluid + n.wall particles (sph_fill_count; P allocated for at least that):
+ * fluid first, then the walls; ids their indices. */
+void sph_fill(const sph_config *c, sph_particles *P);
+
+/* Ghosts the walls of a ghost-wall tank need for the initial lattice, counted on its geometry:
+ * every fluid box's particles within `band` of a wall, one ghost per wall and per corner (2D). */
+long sph_fill_ghosts_estimate(const sph_config *c, double band);
+
+#endif
