@@ -68,6 +68,25 @@ long sph_fill_ghosts_estimate(const sph_config *c, double band)
         return 0;
     const double dx = c->dx;
     long n = 0;
+    if (c->dim == 3) { /* per wall: the fluid within the band times the wall's extent */
+        for (int b = 0; b < c->nfluid; b++) {
+            const sph_box *f = &c->fluid[b];
+            const sph_box r = sph_shapes_fluid_bounds(c, f);
+            double nn[3], e = 0.0;
+            for (int d = 0; d < 3; d++)
+                nn[d] = (double)sph_lattice_axis_count(r.min[d], r.max[d], dx);
+            for (int d = 0; d < 3; d++) {
+                const double k = fmin(nn[d], ceil(band / dx));
+                const double face = nn[(d + 1) % 3] * nn[(d + 2) % 3];
+                const int lo = f->min[d] < c->tank.min[d] + band;
+                const int hi = d < 2 && f->max[d] > c->tank.max[d] - band; /* open top */
+                e += (lo + hi) * k * face;
+            }
+            if (e > 0.0)
+                n += e < 1e15 ? (long)e : (long)1e15;
+        }
+        return n;
+    }
     for (int b = 0; b < c->nfluid; b++) {
         const sph_box *f = &c->fluid[b];
         const sph_box r = sph_shapes_fluid_bounds(c, f);

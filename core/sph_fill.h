@@ -31,7 +31,8 @@ void sph_fill_count(const sph_config *c, sph_fill_counts *n);
 void sph_fill(const sph_config *c, sph_particles *P);
 
 /* Ghosts the walls of a ghost-wall tank need for the initial lattice, counted on its geometry:
- * every fluid box's particles within `band` of a wall, one ghost per wall and per corner (2D). */
+ * every fluid box's particles within `band` of a wall, one ghost per wall and per corner (2D);
+ * per wall in 3D (the edges and corners left to the slack and to growth as needed). */
 long sph_fill_ghosts_estimate(const sph_config *c, double band);
 
 #endif

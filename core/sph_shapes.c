@@ -99,8 +99,53 @@ long sph_shapes_fluid_points(const sph_config *c, const sph_box *f, double *cons
     return i;
 }
 
+/* The 3D tank's wall points: the bottom's layers (under the whole tank, the side walls'
+ * thickness included), then the walls at x min and max (across the whole width, the corners
+ * with them), then those at y min and max, from the bottom face up to the tank's top. */
+static long tank_points_3d(const sph_config *c, double *const *pos)
+{
+    const double dx = c->dx;
+    const long L = c->layers;
+    const sph_box *t = &c->tank;
+    long n[3];
+    for (int d = 0; d < 3; d++)
+        n[d] = sph_lattice_axis_count(t->min[d], t->max[d], dx);
+    if (!pos)
+        return L * (n[0] + 2 * L) * (n[1] + 2 * L) + 2 * L * (n[1] + 2 * L) * n[2] +
+               2 * L * n[0] * n[2];
+    long i = 0;
+    for (long k = 0; k < L; k++)
+        for (long ix = -L; ix < n[0] + L; ix++)
+            for (long iy = -L; iy < n[1] + L; iy++, i++) {
+                pos[0][i] = t->min[0] + (ix + 0.5) * dx;
+                pos[1][i] = t->min[1] + (iy + 0.5) * dx;
+                pos[2][i] = t->min[2] - (k + 0.5) * dx;
+            }
+    for (long k = 0; k < L; k++)
+        for (long iy = -L; iy < n[1] + L; iy++)
+            for (long iz = 0; iz < n[2]; iz++, i += 2)
+                for (int side = 0; side < 2; side++) {
+                    pos[0][i + side] =
+                        side ? t->max[0] + (k + 0.5) * dx : t->min[0] - (k + 0.5) * dx;
+                    pos[1][i + side] = t->min[1] + (iy + 0.5) * dx;
+                    pos[2][i + side] = t->min[2] + (iz + 0.5) * dx;
+                }
+    for (long k = 0; k < L; k++)
+        for (long ix = 0; ix < n[0]; ix++)
+            for (long iz = 0; iz < n[2]; iz++, i += 2)
+                for (int side = 0; side < 2; side++) {
+                    pos[0][i + side] = t->min[0] + (ix + 0.5) * dx;
+                    pos[1][i + side] =
+                        side ? t->max[1] + (k + 0.5) * dx : t->min[1] - (k + 0.5) * dx;
+                    pos[2][i + side] = t->min[2] + (iz + 0.5) * dx;
+                }
+    return i;
+}
+
 long sph_shapes_tank_points(const sph_config *c, double *const *pos)
 {
+    if (c->dim == 3)
+        return tank_points_3d(c, pos);
     const double dx = c->dx;
     const long L = c->layers;
     const sph_box *t = &c->tank;

@@ -3,7 +3,8 @@
  * rest. A fluid box is the lattice of spacing dx inside it (particles at cell centres), its top
  * raised by the initial field's surface elevation (sph_initial.h: the solitary wave's hump), less
  * the places of rigid bodies (sph_body_shape.h). A tank is `layers` layers of wall particles
- * outside its inner faces (bottom, left and right; the top is open). The hydrostatic density is
+ * outside its inner faces (bottom and sides: left and right, and in 3D front and back; the top is
+ * open). The hydrostatic density is
  * the one under the deepest fluid column above a point, so that a column at rest starts at rest.
  *
  * Each shape answers "how many, where": its points' coordinates, written to pos[d] (d < dim) from
@@ -41,9 +42,11 @@ sph_box sph_shapes_fluid_bounds(const sph_config *c, const sph_box *f);
  * Writes pos[d][0 ..] when pos is not NULL; returns the count. */
 long sph_shapes_fluid_points(const sph_config *c, const sph_box *f, double *const *pos);
 
-/* The tank's wall points (2D): the bottom's `layers` rows (the corners with them), from the
- * bottom face down, then the sides' layers, left and right in turn, from the bottom up. Writes
- * pos[d][0 ..] when pos is not NULL; returns the count. */
+/* The tank's wall points, `layers` layers outside its bottom and its sides (the top is open).
+ * 2D: the bottom's rows (the corners with them), from the bottom face down, then the sides'
+ * layers, left and right in turn, from the bottom up. 3D: the bottom's layers under the whole
+ * tank and its walls, then the walls at x min and max (the vertical edges with them), then those
+ * at y min and max. Writes pos[d][0 ..] when pos is not NULL; returns the count. */
 long sph_shapes_tank_points(const sph_config *c, double *const *pos);
 
 /* Distance from x to the region of the tank's wall points (2D): `layers` layers of dx outside its
