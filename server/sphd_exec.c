@@ -364,11 +364,12 @@ json_t *sphd_exec_particles(const sphd_exec *x, const char *const *fields, int n
             if (!arr[f])
                 continue;
             json_t *val;
-            if (strcmp(name, "pos") == 0)
-                val = json_pack("[o, o]", num(v.pos[0][i]), num(v.pos[1][i]));
-            else if (strcmp(name, "vel") == 0)
-                val = json_pack("[o, o]", num(v.vel[0][i]), num(v.vel[1][i]));
-            else if (strcmp(name, "rho") == 0)
+            if (strcmp(name, "pos") == 0 || strcmp(name, "vel") == 0) {
+                const double *const *c = name[0] == 'p' ? v.pos : v.vel;
+                val = json_array(); /* [x, y], and z in 3D */
+                for (int d = 0; d < v.dim; d++)
+                    json_array_append_new(val, num(c[d][i]));
+            } else if (strcmp(name, "rho") == 0)
                 val = num(v.rho[i]);
             else if (strcmp(name, "p") == 0)
                 val = num(v.p[i]);

@@ -3,14 +3,23 @@
 # of a checkpoint write, and resumed each time with --resume, ends with snapshots and diagnostics
 # bitwise equal to those of an uninterrupted run (1 thread). After every kill the latest files are
 # whole: every snapshot opens with all its fields, the XDMF parses, the diagnostics file opens.
-# Usage: crash_resume.sh SPHD SOURCE_DIR [SEED]
+# With 3d: the same for a 3D dam break (issue 23: a column 0.2 x 0.25 x 0.6 m at the end of the
+# 3D still-water tank, dx = 0.05 m).
+# Usage: crash_resume.sh SPHD SOURCE_DIR [SEED [3d]]
 set -eu
-sphd=$1; src=$2; seed=${3:-$RANDOM}
+sphd=$1; src=$2; seed=${3:-$RANDOM}; mode=${4:-2d}
+[ -n "$seed" ] || seed=$RANDOM
 tmp=$(mktemp -d); pid=
 trap '[ -n "$pid" ] && kill -9 $pid 2>/dev/null || true; rm -rf "$tmp"' EXIT
 PY=/usr/bin/python3
-args=(--run "$src/cases/dambreak.json" --threads 1 --set dx=0.005 --set time.end=0.3
-      --set output.every=0.03)
+if [ "$mode" = 3d ]; then
+  args=(--run "$src/cases/hydrostatic3d.json" --threads 1 --set dx=0.05 --set time.end=0.3
+        --set output.every=0.03
+        --set 'fluid=[{"box": {"min": [0, 0, 0], "max": [0.2, 0.25, 0.6]}}]')
+else
+  args=(--run "$src/cases/dambreak.json" --threads 1 --set dx=0.005 --set time.end=0.3
+        --set output.every=0.03)
+fi
 echo "seed $seed"; RANDOM=$seed
 
 "$sphd" "${args[@]}" --out "$tmp/ref/db" >/dev/null 2>&1

@@ -57,6 +57,18 @@ for k in 1 2 3; do
   check "anon$k: diag events on the stream" "$PY" -c 'import json,sys; ev=[json.loads(l) for l in open(sys.argv[1])]; sys.exit(0 if any(e.get("type")=="diag" for e in ev) and ev[-1].get("state")=="done" else 1)' "$tmp/out"
 done
 
+# a 3D job through the daemon (issue 23): submit --watch to done, then its particles with z
+expect_rc "submit --watch a 3D tank" 0 "$C" --json submit "$SRC/cases/hydrostatic3d.json" \
+  --id tank3d --set dx=0.05 --set time.end=0.01 --watch
+check "tank3d: done" jlast "$tmp/out" 'd.get("state")=="done"'
+expect_rc "query tank3d after it ended: bad_state (its particles are gone)" 1 "$C" --json query tank3d --fields pos
+expect_rc "submit a 3D tank, not started" 0 "$C" --json submit "$SRC/cases/hydrostatic3d.json" \
+  --id tank3d2 --set dx=0.05 --set time.end=0.01 --no-start
+expect_rc "step it once" 0 "$C" step tank3d2 1
+for _ in $(seq 1 50); do "$C" --json status tank3d2 | grep -q '"paused"' && break; sleep 0.1; done
+expect_rc "query tank3d2 --fields pos,vel" 0 "$C" --json query tank3d2 --fields pos,vel --max 5
+check "3D particles: pos and vel of 3 components" jtrue "$tmp/out" 'all(len(p)==3 for p in d["particles"]["fields"]["pos"]+d["particles"]["fields"]["vel"])'
+
 expect_rc "status ks1 --json" 0 "$C" status ks1 --json
 check "status: done, with its result" jtrue "$tmp/out" 'd["state"]=="done" and d["result"]["method"]=="kernel_study"'
 check "result.json and case.json in the job dir" test -s "$STATE/jobs/ks1/result.json" -a -s "$STATE/jobs/ks1/case.json"
