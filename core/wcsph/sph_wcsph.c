@@ -85,6 +85,8 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
     const int oi = (F & F_BODY) && c->type[i] == SPH_BODY ? c->owner[c->id[i] - c->body0] : -1;
     const int fi = c->type[i] == SPH_FLUID;
     const double support2 = c->support2;
+    /* a local copy of the constants: nothing the loop stores can alias it */
+    const sph_wcsph_pair_const pc = c->pc;
     for (long j = jb; j < je; j++) {
         double d[3];
         d[0] = xi - x[j];
@@ -123,8 +125,7 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
         const int delta =
             (F & F_GHOST) || ((F & F_BODY) ? fi && c->type[j] == SPH_FLUID : !(bi | bj));
         sph_wcsph_pair_out o;
-        sph_wcsph_pair(D, F, &c->pc, d, r2, fw, dv, rhoi, rho[j], pri, pr[j], vf, ti, tj, delta,
-                       &o);
+        sph_wcsph_pair(D, F, &pc, d, r2, fw, dv, rhoi, rho[j], pri, pr[j], vf, ti, tj, delta, &o);
 
         /* continuity: the same for both particles, except that the particles of a body that
          * takes its pressure from the fluid count only solid neighbours (walls, other bodies):
