@@ -17,8 +17,9 @@
 /* 2: sph_config.method; 3: sph_config.mps, sph_diag MPS fields; 4: ghost walls, monaghan
  * viscosity, initial fields, the envelope; 5: rigid bodies (config, diag and state); 6: the
  * walls' viscosity factor; 7: a body's pressure option; 8: sph_mps_config.stabilization; 9: the
- * height gauges (sph_config and sph_diag); 10: 3D (a gauge's y; the third axis's arrays) */
-#define SIM_VERSION 10u
+ * height gauges (sph_config and sph_diag); 10: 3D (a gauge's y; the third axis's arrays);
+ * 11: obstacles */
+#define SIM_VERSION 11u
 
 typedef struct {
     char magic[8];

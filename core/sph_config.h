@@ -137,17 +137,19 @@ typedef struct sph_config {
     int layers;                          /* layers of dynamic boundary particles [-] */
     double wall_viscosity; /* dynamic walls: factor on the viscous terms of fluid-wall pairs [-] */
     int has_tank;          /* 1 if `tank` holds walls */
-    sph_box tank;          /* inner faces of the tank walls (bottom, left, right; open top) [m] */
-    double rho0;           /* reference density [kg/m^3] */
-    double gravity[3];     /* [m/s^2] */
-    sph_eos_type eos;      /* linear (Yang et al. eq. 16) or Tait (gamma = 7) */
-    double c0;             /* numerical speed of sound [m/s] */
-    sph_visc_type visc;    /* artificial (Monaghan, approaching pairs), laminar (Yang et al. eq.
-                              14) or monaghan (Monaghan's term on every pair, a physical viscosity) */
-    double alpha;          /* artificial viscosity coefficient [-] */
-    double nu;             /* kinematic viscosity for laminar and monaghan [m^2/s] */
-    sph_turb_type turb;    /* none or SPS (Yang et al. eqs. 7-9, 15) */
-    double delta_sph;      /* delta-SPH density diffusion coefficient, 0 = off [-] */
+    sph_box tank;          /* inner faces of the tank walls (bottom and sides; open top) [m] */
+    int nobstacles;        /* fixed obstacles (dynamic walls): boxes filled with wall particles */
+    sph_box obstacles[SPH_CONFIG_MAX_BOXES]; /* their boxes [m] */
+    double rho0;                             /* reference density [kg/m^3] */
+    double gravity[3];                       /* [m/s^2] */
+    sph_eos_type eos;                        /* linear (Yang et al. eq. 16) or Tait (gamma = 7) */
+    double c0;                               /* numerical speed of sound [m/s] */
+    sph_visc_type visc;       /* artificial (Monaghan, approaching pairs), laminar (Yang et al. eq.
+                                 14) or monaghan (Monaghan's term on every pair, a physical viscosity) */
+    double alpha;             /* artificial viscosity coefficient [-] */
+    double nu;                /* kinematic viscosity for laminar and monaghan [m^2/s] */
+    sph_turb_type turb;       /* none or SPS (Yang et al. eqs. 7-9, 15) */
+    double delta_sph;         /* delta-SPH density diffusion coefficient, 0 = off [-] */
     sph_initial_spec initial; /* initial velocity field of the fluid (rest by default) */
     double t_end;             /* end time [s] */
     double cfl;               /* CFL number for the adaptive time step [-] */

@@ -24,6 +24,9 @@ void sph_fill_count(const sph_config *c, sph_fill_counts *n)
     for (int b = 0; b < c->nfluid; b++)
         n->fluid += sph_shapes_fluid_points(c, &c->fluid[b], NULL);
     n->wall = has_walls(c) ? sph_shapes_tank_points(c, NULL) : 0;
+    if (c->boundary == SPH_BOUNDARY_DYNAMIC)
+        for (int k = 0; k < c->nobstacles; k++)
+            n->wall += sph_shapes_obstacle_points(c, &c->obstacles[k], NULL);
     n->body = sph_body_count(c);
 }
 
@@ -55,11 +58,20 @@ void sph_fill(const sph_config *c, sph_particles *P)
         settle(c, P, i, i + n, SPH_FLUID, 0.0);
         i += n;
     }
-    if (!has_walls(c))
+    if (has_walls(c)) {
+        double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};
+        const long n = sph_shapes_tank_points(c, at);
+        settle(c, P, i, i + n, SPH_BOUNDARY, (c->layers + 0.5) * c->dx);
+        i += n;
+    }
+    if (c->boundary != SPH_BOUNDARY_DYNAMIC)
         return;
-    double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};
-    const long n = sph_shapes_tank_points(c, at);
-    settle(c, P, i, i + n, SPH_BOUNDARY, (c->layers + 0.5) * c->dx);
+    for (int k = 0; k < c->nobstacles; k++) { /* the obstacles, after the tank's walls */
+        double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};
+        const long n = sph_shapes_obstacle_points(c, &c->obstacles[k], at);
+        settle(c, P, i, i + n, SPH_BOUNDARY, 0.0);
+        i += n;
+    }
 }
 
 long sph_fill_ghosts_estimate(const sph_config *c, double band)

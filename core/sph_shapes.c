@@ -18,6 +18,55 @@
  * by particle (unless it is too large to be built anyway). */
 #define SPH_CARVE_MAX 1000000000L
 
+/* 1 if an obstacle (grown by dx/2) meets the fluid box f. */
+static int box_meets_obstacles(const sph_config *c, const sph_box *f)
+{
+    for (int k = 0; k < c->nobstacles; k++) {
+        const sph_box *o = &c->obstacles[k];
+        int meets = 1;
+        for (int d = 0; d < c->dim && meets; d++)
+            meets = o->max[d] + 0.5 * c->dx > f->min[d] && o->min[d] - 0.5 * c->dx < f->max[d];
+        if (meets)
+            return 1;
+    }
+    return 0;
+}
+
+int sph_shapes_in_obstacle(const sph_config *c, const double *x)
+{
+    const double g = 0.5 * c->dx * (1.0 - 1e-9); /* a point on the grown face is outside */
+    for (int k = 0; k < c->nobstacles; k++) {
+        const sph_box *o = &c->obstacles[k];
+        int in = 1;
+        for (int d = 0; d < c->dim && in; d++)
+            in = x[d] > o->min[d] - g && x[d] < o->max[d] + g;
+        if (in)
+            return 1;
+    }
+    return 0;
+}
+
+long sph_shapes_obstacle_points(const sph_config *c, const sph_box *b, double *const *pos)
+{
+    const int dim = c->dim;
+    const double dx = c->dx;
+    long n[3] = {1, 1, 1};
+    for (int d = 0; d < dim; d++)
+        n[d] = sph_lattice_axis_count(b->min[d], b->max[d], dx);
+    if (!pos)
+        return n[0] * n[1] * (dim == 3 ? n[2] : 1);
+    long i = 0;
+    for (long ix = 0; ix < n[0]; ix++)
+        for (long iy = 0; iy < n[1]; iy++)
+            for (long iz = 0; iz < (dim == 3 ? n[2] : 1); iz++, i++) {
+                pos[0][i] = b->min[0] + (ix + 0.5) * dx;
+                pos[1][i] = b->min[1] + (iy + 0.5) * dx;
+                if (dim == 3)
+                    pos[2][i] = b->min[2] + (iz + 0.5) * dx;
+            }
+    return i;
+}
+
 /* 1 if a body's bounding circle (grown by dx) meets the fluid box f. */
 static int box_meets_bodies(const sph_config *c, const sph_box *f)
 {
@@ -51,7 +100,9 @@ sph_box sph_shapes_fluid_bounds(const sph_config *c, const sph_box *f)
 long sph_shapes_fluid_points(const sph_config *c, const sph_box *f, double *const *pos)
 {
     const int dim = c->dim, up = sph_shapes_up(dim);
-    const int carve = box_meets_bodies(c, f);
+    const int carve_bodies = box_meets_bodies(c, f);
+    const int carve_obstacles = box_meets_obstacles(c, f);
+    const int carve = carve_bodies || carve_obstacles;
     if (!pos && !carve && !(sph_initial_elevation_max(c) > 0.0))
         return sph_lattice_box_count(f, dim, c->dx);
     const double dx = c->dx;
@@ -87,7 +138,8 @@ long sph_shapes_fluid_points(const sph_config *c, const sph_box *f, double *cons
             }
             for (long iu = 0; iu < nup; iu++) {
                 p[up] = f->min[up] + (iu + 0.5) * dx;
-                if (carve && sph_body_covers(c, p))
+                if ((carve_bodies && sph_body_covers(c, p)) ||
+                    (carve_obstacles && sph_shapes_in_obstacle(c, p)))
                     continue;
                 if (pos)
                     for (int d = 0; d < dim; d++)

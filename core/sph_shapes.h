@@ -49,6 +49,14 @@ long sph_shapes_fluid_points(const sph_config *c, const sph_box *f, double *cons
  * at y min and max. Writes pos[d][0 ..] when pos is not NULL; returns the count. */
 long sph_shapes_tank_points(const sph_config *c, double *const *pos);
 
+/* The obstacle box b's points: its lattice at spacing dx (points at cell centres, like a fluid
+ * box's). Writes pos[d][0 ..] when pos is not NULL; returns the count. */
+long sph_shapes_obstacle_points(const sph_config *c, const sph_box *b, double *const *pos);
+
+/* 1 if the point x lies where an obstacle is: inside one of the boxes grown by dx/2 (a fluid
+ * point there would sit closer than dx to the obstacle's particles). */
+int sph_shapes_in_obstacle(const sph_config *c, const double *x);
+
 /* Distance from x to the region of the tank's wall points (2D): `layers` layers of dx outside its
  * bottom, left and right faces [m]. */
 double sph_shapes_tank_distance(const sph_config *c, const double *x);

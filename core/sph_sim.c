@@ -210,6 +210,21 @@ int sph_sim_check(const sph_config *c, sph_error *err)
         return sph_error_set(err, SPH_ERR_INVALID, "/time/end", "the end time must be positive");
     if (!(c->cfl > 0.0) && !(c->dt_fixed > 0.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/time/cfl", "cfl must be positive");
+    if (c->nobstacles < 0 || c->nobstacles > SPH_CONFIG_MAX_BOXES)
+        return sph_error_set(err, SPH_ERR_INVALID, "/boundary/obstacles", "at most %d obstacles",
+                             SPH_CONFIG_MAX_BOXES);
+    if (c->nobstacles > 0 && (c->boundary != SPH_BOUNDARY_DYNAMIC || c->method != SPH_METHOD_WCSPH))
+        return sph_error_set(err, SPH_ERR_INVALID, "/boundary/obstacles",
+                             "obstacles are boxes of dynamic wall particles: they need "
+                             "\"type\": \"dynamic\" walls and the wcsph method");
+    for (int k = 0; k < c->nobstacles; k++)
+        for (int d = 0; d < c->dim; d++)
+            if (!(c->obstacles[k].max[d] > c->obstacles[k].min[d])) {
+                char path[64];
+                snprintf(path, sizeof path, "/boundary/obstacles/%d/box/max", k);
+                return sph_error_set(err, SPH_ERR_INVALID, path,
+                                     "an obstacle's max must exceed its min");
+            }
     if (c->dim == 3 && c->nbodies > 0)
         return sph_error_set(err, SPH_ERR_INVALID, "/bodies",
                              "rigid bodies are available in 2D only in this version (dim = 2)");

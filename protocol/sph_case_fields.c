@@ -63,19 +63,19 @@ static const char *const field_names[] = {"pos", "vel", "rho", "p", "type", "id"
 static const int field_bits[] = {SPH_FIELD_POS,  SPH_FIELD_VEL, SPH_FIELD_RHO, SPH_FIELD_P,
                                  SPH_FIELD_TYPE, SPH_FIELD_ID,  SPH_FIELD_MASS};
 
-/* "fluid": 1 to SPH_CONFIG_MAX_BOXES blocks {"box": {...}} inside the domain. */
-static int parse_fluid(const json_t *fluid, const char *path, sph_config *c, sph_output_config *o,
-                       sph_error *err)
+/* An array of lo to SPH_CONFIG_MAX_BOXES objects {"box": {...}} inside the domain, each holding
+ * at least one particle, into dst[] (*n of them); `what` names them in messages. */
+static int parse_boxes(const json_t *arr, const char *path, int lo, const char *what, sph_config *c,
+                       sph_box *dst, int *n, sph_error *err)
 {
-    (void)o;
-    if (!json_is_array(fluid) || json_array_size(fluid) < 1 ||
-        json_array_size(fluid) > SPH_CONFIG_MAX_BOXES)
+    if (!json_is_array(arr) || json_array_size(arr) < (size_t)lo ||
+        json_array_size(arr) > SPH_CONFIG_MAX_BOXES)
         return sph_error_set(err, SPH_ERR_INVALID, path,
-                             "'fluid' must be an array of 1 to %d objects {\"box\": {...}}",
+                             "'%s' must be an array of %d to %d objects {\"box\": {...}}", what, lo,
                              SPH_CONFIG_MAX_BOXES);
     size_t i;
     json_t *v;
-    json_array_foreach(fluid, i, v)
+    json_array_foreach(arr, i, v)
     {
         static const char *const fkeys[] = {"box", NULL};
         char base[64], bpath[80], fpath[SPH_ERROR_PATH_MAX];
@@ -84,26 +84,43 @@ static int parse_fluid(const json_t *fluid, const char *path, sph_config *c, sph
         json_t *box;
         if (!json_is_object(v))
             return sph_error_set(err, SPH_ERR_INVALID, base,
-                                 "a fluid block must be an object {\"box\": {...}}");
+                                 "%s must be an object {\"box\": {...}}",
+                                 strcmp(what, "fluid") == 0 ? "a fluid block" : "an obstacle");
         if (sph_json_check_keys(v, base, fkeys, err) ||
             sph_json_get(v, base, "box", 1, &box, err) ||
-            sph_case_parse_box(box, bpath, c->dim, &c->fluid[i], err))
+            sph_case_parse_box(box, bpath, c->dim, &dst[i], err))
             return SPH_ERR_INVALID;
         for (int d = 0; d < c->dim; d++) {
-            const int below = c->fluid[i].min[d] < c->domain.min[d];
-            if (below || c->fluid[i].max[d] > c->domain.max[d]) {
+            const int below = dst[i].min[d] < c->domain.min[d];
+            if (below || dst[i].max[d] > c->domain.max[d]) {
                 snprintf(fpath, sizeof fpath, "%s/%s/%d", bpath, below ? "min" : "max", d);
-                return sph_error_set(err, SPH_ERR_INVALID, fpath,
-                                     "the fluid is outside the domain");
+                return sph_error_set(err, SPH_ERR_INVALID, fpath, "the %s is outside the domain",
+                                     strcmp(what, "fluid") == 0 ? "fluid" : "obstacle");
             }
         }
-        if (sph_lattice_box_count(&c->fluid[i], c->dim, c->dx) == 0)
+        if (sph_lattice_box_count(&dst[i], c->dim, c->dx) == 0)
             return sph_error_set(err, SPH_ERR_INVALID, bpath,
                                  "the box holds no particles at dx = %g m (it is thinner than dx)",
                                  c->dx);
     }
-    c->nfluid = (int)json_array_size(fluid);
+    *n = (int)json_array_size(arr);
     return 0;
+}
+
+/* "fluid": 1 to SPH_CONFIG_MAX_BOXES blocks {"box": {...}} inside the domain. */
+static int parse_fluid(const json_t *fluid, const char *path, sph_config *c, sph_output_config *o,
+                       sph_error *err)
+{
+    (void)o;
+    return parse_boxes(fluid, path, 1, "fluid", c, c->fluid, &c->nfluid, err);
+}
+
+/* "boundary.obstacles": 0 to SPH_CONFIG_MAX_BOXES boxes of wall particles inside the domain. */
+static int parse_obstacles(const json_t *v, const char *path, sph_config *c, sph_output_config *o,
+                           sph_error *err)
+{
+    (void)o;
+    return parse_boxes(v, path, 0, "obstacles", c, c->obstacles, &c->nobstacles, err);
 }
 
 static int parse_tank(const json_t *v, const char *path, sph_config *c, sph_output_config *o,
@@ -181,6 +198,10 @@ const sph_case_field sph_case_fields[] = {
      .required = SPH_CF_MPS, .parse = parse_tank, CFG(tank),
      .doc = "{\"min\", \"max\"}: inner faces of a tank with bottom, left and right walls (open "
             "top) [m]"},
+    {.path = "/boundary/obstacles", .type = SPH_CF_CUSTOM, .methods = SPH_CF_WCSPH,
+     .when = "/boundary/type=dynamic", .parse = parse_obstacles, CFG(obstacles),
+     .doc = "array of 0-16 {\"box\": {\"min\", \"max\"}}: fixed obstacles, each box filled "
+            "with wall particles at spacing dx, inside the domain; fluid leaves their place"},
     {.path = "/bodies", .type = SPH_CF_ARRAY, .methods = SPH_CF_WCSPH, .lo = 0,
      .hi = SPH_CONFIG_MAX_BODIES, CFG(bodies), .stride = sizeof(sph_body_spec),
      .count_off = offsetof(sph_config, nbodies),

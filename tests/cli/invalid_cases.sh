@@ -25,6 +25,9 @@ done
 [ $rc = 66 ] && pass=$((pass+1)) || { echo "FAIL missing file: exit $rc, want 66"; fail=$((fail+1)); }
 "$sphd" --run "$src/cases/kernel_study.json" --out "$tmp/o2" --set particles=2 >/dev/null 2>"$tmp/stderr"; rc=$?
 [ $rc = 65 ] && grep -qF "(at /particles)" "$tmp/stderr" && pass=$((pass+1)) || { echo "FAIL --set particles=2: exit $rc"; fail=$((fail+1)); }
+# a 3D case too big for the memory cap: refused before any allocation, naming dx (issue 23)
+"$sphd" --run "$src/cases/hydrostatic3d.json" --out "$tmp/o3" --set dx=0.0005 >/dev/null 2>"$tmp/stderr"; rc=$?
+[ $rc = 65 ] && grep -q "too_large: the case needs about .* MB .* use a larger dx" "$tmp/stderr" && pass=$((pass+1)) || { echo "FAIL 3D too big: exit $rc"; cat "$tmp/stderr"; fail=$((fail+1)); }
 "$sphd" --bogus >/dev/null 2>&1; rc=$?
 [ $rc = 64 ] && pass=$((pass+1)) || { echo "FAIL --bogus: exit $rc, want 64"; fail=$((fail+1)); }
 echo "invalid cases: $pass passed, $fail failed"

@@ -345,6 +345,50 @@ static sph_config block_config(void)
     return c;
 }
 
+/* Obstacles (issue 23): a box of wall particles on the lattice of dx inside it, in 2D and 3D;
+ * the fluid box that overlaps it leaves its place (no fluid particle nearer than dx to an
+ * obstacle's particle); refused with ghost walls. */
+static void test_obstacles(void **state)
+{
+    (void)state;
+    for (int dim = 2; dim <= 3; dim++) {
+        sph_config c = block_config();
+        c.dim = dim;
+        c.boundary = SPH_BOUNDARY_DYNAMIC;
+        c.gravity[1] = dim == 3 ? 0.0 : -9.81;
+        c.gravity[2] = dim == 3 ? -9.81 : 0.0;
+        c.domain.max[2] = dim == 3 ? 0.3 : 0.0;
+        c.fluid[0] = (sph_box){{0, 0, 0}, {0.2, 0.1, dim == 3 ? 0.1 : 0}};
+        c.nobstacles = 1; /* 4 x 3 (x 2) particles, overlapping the fluid's corner */
+        c.obstacles[0] = (sph_box){{0.16, 0.07, 0.08}, {0.2, 0.1, 0.1}};
+        if (dim == 2)
+            c.obstacles[0].min[2] = c.obstacles[0].max[2] = 0.0;
+        sph_error err;
+        sph_sim *s = sph_sim_create(&c, &err);
+        assert_non_null(s);
+        const long nfluid_box = dim == 3 ? 20 * 10 * 10 : 20 * 10;
+        const long nobst = dim == 3 ? 4 * 3 * 2 : 4 * 3;
+        assert_int_equal(s->nboundary, nobst);
+        assert_int_equal(s->nfluid, nfluid_box - nobst);
+        const sph_particles *P = &s->P;
+        for (long i = 0; i < P->n; i++)
+            for (long j = 0; j < P->n; j++)
+                if (P->type[i] == SPH_FLUID && P->type[j] == SPH_BOUNDARY) {
+                    double r2 = (P->x[i] - P->x[j]) * (P->x[i] - P->x[j]) +
+                                (P->y[i] - P->y[j]) * (P->y[i] - P->y[j]);
+                    if (dim == 3)
+                        r2 += (P->z[i] - P->z[j]) * (P->z[i] - P->z[j]);
+                    assert_true(r2 > 0.99 * c.dx * c.dx);
+                }
+        sph_sim_destroy(s);
+        c.boundary = SPH_BOUNDARY_GHOST;
+        c.has_tank = 1;
+        c.tank = (sph_box){{0, 0, 0}, {1.0, 1.0, dim == 3 ? 0.3 : 0}};
+        assert_null(sph_sim_create(&c, &err));
+        assert_string_equal(err.path, "/boundary/obstacles");
+    }
+}
+
 /* The front and height probes ignore a droplet far ahead of (or above) the connected fluid. */
 static void test_probes(void **state)
 {
@@ -426,11 +470,11 @@ static void test_gauges(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_sort),           cmocka_unit_test(test_artificial),
-        cmocka_unit_test(test_laminar_sps),    cmocka_unit_test(test_delta),
-        cmocka_unit_test(test_reproducible),   cmocka_unit_test(test_probes),
-        cmocka_unit_test(test_gauges),         cmocka_unit_test(test_monaghan),
-        cmocka_unit_test(test_wall_viscosity),
+        cmocka_unit_test(test_sort),         cmocka_unit_test(test_artificial),
+        cmocka_unit_test(test_laminar_sps),  cmocka_unit_test(test_delta),
+        cmocka_unit_test(test_reproducible), cmocka_unit_test(test_probes),
+        cmocka_unit_test(test_gauges),       cmocka_unit_test(test_monaghan),
+        cmocka_unit_test(test_obstacles),    cmocka_unit_test(test_wall_viscosity),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
