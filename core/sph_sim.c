@@ -109,8 +109,6 @@ static int gauge_check(const sph_config *c, sph_error *err)
     if (c->ngauges < 0 || c->ngauges > SPH_CONFIG_MAX_GAUGES)
         return sph_error_set(err, SPH_ERR_INVALID, "/diagnostics/gauges", "at most %d gauges",
                              SPH_CONFIG_MAX_GAUGES);
-    const double lo = c->has_tank ? c->tank.min[0] : c->domain.min[0];
-    const double hi = c->has_tank ? c->tank.max[0] : c->domain.max[0];
     char path[64];
     for (int k = 0; k < c->ngauges; k++) {
         const sph_gauge_spec *g = &c->gauges[k];
@@ -136,21 +134,18 @@ static int gauge_check(const sph_config *c, sph_error *err)
             if (strcmp(c->gauges[j].name, g->name) == 0)
                 return sph_error_set(err, SPH_ERR_INVALID, path, "two gauges are named '%s'",
                                      g->name);
-        snprintf(path, sizeof path, "/diagnostics/gauges/%d/x", k);
-        if (!(g->x > lo && g->x < hi))
-            return sph_error_set(err, SPH_ERR_INVALID, path,
-                                 "the gauge '%s' at x = %g m must lie inside the %s (x in "
-                                 "(%g, %g) m)",
-                                 g->name, g->x, c->has_tank ? "tank" : "domain", lo, hi);
-        if (c->dim == 3) {
-            const double ylo = c->has_tank ? c->tank.min[1] : c->domain.min[1];
-            const double yhi = c->has_tank ? c->tank.max[1] : c->domain.max[1];
-            snprintf(path, sizeof path, "/diagnostics/gauges/%d/y", k);
-            if (!(g->y > ylo && g->y < yhi))
+        /* the line's horizontal coordinates: x, and y in 3D */
+        for (int d = 0; d < c->dim - 1; d++) {
+            const double lo = c->has_tank ? c->tank.min[d] : c->domain.min[d];
+            const double hi = c->has_tank ? c->tank.max[d] : c->domain.max[d];
+            const double v = d == 0 ? g->x : g->y;
+            const char *ax = d == 0 ? "x" : "y";
+            snprintf(path, sizeof path, "/diagnostics/gauges/%d/%s", k, ax);
+            if (!(v > lo && v < hi))
                 return sph_error_set(err, SPH_ERR_INVALID, path,
-                                     "the gauge '%s' at y = %g m must lie inside the %s (y in "
+                                     "the gauge '%s' at %s = %g m must lie inside the %s (%s in "
                                      "(%g, %g) m)",
-                                     g->name, g->y, c->has_tank ? "tank" : "domain", ylo, yhi);
+                                     g->name, ax, v, c->has_tank ? "tank" : "domain", ax, lo, hi);
         }
     }
     return 0;
