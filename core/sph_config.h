@@ -79,6 +79,14 @@ typedef struct sph_gauge_spec {
     double y;                      /* 3D: the line's y [m] */
 } sph_gauge_spec;
 
+/* A pressure probe: the pressure at a point (a sensor on a wall), interpolated from the fluid
+ * particles within a kernel support with a Shepard correction, sampled with the diagnostics
+ * (sph_diag.c); 0 where no fluid is within reach (a dry sensor). */
+typedef struct sph_pressure_spec {
+    char name[SPH_GAUGE_NAME_MAX]; /* its key in diag events and its series in diag.h5 */
+    double at[3];                  /* the point [m] */
+} sph_pressure_spec;
+
 /* A rigid body of boundary particles (boundary/sph_body.h): its shape, its mass (density or
  * mass: the other is 0), its initial motion and the degrees of freedom the forces move. */
 typedef struct sph_body_spec {
@@ -158,6 +166,8 @@ typedef struct sph_config {
     unsigned probes;          /* SPH_PROBE_* mask */
     int ngauges;              /* height gauges */
     sph_gauge_spec gauges[SPH_CONFIG_MAX_GAUGES];
+    int npressure; /* pressure probes */
+    sph_pressure_spec pressure[SPH_CONFIG_MAX_GAUGES];
     double max_bytes;   /* memory a simulation may use [bytes] */
     sph_mps_config mps; /* method mps only */
 

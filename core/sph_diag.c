@@ -69,6 +69,30 @@ static double probe(sph_sim *s, const double *u, const double *v, double lo, dou
     return probe2(s, u, v, lo, vlo, vhi, NULL, 0.0, 0.0);
 }
 
+/* The pressure at x: Shepard's interpolation sum_j p_j W_j V_j / sum_j W_j V_j over the fluid
+ * particles within a kernel support (V_j = m / rho_j; p_j from the EOS, or the solved pressure
+ * of a method that solves one); 0 when none is within reach. */
+static double pressure_at(const sph_sim *s, const double *x)
+{
+    const sph_particles *P = &s->P;
+    const double support2 = s->kernel.support * s->kernel.support;
+    const int solved = s->ops->solves_pressure;
+    double num = 0.0, den = 0.0;
+    for (long i = 0; i < s->nactive; i++) {
+        if (P->type[i] != SPH_FLUID)
+            continue;
+        const double dx = P->x[i] - x[0], dy = P->y[i] - x[1], dz = P->z ? P->z[i] - x[2] : 0.0;
+        const double r2 = dx * dx + dy * dy + dz * dz;
+        if (r2 >= support2)
+            continue;
+        const double w = sph_kernel_w(&s->kernel, sqrt(r2)) / P->rho[i];
+        const double p = solved ? P->p[i] : sph_eos_pressure(&s->cfg, P->rho[i]);
+        num += p * w;
+        den += w;
+    }
+    return den > 0.0 ? num / den : 0.0;
+}
+
 void sph_diag_compute(sph_sim *s)
 {
     const sph_config *c = &s->cfg;
@@ -138,6 +162,9 @@ void sph_diag_compute(sph_sim *s)
                                   V == 2 ? P->y : NULL, yg - c->dx, yg + c->dx);
         d->gauge[k] = isnan(top) ? 0.0 : top - bottom; /* a dry gauge reads 0 */
     }
+    d->npressure = c->npressure;
+    for (int k = 0; k < c->npressure; k++)
+        d->pressure[k] = pressure_at(s, c->pressure[k].at);
     if (s->ops->diag)
         s->ops->diag(s);
 }

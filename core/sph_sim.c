@@ -89,51 +89,65 @@ double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nbounda
 
 /* The names that a gauge may not take: the diag series' own and diag.h5's tables (PROTOCOL.md
  * section 4), and the diag events' members. */
-static const char *const reserved_names[] = {"step",        "t",
-                                             "dt",          "ekin",
-                                             "epot",        "vmax",
-                                             "rho_min",     "rho_max",
-                                             "front_x",     "height_left",
-                                             "lost",        "penetration",
-                                             "runup",       "cg_iterations",
-                                             "cg_residual", "free_surface",
-                                             "bodies",      "gauges",
-                                             "job",         "seq",
-                                             "type",        "diag",
-                                             "rows",        NULL};
+static const char *const reserved_names[] = {
+    "step",         "t",           "dt",      "ekin",          "epot",
+    "vmax",         "rho_min",     "rho_max", "front_x",       "height_left",
+    "lost",         "penetration", "runup",   "cg_iterations", "cg_residual",
+    "free_surface", "bodies",      "gauges",  "pressure",      "job",
+    "seq",          "type",        "diag",    "rows",          NULL};
 
 /* The height gauges: distinct names of letters, digits, '_' and '-' (they name diag.h5's
  * series) that are not the diag series' own, each line inside the tank (the domain without one). */
+/* The name of probe k of `kind` ("gauge" or "pressure probe") at path: 1 to 31 letters,
+ * digits, '_' and '-' (it names the probe's series in diag.h5), not the diag series' own, and
+ * distinct from every probe's before it (the gauges' first, then the pressure probes'). */
+static int probe_name_check(const sph_config *c, const char *name, const char *kind, int k,
+                            const char *path, sph_error *err)
+{
+    const size_t len = strnlen(name, SPH_GAUGE_NAME_MAX);
+    if (len == 0 || len >= SPH_GAUGE_NAME_MAX)
+        return sph_error_set(err, SPH_ERR_INVALID, path, "a %s needs a name of 1 to %d characters",
+                             kind, SPH_GAUGE_NAME_MAX - 1);
+    if (name[strspn(name, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-")])
+        return sph_error_set(err, SPH_ERR_INVALID, path,
+                             "the %s name '%s' may hold only letters, digits, '_' and '-' (it "
+                             "names the %s's series in diag.h5)",
+                             kind, name, kind);
+    for (int r = 0; reserved_names[r]; r++)
+        if (strcmp(name, reserved_names[r]) == 0)
+            return sph_error_set(err, SPH_ERR_INVALID, path,
+                                 "the %s name '%s' is taken by the diagnostics' own series: "
+                                 "choose another",
+                                 kind, name);
+    const int pressure = kind[0] == 'p';
+    const int ng = pressure ? c->ngauges : k, np = pressure ? k : 0;
+    for (int j = 0; j < ng; j++)
+        if (strcmp(c->gauges[j].name, name) == 0)
+            return sph_error_set(err, SPH_ERR_INVALID, path, "two %s are named '%s'",
+                                 pressure ? "probes" : "gauges", name);
+    for (int j = 0; j < np; j++)
+        if (strcmp(c->pressure[j].name, name) == 0)
+            return sph_error_set(err, SPH_ERR_INVALID, path, "two pressure probes are named '%s'",
+                                 name);
+    return 0;
+}
+
+/* The height gauges and the pressure probes: their names (probe_name_check), each gauge's line
+ * inside the tank (the domain without one), each pressure probe's point inside the domain. */
 static int gauge_check(const sph_config *c, sph_error *err)
 {
     if (c->ngauges < 0 || c->ngauges > SPH_CONFIG_MAX_GAUGES)
         return sph_error_set(err, SPH_ERR_INVALID, "/diagnostics/gauges", "at most %d gauges",
                              SPH_CONFIG_MAX_GAUGES);
+    if (c->npressure < 0 || c->npressure > SPH_CONFIG_MAX_GAUGES)
+        return sph_error_set(err, SPH_ERR_INVALID, "/diagnostics/pressure",
+                             "at most %d pressure probes", SPH_CONFIG_MAX_GAUGES);
     char path[64];
     for (int k = 0; k < c->ngauges; k++) {
         const sph_gauge_spec *g = &c->gauges[k];
-        const size_t len = strnlen(g->name, SPH_GAUGE_NAME_MAX);
         snprintf(path, sizeof path, "/diagnostics/gauges/%d/name", k);
-        if (len == 0 || len >= SPH_GAUGE_NAME_MAX)
-            return sph_error_set(err, SPH_ERR_INVALID, path,
-                                 "a gauge needs a name of 1 to %d characters",
-                                 SPH_GAUGE_NAME_MAX - 1);
-        if (g->name[strspn(g->name, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
-                                    "0123456789_-")])
-            return sph_error_set(err, SPH_ERR_INVALID, path,
-                                 "the gauge name '%s' may hold only letters, digits, '_' and '-' "
-                                 "(it names the gauge's series in diag.h5)",
-                                 g->name);
-        for (int r = 0; reserved_names[r]; r++)
-            if (strcmp(g->name, reserved_names[r]) == 0)
-                return sph_error_set(err, SPH_ERR_INVALID, path,
-                                     "the gauge name '%s' is taken by the diagnostics' own "
-                                     "series: choose another",
-                                     g->name);
-        for (int j = 0; j < k; j++)
-            if (strcmp(c->gauges[j].name, g->name) == 0)
-                return sph_error_set(err, SPH_ERR_INVALID, path, "two gauges are named '%s'",
-                                     g->name);
+        if (probe_name_check(c, g->name, "gauge", k, path, err))
+            return SPH_ERR_INVALID;
         /* the line's horizontal coordinates: x, and y in 3D */
         for (int d = 0; d < c->dim - 1; d++) {
             const double lo = c->has_tank ? c->tank.min[d] : c->domain.min[d];
@@ -147,6 +161,20 @@ static int gauge_check(const sph_config *c, sph_error *err)
                                      "(%g, %g) m)",
                                      g->name, ax, v, c->has_tank ? "tank" : "domain", ax, lo, hi);
         }
+    }
+    for (int k = 0; k < c->npressure; k++) {
+        const sph_pressure_spec *q = &c->pressure[k];
+        snprintf(path, sizeof path, "/diagnostics/pressure/%d/name", k);
+        if (probe_name_check(c, q->name, "pressure probe", k, path, err))
+            return SPH_ERR_INVALID;
+        for (int d = 0; d < c->dim; d++)
+            if (!(q->at[d] >= c->domain.min[d] && q->at[d] <= c->domain.max[d])) {
+                snprintf(path, sizeof path, "/diagnostics/pressure/%d/at/%d", k, d);
+                return sph_error_set(err, SPH_ERR_INVALID, path,
+                                     "the pressure probe '%s' must lie inside the domain "
+                                     "([%g, %g] m on this axis)",
+                                     q->name, c->domain.min[d], c->domain.max[d]);
+            }
     }
     return 0;
 }

@@ -60,8 +60,10 @@ typedef struct sph_diag {
     double penetration; /* the first body's penetration (NAN without bodies) [m] */
     int nbodies;        /* rigid bodies, in the configuration's order (names there) */
     sph_body_diag body[SPH_CONFIG_MAX_BODIES];
-    int ngauges;                         /* height gauges, in the configuration's order */
-    double gauge[SPH_CONFIG_MAX_GAUGES]; /* their water heights (0: dry) [m] */
+    int ngauges;                            /* height gauges, in the configuration's order */
+    double gauge[SPH_CONFIG_MAX_GAUGES];    /* their water heights (0: dry) [m] */
+    int npressure;                          /* pressure probes, in the configuration's order */
+    double pressure[SPH_CONFIG_MAX_GAUGES]; /* their pressures (0: dry) [Pa] */
 } sph_diag;
 
 /* Read access to the particles. Arrays are in the sim's current (cell-sorted) order; `id` maps

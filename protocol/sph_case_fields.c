@@ -21,6 +21,10 @@
 #define GAUGE(member)                                                                              \
     .dst = SPH_CF_CFG, .off = offsetof(sph_gauge_spec, member),                                    \
     .size = sizeof(((sph_gauge_spec *)0)->member)
+/* A field of a pressure probe (an element of /diagnostics/pressure). */
+#define PRESSURE(member)                                                                           \
+    .dst = SPH_CF_CFG, .off = offsetof(sph_pressure_spec, member),                                 \
+    .size = sizeof(((sph_pressure_spec *)0)->member)
 /* A field of the MPS method's settings. */
 #define MPS(member)                                                                                \
     .dst = SPH_CF_CFG, .off = offsetof(sph_config, mps.member),                                    \
@@ -413,6 +417,18 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/diagnostics/gauges/*/y", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
      .required = SPH_CF_SIMS, .when = "/dim=3", .lo = -1e6, .hi = 1e6, GAUGE(y),
      .doc = "3D: the vertical line's y [m], inside the tank (the domain without one)"},
+    {.path = "/diagnostics/pressure", .type = SPH_CF_ARRAY, .methods = SPH_CF_SIMS, .lo = 0,
+     .hi = SPH_CONFIG_MAX_GAUGES, CFG(pressure), .stride = sizeof(sph_pressure_spec),
+     .count_off = offsetof(sph_config, npressure),
+     .doc = "array of 0-8 pressure probes: the pressure at a point (a sensor on a wall), "
+            "Shepard-interpolated from the fluid within a kernel support, in diag under "
+            "pressure.NAME; absent: none"},
+    {.path = "/diagnostics/pressure/*/name", .type = SPH_CF_STRING, .methods = SPH_CF_SIMS,
+     .required = SPH_CF_SIMS, PRESSURE(name),
+     .doc = "the probe's name, like a gauge's, distinct from every gauge's and probe's"},
+    {.path = "/diagnostics/pressure/*/at", .type = SPH_CF_VECTOR, .methods = SPH_CF_SIMS,
+     .required = SPH_CF_SIMS, .lo = -1e6, .hi = 1e6, PRESSURE(at),
+     .doc = "the point [m] (dim components), inside the domain"},
     {.path = NULL},
 };
 /* clang-format on */

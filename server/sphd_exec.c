@@ -146,6 +146,12 @@ static json_t *diag_json(const sph_diag *d, const sph_config *c, int solves_pres
             json_object_set_new(g, c->gauges[k].name, num(d->gauge[k]));
         json_object_set_new(b, "gauges", g);
     }
+    if (d->npressure > 0) {
+        json_t *g = json_object();
+        for (int k = 0; k < d->npressure && k < c->npressure; k++)
+            json_object_set_new(g, c->pressure[k].name, num(d->pressure[k]));
+        json_object_set_new(b, "pressure", g);
+    }
     if (solves_pressure) { /* the pressure solve of the latest step */
         json_object_set_new(b, "cg_iterations", json_integer(d->cg_iterations));
         json_object_set_new(b, "cg_residual", num(d->cg_residual));

@@ -37,8 +37,10 @@ static const sphd_diag_column body_columns_2d[] = {
     {"angle", "rad", 0}, {"omega", "rad/s", 0},  {"fx", "N/m", 0}, {"fy", "N/m", 0},
     {"torque", "N", 0},  {"penetration", "m", 0}};
 #define NBODYCOL ((int)(sizeof body_columns_2d / sizeof body_columns_2d[0]))
-/* Then each height gauge's series, under the gauge's name, in the order of the case's gauges. */
-#define NCOLUMNS_MAX (NDIAG + NSOLVECOL + SPH_CONFIG_MAX_BODIES * NBODYCOL + SPH_CONFIG_MAX_GAUGES)
+/* Then each height gauge's series, under the gauge's name, in the order of the case's gauges,
+ * then each pressure probe's likewise. */
+#define NCOLUMNS_MAX                                                                               \
+    (NDIAG + NSOLVECOL + SPH_CONFIG_MAX_BODIES * NBODYCOL + 2 * SPH_CONFIG_MAX_GAUGES)
 
 struct sphd_outputs {
     char dir[4096];
@@ -49,10 +51,11 @@ struct sphd_outputs {
     double mass; /* particle mass [kg] (per metre in 2D) */
     char kernel[32];
     sphd_diagfile *diag;
-    int ncolumns; /* the diag series after "step" */
-    int nsolve;   /* the pressure solve's series (NSOLVECOL or 0) */
-    int nbodies;  /* bodies with series in diag.h5 */
-    int ngauges;  /* height gauges with series in diag.h5 */
+    int ncolumns;  /* the diag series after "step" */
+    int nsolve;    /* the pressure solve's series (NSOLVECOL or 0) */
+    int nbodies;   /* bodies with series in diag.h5 */
+    int ngauges;   /* height gauges with series in diag.h5 */
+    int npressure; /* pressure probes with series in diag.h5 */
     char body_names[SPH_CONFIG_MAX_BODIES * NBODYCOL][SPH_BODY_NAME_MAX + 16];
     sphd_xdmf_entry *entries; /* snapshots written */
     int nentries, capentries;
@@ -84,7 +87,8 @@ sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case
     memcpy(cols + NDIAG, solve_columns, (size_t)o->nsolve * sizeof solve_columns[0]);
     o->nbodies = c->sim.nbodies;
     o->ngauges = c->sim.ngauges;
-    o->ncolumns = NDIAG + o->nsolve + o->nbodies * NBODYCOL + o->ngauges;
+    o->npressure = c->sim.npressure;
+    o->ncolumns = NDIAG + o->nsolve + o->nbodies * NBODYCOL + o->ngauges + o->npressure;
     for (int b = 0; b < o->nbodies; b++)
         for (int m = 0; m < NBODYCOL; m++) {
             const int k = b * NBODYCOL + m;
@@ -97,6 +101,12 @@ sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case
         sphd_diag_column *g = &cols[NDIAG + o->nsolve + o->nbodies * NBODYCOL + k];
         g->name = c->sim.gauges[k].name; /* read by the open only */
         g->units = "m";
+        g->integer = 0;
+    }
+    for (int k = 0; k < o->npressure; k++) {
+        sphd_diag_column *g = &cols[NDIAG + o->nsolve + o->nbodies * NBODYCOL + o->ngauges + k];
+        g->name = c->sim.pressure[k].name;
+        g->units = "Pa";
         g->integer = 0;
     }
     o->diag = sphd_diagfile_open(path, cols, o->ncolumns, resume_step, err);
@@ -129,6 +139,8 @@ int sphd_outputs_diag(sphd_outputs *o, const sph_diag *d, sph_error *err)
     double *vg = vb + o->nbodies * NBODYCOL;
     for (int k = 0; k < o->ngauges; k++)
         vg[k] = k < d->ngauges ? d->gauge[k] : NAN;
+    for (int k = 0; k < o->npressure; k++)
+        vg[o->ngauges + k] = k < d->npressure ? d->pressure[k] : NAN;
     return sphd_diagfile_append(o->diag, d->step, v, err);
 }
 
