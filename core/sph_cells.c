@@ -67,37 +67,37 @@ int sph_cells_reserve(sph_cells *g, long n)
     return 0;
 }
 
-long sph_cells_sort(sph_cells *g, sph_particles *P)
+/* Each particle's cell into g->key (ncells for lost particles, and those outside the grid,
+ * which become lost). D is a constant of each call. */
+static inline __attribute__((always_inline)) void cell_keys(const int D, sph_cells *g,
+                                                            sph_particles *P)
 {
     const long n = P->n, ncells = g->ncells;
     const int nx = g->nx, ny = g->ny, nz = g->nz;
     int *restrict key = g->key;
-    if (g->dim == 3) {
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-        for (long i = 0; i < n; i++) {
-            const double fx = (P->x[i] - g->x0) * g->inv_size, fy = (P->y[i] - g->y0) * g->inv_size,
-                         fz = (P->z[i] - g->z0) * g->inv_size;
-            int k = (int)ncells;
-            if (P->type[i] != SPH_LOST && fx >= 1.0 && fx < nx - 1.0 && fy >= 1.0 &&
-                fy < ny - 1.0 && fz >= 1.0 && fz < nz - 1.0)
-                k = ((int)fx * ny + (int)fy) * nz + (int)fz;
-            else
-                P->type[i] = SPH_LOST;
-            key[i] = k;
-        }
-    } else {
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-        for (long i = 0; i < n; i++) {
-            const double fx = (P->x[i] - g->x0) * g->inv_size, fy = (P->y[i] - g->y0) * g->inv_size;
-            int k = (int)ncells;
-            /* the comparisons are false for NaN: a non-finite particle is lost, never indexed */
-            if (P->type[i] != SPH_LOST && fx >= 1.0 && fx < nx - 1.0 && fy >= 1.0 && fy < ny - 1.0)
-                k = (int)fx * ny + (int)fy;
-            else
-                P->type[i] = SPH_LOST;
-            key[i] = k;
-        }
+    for (long i = 0; i < n; i++) {
+        const double fx = (P->x[i] - g->x0) * g->inv_size, fy = (P->y[i] - g->y0) * g->inv_size;
+        const double fz = D == 3 ? (P->z[i] - g->z0) * g->inv_size : 1.0;
+        int k = (int)ncells;
+        /* the comparisons are false for NaN: a non-finite particle is lost, never indexed */
+        if (P->type[i] != SPH_LOST && fx >= 1.0 && fx < nx - 1.0 && fy >= 1.0 && fy < ny - 1.0 &&
+            (D == 2 || (fz >= 1.0 && fz < nz - 1.0)))
+            k = D == 3 ? ((int)fx * ny + (int)fy) * nz + (int)fz : (int)fx * ny + (int)fy;
+        else
+            P->type[i] = SPH_LOST;
+        key[i] = k;
     }
+}
+
+long sph_cells_sort(sph_cells *g, sph_particles *P)
+{
+    const long n = P->n, ncells = g->ncells;
+    const int *restrict key = g->key;
+    if (g->dim == 3)
+        cell_keys(3, g, P);
+    else
+        cell_keys(2, g, P);
     /* counts[k + 2]: particles in cell k; the prefix sum makes it the end of cell k; the
      * backward scatter moves it down to the beginning of cell k, so that start = counts + 2
      * holds the beginnings, start[ncells] the active count and start[ncells + 1] = n. Stable:

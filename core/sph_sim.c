@@ -98,10 +98,10 @@ static const char *const reserved_names[] = {
 
 /* The height gauges: distinct names of letters, digits, '_' and '-' (they name diag.h5's
  * series) that are not the diag series' own, each line inside the tank (the domain without one). */
-/* The name of probe k of `kind` ("gauge" or "pressure probe") at path: 1 to 31 letters,
- * digits, '_' and '-' (it names the probe's series in diag.h5), not the diag series' own, and
- * distinct from every probe's before it (the gauges' first, then the pressure probes'). */
-static int probe_name_check(const sph_config *c, const char *name, const char *kind, int k,
+/* A probe's name at path (`kind`: "gauge" or "pressure probe"): 1 to 31 letters, digits, '_'
+ * and '-' (it names the probe's series in diag.h5), not the diag series' own, and distinct from
+ * the first ng gauges' and the first np pressure probes' (those checked before it). */
+static int probe_name_check(const sph_config *c, const char *name, const char *kind, int ng, int np,
                             const char *path, sph_error *err)
 {
     const size_t len = strnlen(name, SPH_GAUGE_NAME_MAX);
@@ -119,15 +119,12 @@ static int probe_name_check(const sph_config *c, const char *name, const char *k
                                  "the %s name '%s' is taken by the diagnostics' own series: "
                                  "choose another",
                                  kind, name);
-    const int pressure = kind[0] == 'p';
-    const int ng = pressure ? c->ngauges : k, np = pressure ? k : 0;
-    for (int j = 0; j < ng; j++)
-        if (strcmp(c->gauges[j].name, name) == 0)
+    for (int j = 0; j < ng + np; j++)
+        if (strcmp(j < ng ? c->gauges[j].name : c->pressure[j - ng].name, name) == 0)
             return sph_error_set(err, SPH_ERR_INVALID, path, "two %s are named '%s'",
-                                 pressure ? "probes" : "gauges", name);
-    for (int j = 0; j < np; j++)
-        if (strcmp(c->pressure[j].name, name) == 0)
-            return sph_error_set(err, SPH_ERR_INVALID, path, "two pressure probes are named '%s'",
+                                 strcmp(kind, "gauge") == 0 ? "gauges"
+                                 : j < ng                   ? "probes"
+                                                            : "pressure probes",
                                  name);
     return 0;
 }
@@ -146,7 +143,7 @@ static int gauge_check(const sph_config *c, sph_error *err)
     for (int k = 0; k < c->ngauges; k++) {
         const sph_gauge_spec *g = &c->gauges[k];
         snprintf(path, sizeof path, "/diagnostics/gauges/%d/name", k);
-        if (probe_name_check(c, g->name, "gauge", k, path, err))
+        if (probe_name_check(c, g->name, "gauge", k, 0, path, err))
             return SPH_ERR_INVALID;
         /* the line's horizontal coordinates: x, and y in 3D */
         for (int d = 0; d < c->dim - 1; d++) {
@@ -165,7 +162,7 @@ static int gauge_check(const sph_config *c, sph_error *err)
     for (int k = 0; k < c->npressure; k++) {
         const sph_pressure_spec *q = &c->pressure[k];
         snprintf(path, sizeof path, "/diagnostics/pressure/%d/name", k);
-        if (probe_name_check(c, q->name, "pressure probe", k, path, err))
+        if (probe_name_check(c, q->name, "pressure probe", c->ngauges, k, path, err))
             return SPH_ERR_INVALID;
         for (int d = 0; d < c->dim; d++)
             if (!(q->at[d] >= c->domain.min[d] && q->at[d] <= c->domain.max[d])) {
@@ -358,9 +355,14 @@ static double fluid_ekin(const sph_sim *s)
 {
     const sph_particles *P = &s->P;
     double e = 0.0;
+    const double *vz = P->vz; /* NULL in 2D */
     for (long i = 0; i < s->nactive; i++)
-        if (P->type[i] == SPH_FLUID)
-            e += P->vx[i] * P->vx[i] + P->vy[i] * P->vy[i] + (P->vz ? P->vz[i] * P->vz[i] : 0.0);
+        if (P->type[i] == SPH_FLUID) {
+            double v2 = P->vx[i] * P->vx[i] + P->vy[i] * P->vy[i];
+            if (vz)
+                v2 += vz[i] * vz[i];
+            e += v2;
+        }
     return 0.5 * s->mass * e;
 }
 

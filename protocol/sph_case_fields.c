@@ -68,9 +68,11 @@ static const int field_bits[] = {SPH_FIELD_POS,  SPH_FIELD_VEL, SPH_FIELD_RHO, S
                                  SPH_FIELD_TYPE, SPH_FIELD_ID,  SPH_FIELD_MASS};
 
 /* An array of lo to SPH_CONFIG_MAX_BOXES objects {"box": {...}} inside the domain, each holding
- * at least one particle, into dst[] (*n of them); `what` names them in messages. */
-static int parse_boxes(const json_t *arr, const char *path, int lo, const char *what, sph_config *c,
-                       sph_box *dst, int *n, sph_error *err)
+ * at least one particle, into dst[] (*n of them). Messages name the array `what`, one element
+ * `one` ("a fluid block") and its content `noun` ("fluid"). */
+static int parse_boxes(const json_t *arr, const char *path, int lo, const char *what,
+                       const char *one, const char *noun, sph_config *c, sph_box *dst, int *n,
+                       sph_error *err)
 {
     if (!json_is_array(arr) || json_array_size(arr) < (size_t)lo ||
         json_array_size(arr) > SPH_CONFIG_MAX_BOXES)
@@ -88,8 +90,7 @@ static int parse_boxes(const json_t *arr, const char *path, int lo, const char *
         json_t *box;
         if (!json_is_object(v))
             return sph_error_set(err, SPH_ERR_INVALID, base,
-                                 "%s must be an object {\"box\": {...}}",
-                                 strcmp(what, "fluid") == 0 ? "a fluid block" : "an obstacle");
+                                 "%s must be an object {\"box\": {...}}", one);
         if (sph_json_check_keys(v, base, fkeys, err) ||
             sph_json_get(v, base, "box", 1, &box, err) ||
             sph_case_parse_box(box, bpath, c->dim, &dst[i], err))
@@ -99,7 +100,7 @@ static int parse_boxes(const json_t *arr, const char *path, int lo, const char *
             if (below || dst[i].max[d] > c->domain.max[d]) {
                 snprintf(fpath, sizeof fpath, "%s/%s/%d", bpath, below ? "min" : "max", d);
                 return sph_error_set(err, SPH_ERR_INVALID, fpath, "the %s is outside the domain",
-                                     strcmp(what, "fluid") == 0 ? "fluid" : "obstacle");
+                                     noun);
             }
         }
         if (sph_lattice_box_count(&dst[i], c->dim, c->dx) == 0)
@@ -116,7 +117,8 @@ static int parse_fluid(const json_t *fluid, const char *path, sph_config *c, sph
                        sph_error *err)
 {
     (void)o;
-    return parse_boxes(fluid, path, 1, "fluid", c, c->fluid, &c->nfluid, err);
+    return parse_boxes(fluid, path, 1, "fluid", "a fluid block", "fluid", c, c->fluid, &c->nfluid,
+                       err);
 }
 
 /* "boundary.obstacles": 0 to SPH_CONFIG_MAX_BOXES boxes of wall particles inside the domain. */
@@ -124,7 +126,8 @@ static int parse_obstacles(const json_t *v, const char *path, sph_config *c, sph
                            sph_error *err)
 {
     (void)o;
-    return parse_boxes(v, path, 0, "obstacles", c, c->obstacles, &c->nobstacles, err);
+    return parse_boxes(v, path, 0, "obstacles", "an obstacle", "obstacle", c, c->obstacles,
+                       &c->nobstacles, err);
 }
 
 static int parse_tank(const json_t *v, const char *path, sph_config *c, sph_output_config *o,
