@@ -163,6 +163,8 @@ typedef struct sph_config {
     double cfl;               /* CFL number for the adaptive time step [-] */
     double dt_fixed;          /* fixed time step, 0 = adaptive [s] */
     long diag_every;          /* steps between diagnostics events [-] */
+    double diag_interval;     /* simulated time between diagnostics events, the steps landing on
+                                 its multiples; 0: every diag_every steps [s] */
     unsigned probes;          /* SPH_PROBE_* mask */
     int ngauges;              /* height gauges */
     sph_gauge_spec gauges[SPH_CONFIG_MAX_GAUGES];

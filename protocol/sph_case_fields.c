@@ -399,7 +399,12 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/diagnostics", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
      .doc = "diag events"},
     {.path = "/diagnostics/every", .type = SPH_CF_INTEGER, .methods = SPH_CF_SIMS, .lo = 1,
-     .hi = 1e9, .has_def = 1, .def = 100, CFG(diag_every), .doc = "steps between diag events"},
+     .hi = 1e9, .has_def = 1, .def = 100, CFG(diag_every),
+     .doc = "steps between diag events (without interval)"},
+    {.path = "/diagnostics/interval", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS, .lo = 1e-9,
+     .hi = 1e6, CFG(diag_interval),
+     .doc = "simulated time between diag events [s]: the steps land on its multiples (the probes "
+            "sampled at fixed times); replaces every; absent: every steps"},
     {.path = "/diagnostics/probes", .type = SPH_CF_NAMES, .methods = SPH_CF_SIMS,
      .names = probe_names, .values = probe_bits,
      .def_mask = SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT, CFG(probes),

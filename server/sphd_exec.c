@@ -7,6 +7,7 @@
 #include "sphd_ckpt.h"
 #include "sphd_outputs.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -214,11 +215,28 @@ static int outputs_due(sphd_exec *x, int at_end, sphd_emit_fn emit, void *ud, sp
     return 0;
 }
 
+/* The first multiple of interval after t (t itself when it lies on one, within rounding, is
+ * passed): where the next diag of a case with diagnostics.interval lands. */
+static double next_multiple(double t, double interval)
+{
+    const double k = floor(t / interval + 1e-9);
+    double next = (k + 1.0) * interval;
+    if (next <= t)
+        next = (k + 2.0) * interval;
+    return next;
+}
+
+static int step_due(const sph_sim *s, long every)
+{
+    return sph_sim_diag(s)->step % every == 0;
+}
+
 static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, sphd_emit_fn emit,
                                     void *ud, sph_error *err)
 {
     const double t_end = x->c.sim.t_end;
-    const long every = x->c.sim.diag_every;
+    const double interval = x->c.sim.diag_interval;
+    const long every = interval > 0.0 ? LONG_MAX : x->c.sim.diag_every;
     const double w0 = now();
     int rc = 0;
     if (x->last_diag < 0) /* the initial state */
@@ -228,6 +246,10 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
         double t_stop = until < t_end ? until : t_end;
         if (x->out && sphd_outputs_next_time(x->out) < t_stop)
             t_stop = sphd_outputs_next_time(x->out); /* land on the output time */
+        const double t_diag = interval > 0.0 ? next_multiple(sph_sim_time(x->sim), interval)
+                                             : INFINITY;
+        if (t_diag < t_stop)
+            t_stop = t_diag; /* land on the diag time */
         if (sph_sim_time(x->sim) >= t_stop)
             break;
         const long step = sph_sim_diag(x->sim)->step;
@@ -238,7 +260,7 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
         done += sph_sim_diag(x->sim)->step - step;
         if (rc)
             break;
-        if (sph_sim_diag(x->sim)->step % every == 0)
+        if (interval > 0.0 ? sph_sim_time(x->sim) >= t_diag : step_due(x->sim, every))
             rc = emit_diag(x, emit, ud, err);
         if (rc == 0 && sph_sim_time(x->sim) < t_end)
             rc = outputs_due(x, 0, emit, ud, err);

@@ -23,6 +23,25 @@ res = [e for e in ev if e["type"] == "result"]
 assert len(res) == 1 and res[0]["particles"]["fluid"] == 800, res
 print("dam break events OK:", len(ev), "events, front_x", diags[-1]["front_x"])
 PY
+# diagnostics.interval: diag at t = k * interval exactly (the steps land there), in the events and
+# in diag.h5, and at the end time
+"$sphd" --run "$src/cases/dambreak.json" --out "$tmp/iv" --set dx=0.005 --set time.end=0.02 \
+  --set diagnostics.interval=0.003 >"$tmp/ev_iv" 2>"$tmp/err_iv" ||
+  { echo "FAIL: diagnostics.interval: exit $?"; cat "$tmp/err_iv"; fail=1; }
+/usr/bin/python3 - "$tmp/ev_iv" "$tmp/iv/diag.h5" <<'PY' || fail=1
+import json, sys
+import h5py
+ev = [json.loads(l) for l in open(sys.argv[1])]
+t = [e["t"] for e in ev if e["type"] == "diag"]
+want = [k * 0.003 for k in range(7)] + [0.02]
+assert len(t) == len(want) and all(abs(a - b) < 1e-12 for a, b in zip(t, want)), (t, want)
+steps = [e["step"] for e in ev if e["type"] == "diag"]
+assert steps == sorted(set(steps)), steps
+with h5py.File(sys.argv[2], "r") as f:
+    th = list(f["t"][:])
+    assert len(th) == len(want) and all(abs(a - b) < 1e-12 for a, b in zip(th, want)), th
+print("diagnostics.interval OK: diag at", t)
+PY
 # SIGTERM: a checkpoint, a last state "paused", exit 75; --resume finishes it as if never stopped
 sets=(--set dx=0.01 --set time.end=1.5 --set diagnostics.every=50)
 "$sphd" --run "$src/cases/dambreak.json" --out "$tmp/ref" "${sets[@]}" --threads 1 >"$tmp/ev_ref" 2>/dev/null
