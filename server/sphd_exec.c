@@ -246,8 +246,8 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
         double t_stop = until < t_end ? until : t_end;
         if (x->out && sphd_outputs_next_time(x->out) < t_stop)
             t_stop = sphd_outputs_next_time(x->out); /* land on the output time */
-        const double t_diag = interval > 0.0 ? next_multiple(sph_sim_time(x->sim), interval)
-                                             : INFINITY;
+        const double t_diag =
+            interval > 0.0 ? next_multiple(sph_sim_time(x->sim), interval) : INFINITY;
         if (t_diag < t_stop)
             t_stop = t_diag; /* land on the diag time */
         if (sph_sim_time(x->sim) >= t_stop)
