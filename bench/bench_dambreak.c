@@ -13,8 +13,16 @@
  * by fluid particle-steps per second (the ghosts, rebuilt every step, are in the time, and their
  * pairs in the neighbour count).
  *
+ * 3D rows (issue 23), --steps3d steps from rest each: SPHERIC Test 2's geometry
+ * (cases/dambreak3d.json) at about 100k, 400k and 1.6M particles (fluid and walls), and
+ * DualSPHysics' own 3D dam break (examples/main/01_DamBreak) at dx = 7.4 mm (about 250k particles),
+ * the case DualSPHysics 5.4's CPU build ran side by side on this machine at 486k particle-steps/s
+ * on 2 threads (251k on 1) in 31 MiB (about 130 bytes per particle).
+ *
  * Usage: bench_dambreak [--steps N] [--repeats R] [--threads "1 2"] [--sizes "20000 80000 320000"]
- *                       [--walls "dynamic ghost"]
+ *                       [--walls "dynamic ghost"] [--steps3d 10]
+ *                       [--sizes3d "100000 400000 1600000"] [--dsph "0.0074"]
+ * An empty list ("") leaves its rows out.
  */
 #include "sph_sim.h"
 
@@ -61,6 +69,89 @@ static sph_config dambreak(long nfluid, int ghost)
     return c;
 }
 
+/* SPHERIC Test 2 (cases/dambreak3d.json, Kleefsman et al. 2005) at spacing dx: tank 3.22 x 1 x 1 m
+ * (open roof), water 1.228 x 1 x 0.55 m against the far wall, the box obstacle; Wendland C2,
+ * h = 1.414 dx, artificial viscosity 0.1, delta-SPH 0.1, c0 = 35 m/s, 3 layers of dynamic walls. */
+static sph_config test2(double dx)
+{
+    sph_config c = sph_config_default();
+    c.dim = 3;
+    c.dx = dx;
+    c.kernel = sph_kernel_spec_default(SPH_KERNEL_WENDLAND_C2);
+    c.h_over_dx = 1.414;
+    c.domain = (sph_box){{0, 0, 0}, {3.22, 1.0, 1.5}};
+    c.nfluid = 1;
+    c.fluid[0] = (sph_box){{1.992, 0, 0}, {3.22, 1.0, 0.55}};
+    c.boundary = SPH_BOUNDARY_DYNAMIC;
+    c.layers = 3;
+    c.wall_viscosity = 0.0;
+    c.has_tank = 1;
+    c.tank = (sph_box){{0, 0, 0}, {3.22, 1.0, 1.0}};
+    c.nobstacles = 1;
+    c.obstacles[0] = (sph_box){{0.6635, 0.295, 0}, {0.8245, 0.698, 0.161}};
+    c.gravity[0] = c.gravity[1] = 0.0;
+    c.gravity[2] = -9.81;
+    c.eos = SPH_EOS_LINEAR;
+    c.c0 = 35.0;
+    c.visc = SPH_VISC_ARTIFICIAL;
+    c.alpha = 0.1;
+    c.delta_sph = 0.1;
+    c.cfl = 0.2;
+    c.t_end = 6.0;
+    return c;
+}
+
+/* DualSPHysics' own 3D dam break (its examples/main/01_DamBreak) at spacing dx: tank 1.6 x 0.67 x
+ * 0.4 m, water 0.4 x 0.67 x 0.3 m in a corner, a square column 0.12 x 0.12 x 0.45 m with its
+ * corner at (0.9, 0.24); cubic spline, h = 1.732 dx, artificial viscosity 0.1, delta-SPH 0.1,
+ * c0 = 20 sqrt(g 0.3), fixed (dynamic) boundary particles in one layer, as that case draws them
+ * (so about its 249,061 particles at dx = 7.4 mm). */
+static sph_config dsph01(double dx)
+{
+    sph_config c = sph_config_default();
+    c.dim = 3;
+    c.dx = dx;
+    c.kernel = sph_kernel_spec_default(SPH_KERNEL_CUBIC_SPLINE);
+    c.h_over_dx = 1.732;
+    c.domain = (sph_box){{0, 0, 0}, {1.6, 0.67, 0.6}};
+    c.nfluid = 1;
+    c.fluid[0] = (sph_box){{0, 0, 0}, {0.4, 0.67, 0.3}};
+    c.boundary = SPH_BOUNDARY_DYNAMIC;
+    c.layers = 1;
+    c.wall_viscosity = 1.0;
+    c.has_tank = 1;
+    c.tank = (sph_box){{0, 0, 0}, {1.6, 0.67, 0.4}};
+    c.nobstacles = 1;
+    c.obstacles[0] = (sph_box){{0.9, 0.24, 0}, {1.02, 0.36, 0.45}};
+    c.gravity[0] = c.gravity[1] = 0.0;
+    c.gravity[2] = -9.81;
+    c.eos = SPH_EOS_TAIT;
+    c.c0 = 20.0 * sqrt(9.81 * 0.3);
+    c.visc = SPH_VISC_ARTIFICIAL;
+    c.alpha = 0.1;
+    c.delta_sph = 0.1;
+    c.cfl = 0.2;
+    c.t_end = 1.5;
+    return c;
+}
+
+/* Test 2's spacing for about `total` particles (fluid and walls), by bisection on the counts. */
+static double test2_dx(double total)
+{
+    double lo = 1e-3, hi = 0.2;
+    for (int k = 0; k < 60; k++) {
+        const double mid = sqrt(lo * hi);
+        sph_config c = test2(mid);
+        long nf = 0, nb = 0;
+        sph_sim_estimate_bytes(&c, &nf, &nb);
+        if ((double)(nf + nb) > total)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return hi;
+}
+
 typedef struct run {
     double rate;                 /* particle-steps per second (all particles) */
     double neighbours;           /* neighbours per particle */
@@ -70,10 +161,10 @@ typedef struct run {
     long n, nfluid;
 } run;
 
-static int one(long nfluid, int ghost, int threads, long steps, run *r)
+static int one(const sph_config *cfg, int threads, long steps, run *r)
 {
     omp_set_num_threads(threads);
-    sph_config c = dambreak(nfluid, ghost);
+    const sph_config c = *cfg;
     sph_error err;
     const double rss0 = rss_bytes();
     sph_sim *s = sph_sim_create(&c, &err);
@@ -113,11 +204,35 @@ static int by_rate(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* One row per thread count of `threads`: the median of `repeats` runs of c. */
+static int rows(const char *label, const sph_config *c, const char *threads, long steps,
+                int repeats)
+{
+    char th[64];
+    snprintf(th, sizeof th, "%s", threads);
+    for (char *tp = NULL, *tv = strtok_r(th, " ,", &tp); tv; tv = strtok_r(NULL, " ,", &tp)) {
+        run rs[50];
+        for (int k = 0; k < repeats; k++)
+            if (one(c, atoi(tv), steps, &rs[k]))
+                return -1;
+        qsort(rs, (size_t)repeats, sizeof rs[0], by_rate);
+        const run *r = &rs[repeats / 2];
+        const double ms = 1e3 / (r->rate / (double)r->n);
+        printf("%8s %8ld %8ld %7s %6.1f %10.3f %11.3f %9.3f %8.3f %8.3f %8.3f %8.0f %9.0f\n", label,
+               r->nfluid, r->n, tv, r->neighbours, r->rate / 1e6,
+               r->rate / 1e6 * (double)r->nfluid / (double)r->n, ms, 1e3 * r->t_nb, 1e3 * r->t_int,
+               1e3 * r->t_integ, r->rss, r->own);
+        fflush(stdout);
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
-    long steps = 200;
+    long steps = 200, steps3d = 10;
     int repeats = 3;
     const char *threads = "1 2", *sizes = "20000 80000 320000", *walls = "dynamic ghost";
+    const char *sizes3d = "100000 400000 1600000", *dsph = "0.0074";
     for (int i = 1; i + 1 < argc; i += 2) {
         if (strcmp(argv[i], "--steps") == 0)
             steps = atol(argv[i + 1]);
@@ -129,15 +244,21 @@ int main(int argc, char **argv)
             sizes = argv[i + 1];
         else if (strcmp(argv[i], "--walls") == 0)
             walls = argv[i + 1];
+        else if (strcmp(argv[i], "--steps3d") == 0)
+            steps3d = atol(argv[i + 1]);
+        else if (strcmp(argv[i], "--sizes3d") == 0)
+            sizes3d = argv[i + 1];
+        else if (strcmp(argv[i], "--dsph") == 0)
+            dsph = argv[i + 1];
         else {
             fprintf(stderr,
                     "usage: %s [--steps N] [--repeats R] [--threads LIST] [--sizes LIST] "
-                    "[--walls LIST]\n",
+                    "[--walls LIST] [--steps3d N] [--sizes3d LIST] [--dsph LIST]\n",
                     argv[0]);
             return 64;
         }
     }
-    if (repeats < 1 || repeats > 50 || steps < 1) {
+    if (repeats < 1 || repeats > 50 || steps < 1 || steps3d < 1) {
         fprintf(stderr, "bench_dambreak: bad --steps or --repeats\n");
         return 64;
     }
@@ -161,30 +282,37 @@ int main(int argc, char **argv)
                 fprintf(stderr, "bench_dambreak: walls are dynamic or ghost, not %s\n", wv);
                 return 64;
             }
-            char th[64];
-            snprintf(th, sizeof th, "%s", threads);
-            for (char *tp = NULL, *tv = strtok_r(th, " ,", &tp); tv;
-                 tv = strtok_r(NULL, " ,", &tp)) {
-                run rs[50];
-                int ok = 1;
-                for (int k = 0; k < repeats && ok; k++)
-                    ok = one(atol(sv), ghost, atoi(tv), steps, &rs[k]) == 0;
-                if (!ok)
-                    return 1;
-                qsort(rs, (size_t)repeats, sizeof rs[0], by_rate);
-                const run *r = &rs[repeats / 2];
-                const double ms = 1e3 / (r->rate / (double)r->n);
-                printf(
-                    "%8s %8ld %8ld %7s %6.1f %10.3f %11.3f %9.3f %8.3f %8.3f %8.3f %8.0f %9.0f\n",
-                    wv, r->nfluid, r->n, tv, r->neighbours, r->rate / 1e6,
-                    r->rate / 1e6 * (double)r->nfluid / (double)r->n, ms, 1e3 * r->t_nb,
-                    1e3 * r->t_int, 1e3 * r->t_integ, r->rss, r->own);
-                fflush(stdout);
-            }
+            const sph_config c = dambreak(atol(sv), ghost);
+            if (rows(wv, &c, threads, steps, repeats))
+                return 1;
         }
+    }
+    if (*sizes3d || *dsph) {
+        printf("\n3D, %ld steps from rest, median of %d runs: 'test2' is SPHERIC Test 2 "
+               "(cases/dambreak3d.json: Wendland C2, h = 1.414 dx, alpha = 0.1, c0 = 35 m/s); "
+               "'dsph01' DualSPHysics' examples/main/01_DamBreak (cubic spline, h = 1.732 dx, "
+               "alpha = 0.1, Tait, c0 = 20 sqrt(g 0.3))\n",
+               steps3d, repeats);
+        printf("%8s %8s %8s %7s %6s %10s %11s %9s %8s %8s %8s %8s %9s\n", "case", "fluid", "total",
+               "threads", "neigh", "Mpart-st/s", "Mfluid-st/s", "ms/step", "nb ms", "inter ms",
+               "integ ms", "RSS B/p", "store B/p");
+    }
+    snprintf(sz, sizeof sz, "%s", sizes3d);
+    for (char *sp = NULL, *sv = strtok_r(sz, " ,", &sp); sv; sv = strtok_r(NULL, " ,", &sp)) {
+        const sph_config c = test2(test2_dx(atof(sv)));
+        if (rows("test2", &c, threads, steps3d, repeats))
+            return 1;
+    }
+    snprintf(sz, sizeof sz, "%s", dsph);
+    for (char *sp = NULL, *sv = strtok_r(sz, " ,", &sp); sv; sv = strtok_r(NULL, " ,", &sp)) {
+        const sph_config c = dsph01(atof(sv));
+        if (rows("dsph01", &c, threads, steps3d, repeats))
+            return 1;
     }
     printf("reference: DualSPHysics 5.4 CPU, same configuration at about 20k fluid particles, 2 "
            "threads, this machine: about 1.9 M particle-steps/s (target here: >= 3.8).\n"
+           "dsph01: DualSPHysics 5.4 CPU on this machine, 249,061 particles: 486k particle-steps/s "
+           "on 2 threads, 251k on 1, 31 MiB (about 130 B/particle); target here >= 3x.\n"
            "A step here is one force evaluation (velocity Verlet); DualSPHysics' symplectic step "
            "makes two. Timings on a machine shared with other work are noisy: compare medians.\n");
     return 0;

@@ -7,8 +7,10 @@
  * bins. The front is the right edge (x + dx/2) of the last particle reached: droplets farther
  * ahead than a kernel support from the connected fluid do not count. The height at the left
  * wall is the same walk upwards over the fluid within 2 dx of the wall; the run-up, the same at
- * the right wall; a height gauge, the same over the fluid within dx of its line (0 when there is
- * none: a dry gauge).
+ * the right wall. A height gauge walks upwards over the fluid within dx of its line across gaps
+ * of at most one empty bin: the top of the continuous water column from the bottom, as a wire
+ * gauge reads it (a sheet or a jet falling above the surface, with air between, does not count);
+ * 0 when no fluid is there: a dry gauge.
  */
 #include "sph_sim_impl.h"
 
@@ -39,9 +41,10 @@ static double walk(const int *count, const double *maxc, long nb, long gap)
 }
 
 /* Histogram of coordinate u of the fluid particles with v in [vlo, vhi) (and, when w is not
- * NULL, w in [wlo, whi)) over [lo, lo + nb dx). */
+ * NULL, w in [wlo, whi)) over [lo, lo + nb dx), walked across gaps of at most `gap` empty bins
+ * (< 0: the bins a kernel support spans). */
 static double probe2(sph_sim *s, const double *u, const double *v, double lo, double vlo,
-                     double vhi, const double *w, double wlo, double whi)
+                     double vhi, const double *w, double wlo, double whi, long gap)
 {
     const sph_particles *P = &s->P;
     const double dx = s->cfg.dx;
@@ -59,14 +62,16 @@ static double probe2(sph_sim *s, const double *u, const double *v, double lo, do
         if (u[i] > s->bin_max[b])
             s->bin_max[b] = u[i];
     }
-    const double g = ceil(s->kernel.support / dx) + 1.0; /* the bins a support spans */
-    const long gap = g < (double)s->nbins ? (long)g : s->nbins;
+    if (gap < 0) {
+        const double g = ceil(s->kernel.support / dx) + 1.0; /* the bins a support spans */
+        gap = g < (double)s->nbins ? (long)g : s->nbins;
+    }
     return walk(s->bin_count, s->bin_max, s->nbins, gap) + 0.5 * dx;
 }
 
 static double probe(sph_sim *s, const double *u, const double *v, double lo, double vlo, double vhi)
 {
-    return probe2(s, u, v, lo, vlo, vhi, NULL, 0.0, 0.0);
+    return probe2(s, u, v, lo, vlo, vhi, NULL, 0.0, 0.0, -1);
 }
 
 /* The pressure at x: Shepard's interpolation sum_j p_j W_j V_j / sum_j W_j V_j over the fluid
@@ -159,7 +164,7 @@ void sph_diag_compute(sph_sim *s)
         const double xg = c->gauges[k].x, yg = c->gauges[k].y;
         /* the fluid within dx of the vertical line (x) in 2D, (x, y) in 3D */
         const double top = probe2(s, vert, P->x, bottom, xg - c->dx, xg + c->dx,
-                                  V == 2 ? P->y : NULL, yg - c->dx, yg + c->dx);
+                                  V == 2 ? P->y : NULL, yg - c->dx, yg + c->dx, 1);
         d->gauge[k] = isnan(top) ? 0.0 : top - bottom; /* a dry gauge reads 0 */
     }
     d->npressure = c->npressure;

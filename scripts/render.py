@@ -1,7 +1,9 @@
 """Renders a job's particles at one time to a PNG with ParaView, the way a user would look at them:
 particles.xmf opened with ParaView's default reader, the fluid alone (Threshold on `type`),
-coloured by pressure, the tank walls in grey, seen from the front; prints the front position, the
-layer thickness and the pressure range at that time.
+coloured by pressure, the walls in grey. A 2D case is seen from the front, the walls' width filling
+the picture, and the front position, the layer thickness and the pressure range are printed; a 3D
+case (z up) in perspective from the front left, above, the walls faint, and the fluid's extent
+and pressure range are printed.
 
 Usage: scripts/render.sh JOB_DIR TIME OUT.png   (pvbatch under an X server: Xvfb when there is no
        DISPLAY), or pvbatch scripts/render.py JOB_DIR TIME OUT.png on a desktop
@@ -11,7 +13,7 @@ import sys
 
 import numpy as np
 from paraview import servermanager as sm
-from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFunction,
+from paraview.simple import (ColorBy, GetActiveCamera, GetActiveViewOrCreate, GetColorTransferFunction,
                              GetScalarBar, OpenDataFile, Render, SaveScreenshot, Show, Threshold)
 from vtk.numpy_interface import dataset_adapter as dsa
 
@@ -40,19 +42,23 @@ walls.UpperThreshold = 1
 for src in (fluid, walls):
     src.UpdatePipeline(t)
 
+data = dsa.WrapDataObject(sm.Fetch(fluid))
+pos, p = np.asarray(data.Points), np.asarray(data.PointData["p"])
+wpos = np.asarray(dsa.WrapDataObject(sm.Fetch(walls)).Points)
+dim3 = bool(np.any(wpos[:, 2] != 0.0)) if len(wpos) else bool(np.any(pos[:, 2] != 0.0))
+
 wd = Show(walls, view)
 wd.SetRepresentationType("Points")
-wd.PointSize = 2
+wd.PointSize = 1 if dim3 else 2
 ColorBy(wd, None)
 wd.AmbientColor = wd.DiffuseColor = [0.6, 0.6, 0.6]
+if dim3:
+    wd.Opacity = 0.25
 fd = Show(fluid, view)
 fd.SetRepresentationType("Points")
 fd.PointSize = 3
 ColorBy(fd, ("POINTS", "p"))
 fd.SetScalarBarVisibility(view, True)
-
-data = dsa.WrapDataObject(sm.Fetch(fluid))
-pos, p = np.asarray(data.Points), np.asarray(data.PointData["p"])
 lut = GetColorTransferFunction("p")
 lo, hi = np.percentile(p, 1), np.percentile(p, 99)
 lut.RescaleTransferFunction(float(min(lo, 0.0)), float(hi))
@@ -64,25 +70,43 @@ bar.WindowLocation = "Any Location"
 bar.Position = [0.86, 0.35]
 bar.ScalarBarLength = 0.5
 
-# the tank (x from 0 to 1 m) filling the width, the bottom 0.5 m (after a first render, which
-# resets the camera)
-Render(view)
-view.CameraPosition = [0.5, 0.19, 3.0]
-view.CameraFocalPoint = [0.5, 0.19, 0.0]
-view.CameraViewUp = [0, 1, 0]
-view.CameraParallelProjection = 1
-view.CameraParallelScale = 0.28
+Render(view)  # a first render resets the camera
+lo3, hi3 = (wpos.min(axis=0), wpos.max(axis=0)) if len(wpos) else (pos.min(axis=0), pos.max(axis=0))
+mid = 0.5 * (lo3 + hi3)
+if dim3:
+    # perspective from the front left, above: the walls' box fills the picture
+    span = float(np.max(hi3 - lo3))
+    view.CameraFocalPoint = [float(mid[0]), float(mid[1]), float(lo3[2] + 0.3 * (hi3[2] - lo3[2]))]
+    view.CameraPosition = [float(mid[0] - 0.35 * span), float(mid[1] - 1.1 * span),
+                           float(mid[2] + 0.8 * span)]
+    view.CameraViewUp = [0, 0, 1]
+    view.CameraParallelProjection = 0
+    view.ResetCamera(False)
+    GetActiveCamera().Zoom(1.2)
+else:
+    # the walls' width filling the picture, from their bottom up
+    scale = 0.5 * float(hi3[0] - lo3[0]) / 2.0
+    view.CameraPosition = [float(mid[0]), float(lo3[1]) + scale, 3.0]
+    view.CameraFocalPoint = [float(mid[0]), float(lo3[1]) + scale, 0.0]
+    view.CameraViewUp = [0, 1, 0]
+    view.CameraParallelProjection = 1
+    view.CameraParallelScale = scale
 Render(view)
 SaveScreenshot(out, view, ImageResolution=[1400, 700])
 
-# the front and the layer: the leading fluid's x, the water depth along the bed
-x, y = pos[:, 0], pos[:, 1]
-front = np.sort(x)[-3]
-bins = np.arange(0.0, front, 0.05)
-depth = [(b, y[(x >= b) & (x < b + 0.05)].max()) for b in bins if ((x >= b) & (x < b + 0.05)).any()]
-print("t = %g s: %d fluid particles, front at x = %.3f m" % (t, len(x), front))
-print("water depth along the bed (max y per 5 cm): " +
-      ", ".join("%.2f-%.2f: %.3f" % (b, b + 0.05, h) for b, h in depth))
+if dim3:
+    print("t = %g s: %d fluid particles, within x %.3f-%.3f, y %.3f-%.3f, z %.3f-%.3f m"
+          % (t, len(pos), *(v for a in range(3) for v in (pos[:, a].min(), pos[:, a].max()))))
+else:
+    # the front and the layer: the leading fluid's x, the water depth along the bed
+    x, y = pos[:, 0], pos[:, 1]
+    front = np.sort(x)[-3]
+    bins = np.arange(0.0, front, 0.05)
+    depth = [(b, y[(x >= b) & (x < b + 0.05)].max()) for b in bins
+             if ((x >= b) & (x < b + 0.05)).any()]
+    print("t = %g s: %d fluid particles, front at x = %.3f m" % (t, len(x), front))
+    print("water depth along the bed (max y per 5 cm): " +
+          ", ".join("%.2f-%.2f: %.3f" % (b, b + 0.05, h) for b, h in depth))
 print("fluid pressure: min %.0f Pa, 1st-99th percentile %.0f to %.0f Pa, max %.0f Pa"
       % (p.min(), lo, hi, p.max()))
 print("wrote", out)

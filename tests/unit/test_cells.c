@@ -476,7 +476,8 @@ static void test_probes(void **state)
 }
 
 /* A height gauge reads the water's height on its line: a droplet above it does not count, a
- * hump on the surface does, a dry line reads 0; the checks refuse a bad gauge at its path. */
+ * hump on the surface does, a sheet above with air between does not, a dry line reads 0; the
+ * checks refuse a bad gauge at its path. */
 static void test_gauges(void **state)
 {
     (void)state;
@@ -501,6 +502,19 @@ static void test_gauges(void **state)
     sph_diag_compute(s);
     assert_true(fabs(s->diag.gauge[0] - 0.115) < 1e-12);
     assert_true(s->diag.gauge[1] == 0.0);
+    /* the gauge reads the continuous column: a particle (from column 9, x = 0.095, within dx of
+     * the line) one empty bin above the hump (y = 0.11, the bin [0.11, 0.12)) counts; two empty
+     * bins above (air between, though within a kernel support) it does not */
+    for (long i = 0; i < s->P.n; i++)
+        if (s->P.id[i] == 98)
+            s->P.y[i] = 0.135;
+    sph_diag_compute(s);
+    assert_true(fabs(s->diag.gauge[0] - 0.14) < 1e-12);
+    for (long i = 0; i < s->P.n; i++)
+        if (s->P.id[i] == 98)
+            s->P.y[i] = 0.145;
+    sph_diag_compute(s);
+    assert_true(fabs(s->diag.gauge[0] - 0.115) < 1e-12);
     sph_sim_destroy(s);
 
     c.gauges[1].x = 1.0; /* on the domain's edge */
