@@ -25,7 +25,8 @@ case_v = Draft202012Validator(schemas["case.schema.json"])
 req_v = Draft202012Validator(schemas["request.schema.json"], resolver=resolver)
 
 
-for f in sorted(glob.glob(os.path.join(src, "cases", "*.json"))):
+for f in sorted(glob.glob(os.path.join(src, "cases", "*.json")) +
+                glob.glob(os.path.join(src, "tests", "cases", "*.json"))):
     c = json.load(open(f))
     errs = list(case_v.iter_errors(c))
     expect(not errs, f"{f} validates: {[e.message for e in errs][:3]}")

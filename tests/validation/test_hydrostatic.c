@@ -4,7 +4,9 @@
  * pressure of the bottom layer of fluid particles is within the bound of rho0 g H.
  *   - cases/hydrostatic.json (2D, the default): H = 0.2 m, 1 s, bound 3%;
  *   - cases/hydrostatic3d.json (3D, issue 23): H = 1 m at dx = H/40 in a tank 0.5 x 0.25 m,
- *     2 s, bound 2%.
+ *     2 s, bound 2%;
+ *   - tests/cases/ghost_still3d.json (3D, free-slip ghost walls): H = 0.5 m at dx = H/20 in a
+ *     tank 0.25 x 0.25 m, 1 s, bound 2%.
  * The vertical is the last axis (y in 2D, z in 3D).
  * Usage: test_hydrostatic SOURCE_DIR [CASE [PRESSURE_BOUND]]   (CASE relative to SOURCE_DIR)
  */
