@@ -49,11 +49,13 @@ long sph_shapes_fluid_points(const sph_config *c, const sph_box *f, double *cons
  * at y min and max. Writes pos[d][0 ..] when pos is not NULL; returns the count. */
 long sph_shapes_tank_points(const sph_config *c, double *const *pos);
 
-/* The obstacle box b's points: its lattice at spacing dx (points at cell centres, like a fluid
- * box's). Writes pos[d][0 ..] when pos is not NULL; returns the count. */
+/* The obstacle box b's points: a lattice at spacing dx centred in the box, L / dx rounded points
+ * along each axis (at least 1), so that its faces lie within dx/4 of the box's (on a box whose
+ * sides are whole multiples of dx: the points at the centres of its cells). Writes pos[d][0 ..]
+ * when pos is not NULL; returns the count. */
 long sph_shapes_obstacle_points(const sph_config *c, const sph_box *b, double *const *pos);
 
-/* 1 if the point x lies where an obstacle is: inside one of the boxes grown by dx/2 (a fluid
+/* 1 if the point x lies where an obstacle is: within dx of the region of one's lattice (a fluid
  * point there would sit closer than dx to the obstacle's particles). */
 int sph_shapes_in_obstacle(const sph_config *c, const double *x);
 

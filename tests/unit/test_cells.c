@@ -346,9 +346,9 @@ static sph_config block_config(void)
     return c;
 }
 
-/* Obstacles (issue 23): a box of wall particles on the lattice of dx inside it, in 2D and 3D;
- * the fluid box that overlaps it leaves its place (no fluid particle nearer than dx to an
- * obstacle's particle); refused with ghost walls. */
+/* Obstacles (issue 23): a box of wall particles on a lattice of dx centred in it, its faces
+ * within dx/4 of the box's, in 2D and 3D; the fluid box that overlaps it leaves its place (no
+ * fluid particle nearer than dx to an obstacle's particle); refused with ghost walls. */
 static void test_obstacles(void **state)
 {
     (void)state;
@@ -372,6 +372,39 @@ static void test_obstacles(void **state)
         assert_int_equal(s->nboundary, nobst);
         assert_int_equal(s->nfluid, nfluid_box - nobst);
         const sph_particles *P = &s->P;
+        for (long i = 0; i < P->n; i++)
+            for (long j = 0; j < P->n; j++)
+                if (P->type[i] == SPH_FLUID && P->type[j] == SPH_BOUNDARY) {
+                    double r2 = (P->x[i] - P->x[j]) * (P->x[i] - P->x[j]) +
+                                (P->y[i] - P->y[j]) * (P->y[i] - P->y[j]);
+                    if (dim == 3)
+                        r2 += (P->z[i] - P->z[j]) * (P->z[i] - P->z[j]);
+                    assert_true(r2 > 0.99 * c.dx * c.dx);
+                }
+        sph_sim_destroy(s);
+        /* a box whose sides are no multiple of dx (0.047 x 0.024 (x 0.033) at dx 0.01, 5 x 2 (x
+         * 3) points): the lattice centred in it, its faces (the outer points plus dx/2) within
+         * dx/4 of the box's, and still no fluid particle nearer than dx */
+        c.obstacles[0] = (sph_box){{0.1535, 0.076, 0.067}, {0.2005, 0.1, 0.1}};
+        if (dim == 2)
+            c.obstacles[0].min[2] = c.obstacles[0].max[2] = 0.0;
+        s = sph_sim_create(&c, &err);
+        assert_non_null(s);
+        assert_int_equal(s->nboundary, dim == 3 ? 5 * 2 * 3 : 5 * 2);
+        P = &s->P;
+        double lo[3] = {1e9, 1e9, 1e9}, hi[3] = {-1e9, -1e9, -1e9};
+        for (long j = 0; j < P->n; j++)
+            if (P->type[j] == SPH_BOUNDARY) {
+                const double q[3] = {P->x[j], P->y[j], dim == 3 ? P->z[j] : 0.0};
+                for (int d = 0; d < dim; d++) {
+                    lo[d] = q[d] < lo[d] ? q[d] : lo[d];
+                    hi[d] = q[d] > hi[d] ? q[d] : hi[d];
+                }
+            }
+        for (int d = 0; d < dim; d++) {
+            assert_true(fabs(lo[d] - 0.5 * c.dx - c.obstacles[0].min[d]) <= 0.25 * c.dx + 1e-12);
+            assert_true(fabs(hi[d] + 0.5 * c.dx - c.obstacles[0].max[d]) <= 0.25 * c.dx + 1e-12);
+        }
         for (long i = 0; i < P->n; i++)
             for (long j = 0; j < P->n; j++)
                 if (P->type[i] == SPH_FLUID && P->type[j] == SPH_BOUNDARY) {
