@@ -67,27 +67,41 @@ int sph_cells_reserve(sph_cells *g, long n)
     return 0;
 }
 
-/* Each particle's cell into g->key (ncells for lost particles, and those outside the grid,
- * which become lost). D is a constant of each call. */
-static inline __attribute__((always_inline)) void cell_keys(const int D, sph_cells *g,
-                                                            sph_particles *P)
+/* Particle i's cell (ncells for a lost particle, and for one outside the grid, which becomes
+ * lost). The loops over the particles are written once per dimension (cell_keys2, cell_keys3),
+ * the dimension a literal there: an OpenMP loop in a function that takes D outlines its body
+ * before D is known, and tests D per particle. */
+static inline __attribute__((always_inline)) int cell_key(const int D, const sph_cells *g,
+                                                          sph_particles *P, long i)
 {
-    const long n = P->n, ncells = g->ncells;
+    const double fx = (P->x[i] - g->x0) * g->inv_size, fy = (P->y[i] - g->y0) * g->inv_size;
+    const double fz = D == 3 ? (P->z[i] - g->z0) * g->inv_size : 1.0;
     const int nx = g->nx, ny = g->ny, nz = g->nz;
+    /* the comparisons are false for NaN: a non-finite particle is lost, never indexed */
+    if (P->type[i] != SPH_LOST && fx >= 1.0 && fx < nx - 1.0 && fy >= 1.0 && fy < ny - 1.0 &&
+        (D == 2 || (fz >= 1.0 && fz < nz - 1.0)))
+        return D == 3 ? ((int)fx * ny + (int)fy) * nz + (int)fz : (int)fx * ny + (int)fy;
+    P->type[i] = SPH_LOST;
+    return (int)g->ncells;
+}
+
+/* Each particle's cell into g->key. */
+static void cell_keys2(sph_cells *g, sph_particles *P)
+{
+    const long n = P->n;
     int *restrict key = g->key;
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++) {
-        const double fx = (P->x[i] - g->x0) * g->inv_size, fy = (P->y[i] - g->y0) * g->inv_size;
-        const double fz = D == 3 ? (P->z[i] - g->z0) * g->inv_size : 1.0;
-        int k = (int)ncells;
-        /* the comparisons are false for NaN: a non-finite particle is lost, never indexed */
-        if (P->type[i] != SPH_LOST && fx >= 1.0 && fx < nx - 1.0 && fy >= 1.0 && fy < ny - 1.0 &&
-            (D == 2 || (fz >= 1.0 && fz < nz - 1.0)))
-            k = D == 3 ? ((int)fx * ny + (int)fy) * nz + (int)fz : (int)fx * ny + (int)fy;
-        else
-            P->type[i] = SPH_LOST;
-        key[i] = k;
-    }
+    for (long i = 0; i < n; i++)
+        key[i] = cell_key(2, g, P, i);
+}
+
+static void cell_keys3(sph_cells *g, sph_particles *P)
+{
+    const long n = P->n;
+    int *restrict key = g->key;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++)
+        key[i] = cell_key(3, g, P, i);
 }
 
 long sph_cells_sort(sph_cells *g, sph_particles *P)
@@ -95,9 +109,9 @@ long sph_cells_sort(sph_cells *g, sph_particles *P)
     const long n = P->n, ncells = g->ncells;
     const int *restrict key = g->key;
     if (g->dim == 3)
-        cell_keys(3, g, P);
+        cell_keys3(g, P);
     else
-        cell_keys(2, g, P);
+        cell_keys2(g, P);
     /* counts[k + 2]: particles in cell k; the prefix sum makes it the end of cell k; the
      * backward scatter moves it down to the beginning of cell k, so that start = counts + 2
      * holds the beginnings, start[ncells] the active count and start[ncells + 1] = n. Stable:

@@ -286,76 +286,102 @@ static const strip_fn strips2_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
 static const strip_fn strips3_SPH_KERNEL_KOSHIZUKA[F_COUNT] = {0};
 static const strip_fn strips3_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
 
-/* EOS, p / rho^2, SPS stresses from the previous velocity gradients; zeroes the accumulators. */
+/* Particle i before a force evaluation: EOS, p / rho^2, SPS stresses from the previous velocity
+ * gradients; its accumulators zeroed. The loops over the particles here are written once per
+ * dimension, the dimension a literal there (an OpenMP loop in a function that takes D outlines
+ * its body before D is known, and tests D per particle). */
+static inline __attribute__((always_inline)) void
+prepare_one(const int D, const sph_config *cfg, sph_particles *P, double smag, double blin, long i)
+{
+    const double rho = P->rho[i];
+    const double p = sph_eos_pressure(cfg, rho);
+    P->p[i] = p;
+    P->pr[i] = p / (rho * rho);
+    P->ax[i] = 0.0;
+    P->ay[i] = 0.0;
+    if (D == 3)
+        P->az[i] = 0.0;
+    P->drho[i] = 0.0;
+    if (P->gxx) {
+        /* stored as R / rho as eq. (15) uses it; boundary particles carry none */
+        double *const gs[6] = {P->gxx, P->gxy, P->gyy, P->gzz, P->gxz, P->gyz};
+        double *const ts[6] = {P->txx, P->txy, P->tyy, P->tzz, P->txz, P->tyz};
+        const int ng = D == 3 ? 6 : 3;
+        double g[6] = {0}, t[6] = {0};
+        for (int q = 0; q < ng; q++)
+            g[q] = gs[q][i];
+        if (P->type[i] == SPH_FLUID)
+            sph_wcsph_sps_stress(D, g, rho, smag, blin, t);
+        for (int q = 0; q < ng; q++) {
+            ts[q][i] = t[q];
+            gs[q][i] = 0.0;
+        }
+    }
+}
+
 static void prepare(sph_sim *s)
 {
     const sph_config *cfg = &s->cfg;
     sph_particles *P = &s->P;
     const long n = s->nactive;
-    const int D = cfg->dim;
     const double smag = (SPH_SPS_CS * cfg->dx) * (SPH_SPS_CS * cfg->dx);
     const double blin = 2.0 / 3.0 * SPH_SPS_CI * cfg->dx * cfg->dx;
-    double *const gs[6] = {P->gxx, P->gxy, P->gyy, P->gzz, P->gxz, P->gyz};
-    double *const ts[6] = {P->txx, P->txy, P->tyy, P->tzz, P->txz, P->tyz};
-    const int ng = D == 3 ? 6 : 3;
+    if (cfg->dim == 3) {
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++) {
-        const double rho = P->rho[i];
-        const double p = sph_eos_pressure(cfg, rho);
-        P->p[i] = p;
-        P->pr[i] = p / (rho * rho);
-        P->ax[i] = 0.0;
-        P->ay[i] = 0.0;
-        if (P->az)
-            P->az[i] = 0.0;
-        P->drho[i] = 0.0;
-        if (P->gxx) {
-            /* stored as R / rho as eq. (15) uses it; boundary particles carry none */
-            double g[6] = {0}, t[6] = {0};
-            for (int q = 0; q < ng; q++)
-                g[q] = gs[q][i];
-            if (P->type[i] == SPH_FLUID) {
-                if (D == 3)
-                    sph_wcsph_sps_stress(3, g, rho, smag, blin, t);
-                else
-                    sph_wcsph_sps_stress(2, g, rho, smag, blin, t);
-            }
-            for (int q = 0; q < ng; q++) {
-                ts[q][i] = t[q];
-                gs[q][i] = 0.0;
-            }
-        }
+        for (long i = 0; i < n; i++)
+            prepare_one(3, cfg, P, smag, blin, i);
+    } else {
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
+        for (long i = 0; i < n; i++)
+            prepare_one(2, cfg, P, smag, blin, i);
     }
+}
+
+/* Gravity on particle i if it is fluid (g: the gravity vector), else its acceleration zeroed;
+ * returns its |a|^2 (0 for the others). */
+static inline __attribute__((always_inline)) double gravity_one(const int D, const double *g,
+                                                                sph_particles *P, long i)
+{
+    if (P->type[i] == SPH_FLUID) {
+        P->ax[i] += g[0];
+        P->ay[i] += g[1];
+        double a2 = P->ax[i] * P->ax[i] + P->ay[i] * P->ay[i];
+        if (D == 3) {
+            P->az[i] += g[2];
+            a2 += P->az[i] * P->az[i];
+        }
+        return a2;
+    }
+    P->ax[i] = P->ay[i] = 0.0;
+    if (D == 3)
+        P->az[i] = 0.0;
+    return 0.0;
 }
 
 /* Gravity on the fluid particles among the first n (the others' accelerations zeroed, those of
  * the particles beyond n with their density rates); returns the largest |a|^2 of the fluid. */
-static inline __attribute__((always_inline)) double gravity(const int D, const sph_config *cfg,
-                                                            sph_particles *P, long n)
+static double gravity(const sph_config *cfg, sph_particles *P, long n)
 {
-    const double gx = cfg->gravity[0], gy = cfg->gravity[1], gz = cfg->gravity[2];
+    const double g[3] = {cfg->gravity[0], cfg->gravity[1], cfg->gravity[2]};
     double amax2 = 0.0;
+    if (cfg->dim == 3) {
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(max                            \
                                                                     : amax2) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++) {
-        if (P->type[i] == SPH_FLUID) {
-            P->ax[i] += gx;
-            P->ay[i] += gy;
-            double a2 = P->ax[i] * P->ax[i] + P->ay[i] * P->ay[i];
-            if (D == 3) {
-                P->az[i] += gz;
-                a2 += P->az[i] * P->az[i];
-            }
+        for (long i = 0; i < n; i++) {
+            const double a2 = gravity_one(3, g, P, i);
             amax2 = a2 > amax2 ? a2 : amax2;
-        } else {
-            P->ax[i] = P->ay[i] = 0.0;
-            if (D == 3)
-                P->az[i] = 0.0;
+        }
+    } else {
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(max                            \
+                                                                    : amax2) if (n >= SPH_OMP_MIN)
+        for (long i = 0; i < n; i++) {
+            const double a2 = gravity_one(2, g, P, i);
+            amax2 = a2 > amax2 ? a2 : amax2;
         }
     }
     for (long i = n; i < P->n; i++) {
         P->ax[i] = P->ay[i] = P->drho[i] = 0.0;
-        if (D == 3)
+        if (P->az)
             P->az[i] = 0.0;
     }
     return amax2;
@@ -466,7 +492,7 @@ int sph_wcsph_forces(sph_sim *s)
     s->timing.bodies += omp_get_wtime() - t2;
 
     /* gravity on the fluid; walls, bodies' particles and lost particles do not move by it */
-    const double amax2 = D == 3 ? gravity(3, cfg, P, n) : gravity(2, cfg, P, n);
+    const double amax2 = gravity(cfg, P, n);
     s->amax = fmax(sqrt(amax2), sph_bodies_amax(&s->bodies));
     double t3 = omp_get_wtime();
     s->timing.interactions += t3 - t1;

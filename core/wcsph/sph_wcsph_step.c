@@ -65,94 +65,156 @@ static long first_bad(const sph_particles *P, long n)
     return -1;
 }
 
-/* The predictor over the first n particles: fluid moved (or lost when it leaves the domain; with
- * ghost walls, reflected back first), every density advanced. Returns the particles whose new
- * position is not finite. Written per component (z under D == 3) as the 2D loop was: a loop
- * over arrays of component pointers made the 2D integration 55% slower (bench_dambreak, 320k,
- * 1 thread: 4.6 ms a step against 3.0); this way it is 6-9% slower (callgrind: +7% instructions;
- * TODO issue 23: find the rest). */
-static inline __attribute__((always_inline)) long predict(const int D, sph_sim *s, double dt,
-                                                          long n)
+/* What the predictor and the corrector read of a sim: copied into each thread (firstprivate), so
+ * that the loops hold it in registers (a store to a particle's type, a char, may alias anything
+ * the loop would otherwise reload from memory). */
+typedef struct step_ctx {
+    sph_particles *P;
+    const sph_wall_ghost *ghost;
+    double lo[3], hi[3]; /* the domain */
+    double rho0;
+    int ghosts; /* free-slip ghost walls */
+} step_ctx;
+
+static step_ctx step_ctx_of(sph_sim *s)
 {
     const sph_config *c = &s->cfg;
-    sph_particles *P = &s->P;
-    const double xlo = c->domain.min[0], xhi = c->domain.max[0];
-    const double ylo = c->domain.min[1], yhi = c->domain.max[1];
-    const double zlo = c->domain.min[2], zhi = c->domain.max[2];
-    const int ghosts = c->boundary == SPH_BOUNDARY_GHOST;
-    long bad = 0;
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(+ : bad) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++) {
-        if (P->type[i] == SPH_FLUID) {
-            const double ax = P->ax0[i], ay = P->ay0[i], az = D == 3 ? P->az0[i] : 0.0;
-            double x[3] = {P->x[i] + dt * (P->vx[i] + 0.5 * dt * ax),
-                           P->y[i] + dt * (P->vy[i] + 0.5 * dt * ay), 0.0};
-            double v[3] = {P->vx[i] + dt * ax, P->vy[i] + dt * ay, 0.0};
-            if (D == 3) {
-                x[2] = P->z[i] + dt * (P->vz[i] + 0.5 * dt * az);
-                v[2] = P->vz[i] + dt * az;
-            }
-            bad += !isfinite(x[0]) || !isfinite(x[1]) || (D == 3 && !isfinite(x[2]));
-            if (ghosts) /* a particle that crossed a free-slip wall comes back, before the domain
-                           check: a tank may fill the domain */
-                sph_wall_ghost_reflect(&s->ghost, x, v);
-            if (x[0] >= xlo && x[0] <= xhi && x[1] >= ylo && x[1] <= yhi &&
-                (D == 2 || (x[2] >= zlo && x[2] <= zhi))) {
-                P->x[i] = x[0];
-                P->y[i] = x[1];
-                P->vx[i] = v[0];
-                P->vy[i] = v[1];
-                if (D == 3) {
-                    P->z[i] = x[2];
-                    P->vz[i] = v[2];
-                }
-            } else {
-                P->type[i] = SPH_LOST; /* frozen where it left */
-                P->vx[i] = P->vy[i] = 0.0;
-                if (D == 3)
-                    P->vz[i] = 0.0;
-            }
-        }
-        P->rho[i] += dt * P->drho0[i];
+    step_ctx k = {.P = &s->P,
+                  .ghost = &s->ghost,
+                  .rho0 = c->rho0,
+                  .ghosts = c->boundary == SPH_BOUNDARY_GHOST};
+    for (int d = 0; d < 3; d++) {
+        k.lo[d] = c->domain.min[d];
+        k.hi[d] = c->domain.max[d];
     }
+    return k;
+}
+
+/* The predictor of particle i: fluid moved (or lost when it leaves the domain; with ghost walls,
+ * reflected back first), the density advanced. Returns 1 when its new position is not finite.
+ * Written per component (z under D == 3) as the 2D loop was: a loop over arrays of component
+ * pointers made the 2D integration 55% slower. The loops over the particles are written once per
+ * dimension (predict2, predict3), the dimension a literal there: an OpenMP loop in a function
+ * that takes D outlines its body before D is known, and tests D per particle. */
+static inline __attribute__((always_inline)) long predict_one(const int D, const step_ctx *k,
+                                                              double dt, long i)
+{
+    sph_particles *P = k->P;
+    long bad = 0;
+    if (P->type[i] == SPH_FLUID) {
+        const double ax = P->ax0[i], ay = P->ay0[i], az = D == 3 ? P->az0[i] : 0.0;
+        double x[3] = {P->x[i] + dt * (P->vx[i] + 0.5 * dt * ax),
+                       P->y[i] + dt * (P->vy[i] + 0.5 * dt * ay), 0.0};
+        double v[3] = {P->vx[i] + dt * ax, P->vy[i] + dt * ay, 0.0};
+        if (D == 3) {
+            x[2] = P->z[i] + dt * (P->vz[i] + 0.5 * dt * az);
+            v[2] = P->vz[i] + dt * az;
+        }
+        bad = !isfinite(x[0]) || !isfinite(x[1]) || (D == 3 && !isfinite(x[2]));
+        if (k->ghosts) /* a particle that crossed a free-slip wall comes back, before the domain
+                          check: a tank may fill the domain */
+            sph_wall_ghost_reflect(k->ghost, x, v);
+        if (x[0] >= k->lo[0] && x[0] <= k->hi[0] && x[1] >= k->lo[1] && x[1] <= k->hi[1] &&
+            (D == 2 || (x[2] >= k->lo[2] && x[2] <= k->hi[2]))) {
+            P->x[i] = x[0];
+            P->y[i] = x[1];
+            P->vx[i] = v[0];
+            P->vy[i] = v[1];
+            if (D == 3) {
+                P->z[i] = x[2];
+                P->vz[i] = v[2];
+            }
+        } else {
+            P->type[i] = SPH_LOST; /* frozen where it left */
+            P->vx[i] = P->vy[i] = 0.0;
+            if (D == 3)
+                P->vz[i] = 0.0;
+        }
+    }
+    P->rho[i] += dt * P->drho0[i];
     return bad;
 }
 
-/* The corrector over the first n particles: fluid velocities, every density (walls never below
- * rho0); the largest fluid speed squared, the density range and the non-finite count out. */
-static inline __attribute__((always_inline)) long correct(const int D, sph_sim *s, double dt,
-                                                          long n, double *vmax2_out,
-                                                          double *rlo_out, double *rhi_out)
+/* The predictor over the first n particles; returns those whose new position is not finite. */
+static long predict2(const step_ctx *kp, double dt, long n)
 {
-    sph_particles *P = &s->P;
-    const double rho0 = s->cfg.rho0;
+    const step_ctx k = *kp;
+    long bad = 0;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(k) reduction(+ : bad) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++)
+        bad += predict_one(2, &k, dt, i);
+    return bad;
+}
+
+static long predict3(const step_ctx *kp, double dt, long n)
+{
+    const step_ctx k = *kp;
+    long bad = 0;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(k) reduction(+ : bad) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++)
+        bad += predict_one(3, &k, dt, i);
+    return bad;
+}
+
+/* The corrector of particle i: a fluid particle's velocity, every density (walls never below
+ * rho0); its speed squared and density into the running maxima and minimum. Returns 1 when one
+ * is not finite. */
+static inline __attribute__((always_inline)) long correct_one(const int D, const step_ctx *k,
+                                                              double dt, long i, double *vmax2,
+                                                              double *rlo, double *rhi)
+{
+    sph_particles *P = k->P;
+    long bad = 0;
+    double rho = P->rho[i] + 0.5 * dt * (P->drho[i] - P->drho0[i]);
+    if (P->type[i] == SPH_FLUID) {
+        const double vx = P->vx[i] + 0.5 * dt * (P->ax[i] - P->ax0[i]);
+        const double vy = P->vy[i] + 0.5 * dt * (P->ay[i] - P->ay0[i]);
+        P->vx[i] = vx;
+        P->vy[i] = vy;
+        double v2 = vx * vx + vy * vy;
+        if (D == 3) {
+            const double vz = P->vz[i] + 0.5 * dt * (P->az[i] - P->az0[i]);
+            P->vz[i] = vz;
+            v2 += vz * vz;
+        }
+        *vmax2 = v2 > *vmax2 ? v2 : *vmax2;
+        bad += !isfinite(v2);
+    } else if (rho < k->rho0) {
+        rho = k->rho0; /* walls do not pull fluid in (as DualSPHysics does) */
+    }
+    P->rho[i] = rho;
+    bad += !isfinite(rho);
+    *rlo = rho < *rlo ? rho : *rlo;
+    *rhi = rho > *rhi ? rho : *rhi;
+    return bad;
+}
+
+/* The corrector over the first n particles: the largest fluid speed squared, the density range
+ * and the non-finite count out. */
+static long correct2(const step_ctx *kp, double dt, long n, double *vmax2_out, double *rlo_out,
+                     double *rhi_out)
+{
+    const step_ctx k = *kp;
     double vmax2 = 0.0, rlo = INFINITY, rhi = -INFINITY;
     long bad = 0;
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(+ : bad) reduction(max : vmax2, rhi) if (n >= SPH_OMP_MIN)          \
-    reduction(min : rlo)
-    for (long i = 0; i < n; i++) {
-        double rho = P->rho[i] + 0.5 * dt * (P->drho[i] - P->drho0[i]);
-        if (P->type[i] == SPH_FLUID) {
-            const double vx = P->vx[i] + 0.5 * dt * (P->ax[i] - P->ax0[i]);
-            const double vy = P->vy[i] + 0.5 * dt * (P->ay[i] - P->ay0[i]);
-            P->vx[i] = vx;
-            P->vy[i] = vy;
-            double v2 = vx * vx + vy * vy;
-            if (D == 3) {
-                const double vz = P->vz[i] + 0.5 * dt * (P->az[i] - P->az0[i]);
-                P->vz[i] = vz;
-                v2 += vz * vz;
-            }
-            vmax2 = v2 > vmax2 ? v2 : vmax2;
-            bad += !isfinite(v2);
-        } else if (rho < rho0) {
-            rho = rho0; /* walls do not pull fluid in (as DualSPHysics does) */
-        }
-        P->rho[i] = rho;
-        bad += !isfinite(rho);
-        rlo = rho < rlo ? rho : rlo;
-        rhi = rho > rhi ? rho : rhi;
-    }
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(k) reduction(+ : bad) reduction(max : vmax2, rhi) reduction(min : rlo) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++)
+        bad += correct_one(2, &k, dt, i, &vmax2, &rlo, &rhi);
+    *vmax2_out = vmax2;
+    *rlo_out = rlo;
+    *rhi_out = rhi;
+    return bad;
+}
+
+static long correct3(const step_ctx *kp, double dt, long n, double *vmax2_out, double *rlo_out,
+                     double *rhi_out)
+{
+    const step_ctx k = *kp;
+    double vmax2 = 0.0, rlo = INFINITY, rhi = -INFINITY;
+    long bad = 0;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(k) reduction(+ : bad) reduction(max : vmax2, rhi) reduction(min : rlo) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++)
+        bad += correct_one(3, &k, dt, i, &vmax2, &rlo, &rhi);
     *vmax2_out = vmax2;
     *rlo_out = rlo;
     *rhi_out = rhi;
@@ -183,7 +245,8 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
 
     /* predictor */
     const long n0 = s->nactive;
-    long bad = c->dim == 3 ? predict(3, s, dt, n0) : predict(2, s, dt, n0);
+    const step_ctx k = step_ctx_of(s);
+    long bad = c->dim == 3 ? predict3(&k, dt, n0) : predict2(&k, dt, n0);
     if (bad)
         return sph_error_set(err, SPH_ERR_UNSTABLE, "",
                              "blow-up at step %ld (t = %g s, dt = %g s): non-finite position of "
@@ -211,8 +274,8 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
     const long n = s->nactive;
     const double rho0 = c->rho0;
     double vmax2, rlo, rhi;
-    bad = c->dim == 3 ? correct(3, s, dt, n, &vmax2, &rlo, &rhi)
-                      : correct(2, s, dt, n, &vmax2, &rlo, &rhi);
+    bad = c->dim == 3 ? correct3(&k, dt, n, &vmax2, &rlo, &rhi)
+                      : correct2(&k, dt, n, &vmax2, &rlo, &rhi);
     s->vmax = sqrt(vmax2);
     if (s->bodies.n > 0) {
         const double tb = omp_get_wtime();
