@@ -85,24 +85,20 @@ static inline __attribute__((always_inline)) int cell_key(const int D, const sph
     return (int)g->ncells;
 }
 
-/* Each particle's cell into g->key. */
-static void cell_keys2(sph_cells *g, sph_particles *P)
-{
-    const long n = P->n;
-    int *restrict key = g->key;
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++)
-        key[i] = cell_key(2, g, P, i);
-}
-
-static void cell_keys3(sph_cells *g, sph_particles *P)
-{
-    const long n = P->n;
-    int *restrict key = g->key;
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++)
-        key[i] = cell_key(3, g, P, i);
-}
+/* Each particle's cell into g->key: cell_keys2 and cell_keys3 (D a literal there). */
+/* clang-format off */
+#define SPH_CELL_KEYS(D)                                                                           \
+    static void cell_keys##D(sph_cells *g, sph_particles *P)                                       \
+    {                                                                                              \
+        const long n = P->n;                                                                       \
+        int *restrict key = g->key;                                                                \
+        _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)")         \
+        for (long i = 0; i < n; i++)                                                               \
+            key[i] = cell_key(D, g, P, i);                                                         \
+    }
+/* clang-format on */
+SPH_CELL_KEYS(2)
+SPH_CELL_KEYS(3)
 
 long sph_cells_sort(sph_cells *g, sph_particles *P)
 {

@@ -135,26 +135,22 @@ static inline __attribute__((always_inline)) long predict_one(const int D, const
     return bad;
 }
 
-/* The predictor over the first n particles; returns those whose new position is not finite. */
-static long predict2(const step_ctx *kp, double dt, long n)
-{
-    const step_ctx k = *kp;
-    long bad = 0;
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(k) reduction(+ : bad) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++)
-        bad += predict_one(2, &k, dt, i);
-    return bad;
-}
-
-static long predict3(const step_ctx *kp, double dt, long n)
-{
-    const step_ctx k = *kp;
-    long bad = 0;
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(k) reduction(+ : bad) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++)
-        bad += predict_one(3, &k, dt, i);
-    return bad;
-}
+/* The predictor over the first n particles, predict2 and predict3 (D a literal there); returns
+ * the particles whose new position is not finite. */
+/* clang-format off */
+#define SPH_PREDICT_LOOP(D)                                                                        \
+    static long predict##D(const step_ctx *kp, double dt, long n)                                  \
+    {                                                                                              \
+        const step_ctx k = *kp;                                                                    \
+        long bad = 0;                                                                              \
+        _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(k) reduction(+ : bad) if (n >= SPH_OMP_MIN)") \
+        for (long i = 0; i < n; i++)                                                               \
+            bad += predict_one(D, &k, dt, i);                                                      \
+        return bad;                                                                                \
+    }
+/* clang-format on */
+SPH_PREDICT_LOOP(2)
+SPH_PREDICT_LOOP(3)
 
 /* The corrector of particle i: a fluid particle's velocity, every density (walls never below
  * rho0); its speed squared and density into the running maxima and minimum. Returns 1 when one
@@ -189,37 +185,27 @@ static inline __attribute__((always_inline)) long correct_one(const int D, const
     return bad;
 }
 
-/* The corrector over the first n particles: the largest fluid speed squared, the density range
- * and the non-finite count out. */
-static long correct2(const step_ctx *kp, double dt, long n, double *vmax2_out, double *rlo_out,
-                     double *rhi_out)
-{
-    const step_ctx k = *kp;
-    double vmax2 = 0.0, rlo = INFINITY, rhi = -INFINITY;
-    long bad = 0;
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(k) reduction(+ : bad) reduction(max : vmax2, rhi) reduction(min : rlo) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++)
-        bad += correct_one(2, &k, dt, i, &vmax2, &rlo, &rhi);
-    *vmax2_out = vmax2;
-    *rlo_out = rlo;
-    *rhi_out = rhi;
-    return bad;
-}
-
-static long correct3(const step_ctx *kp, double dt, long n, double *vmax2_out, double *rlo_out,
-                     double *rhi_out)
-{
-    const step_ctx k = *kp;
-    double vmax2 = 0.0, rlo = INFINITY, rhi = -INFINITY;
-    long bad = 0;
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(k) reduction(+ : bad) reduction(max : vmax2, rhi) reduction(min : rlo) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++)
-        bad += correct_one(3, &k, dt, i, &vmax2, &rlo, &rhi);
-    *vmax2_out = vmax2;
-    *rlo_out = rlo;
-    *rhi_out = rhi;
-    return bad;
-}
+/* The corrector over the first n particles, correct2 and correct3 (D a literal there): the largest
+ * fluid speed squared, the density range and the non-finite count out. */
+/* clang-format off */
+#define SPH_CORRECT_LOOP(D)                                                                        \
+    static long correct##D(const step_ctx *kp, double dt, long n, double *vmax2_out,               \
+                           double *rlo_out, double *rhi_out)                                       \
+    {                                                                                              \
+        const step_ctx k = *kp;                                                                    \
+        double vmax2 = 0.0, rlo = INFINITY, rhi = -INFINITY;                                       \
+        long bad = 0;                                                                              \
+        _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(k) reduction(+ : bad) reduction(max : vmax2, rhi) reduction(min : rlo) if (n >= SPH_OMP_MIN)") \
+        for (long i = 0; i < n; i++)                                                               \
+            bad += correct_one(D, &k, dt, i, &vmax2, &rlo, &rhi);                                  \
+        *vmax2_out = vmax2;                                                                        \
+        *rlo_out = rlo;                                                                            \
+        *rhi_out = rhi;                                                                            \
+        return bad;                                                                                \
+    }
+/* clang-format on */
+SPH_CORRECT_LOOP(2)
+SPH_CORRECT_LOOP(3)
 
 static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
 {

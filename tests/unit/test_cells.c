@@ -346,6 +346,20 @@ static sph_config block_config(void)
     return c;
 }
 
+/* No fluid particle nearer than dx to a wall particle. */
+static void assert_fluid_clear(const sph_particles *P, double dx)
+{
+    for (long i = 0; i < P->n; i++)
+        for (long j = 0; j < P->n; j++)
+            if (P->type[i] == SPH_FLUID && P->type[j] == SPH_BOUNDARY) {
+                double r2 = (P->x[i] - P->x[j]) * (P->x[i] - P->x[j]) +
+                            (P->y[i] - P->y[j]) * (P->y[i] - P->y[j]);
+                if (P->z)
+                    r2 += (P->z[i] - P->z[j]) * (P->z[i] - P->z[j]);
+                assert_true(r2 > 0.99 * dx * dx);
+            }
+}
+
 /* Obstacles (issue 23): a box of wall particles on a lattice of dx centred in it, its faces
  * within dx/4 of the box's, in 2D and 3D; the fluid box that overlaps it leaves its place (no
  * fluid particle nearer than dx to an obstacle's particle); refused with ghost walls. */
@@ -372,15 +386,7 @@ static void test_obstacles(void **state)
         assert_int_equal(s->nboundary, nobst);
         assert_int_equal(s->nfluid, nfluid_box - nobst);
         const sph_particles *P = &s->P;
-        for (long i = 0; i < P->n; i++)
-            for (long j = 0; j < P->n; j++)
-                if (P->type[i] == SPH_FLUID && P->type[j] == SPH_BOUNDARY) {
-                    double r2 = (P->x[i] - P->x[j]) * (P->x[i] - P->x[j]) +
-                                (P->y[i] - P->y[j]) * (P->y[i] - P->y[j]);
-                    if (dim == 3)
-                        r2 += (P->z[i] - P->z[j]) * (P->z[i] - P->z[j]);
-                    assert_true(r2 > 0.99 * c.dx * c.dx);
-                }
+        assert_fluid_clear(P, c.dx);
         sph_sim_destroy(s);
         /* a box whose sides are no multiple of dx (0.047 x 0.024 (x 0.033) at dx 0.01, 5 x 2 (x
          * 3) points): the lattice centred in it, its faces (the outer points plus dx/2) within
@@ -405,15 +411,7 @@ static void test_obstacles(void **state)
             assert_true(fabs(lo[d] - 0.5 * c.dx - c.obstacles[0].min[d]) <= 0.25 * c.dx + 1e-12);
             assert_true(fabs(hi[d] + 0.5 * c.dx - c.obstacles[0].max[d]) <= 0.25 * c.dx + 1e-12);
         }
-        for (long i = 0; i < P->n; i++)
-            for (long j = 0; j < P->n; j++)
-                if (P->type[i] == SPH_FLUID && P->type[j] == SPH_BOUNDARY) {
-                    double r2 = (P->x[i] - P->x[j]) * (P->x[i] - P->x[j]) +
-                                (P->y[i] - P->y[j]) * (P->y[i] - P->y[j]);
-                    if (dim == 3)
-                        r2 += (P->z[i] - P->z[j]) * (P->z[i] - P->z[j]);
-                    assert_true(r2 > 0.99 * c.dx * c.dx);
-                }
+        assert_fluid_clear(P, c.dx);
         sph_sim_destroy(s);
         c.boundary = SPH_BOUNDARY_GHOST;
         c.has_tank = 1;
