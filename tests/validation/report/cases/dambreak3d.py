@@ -13,14 +13,15 @@ depth, as the SPHERIC description suggests):
   difference over t in [0.35, 6] s within 15% of the averaged measurement's peak;
 - each of these errors smaller at the finest resolution than at the coarsest.
 Three resolutions at the full level: 12, 16 (the case's default) and 30 particles over the depth
-(25,002, 49,083 and 216,984 particles, fluid and walls); the finest is a long run that resumes from
+(25,074, 49,207 and 217,422 particles, fluid and walls); the finest is a long run that resumes from
 its checkpoint (--runs).
 
 At the ci level (ctest validation_dambreak3d), the coarsest to t = 1 s (the first impact), as a
 guard against regressions, not the issue's yardstick: at 12 particles over the depth a front
-thinner than a particle is not resolved, so the impact comes late. Checked there: the arrival at
-H2 and the RMS at H4 within the issue's bounds, the RMS at H2 within CI_H2 and the first impacts
-within CI_IMPACT; the pressures' RMS is reported, not checked.
+thinner than a particle is not resolved, so the impact comes late, and the splash off the box
+falls back over H2 from 0.55 s on. Checked there: the arrival at H2, the RMS at H4 and the RMS at
+H2 over [0, CI_H2_UNTIL] s (the front's arrival, before the splash) within the issue's bounds, and
+the first impacts within CI_IMPACT; the RMS at H2 over [0, 1] s and the pressures' are reported.
 """
 import numpy as np
 
@@ -35,7 +36,7 @@ IMPACT_FRACTION = 0.2   # of the averaged measurement's peak: the first impact
 IMPACT_BOUND = 0.02     # [s]
 P_WINDOW = (0.35, T_END)
 P_BOUND = 0.15          # RMS over P_WINDOW / the averaged measurement's peak
-CI_H2 = 0.08           # [m] RMS at H2 over [0, 1] s, 12 over the depth (ci level)
+CI_H2_UNTIL = 0.5       # [s] the window of the RMS at H2 at the ci level
 CI_IMPACT = 0.1         # [s] first impacts, 12 over the depth (ci level)
 LAYERS = {"full": [12, 16, 30], "ci": [12]}
 RESOLUTION = {"full": "12, 16 and 30 particles over the 0.55 m depth (dx = 45.8, 34.4, 18.3 mm)",
@@ -70,6 +71,9 @@ def compare(diag, exp_h, exp_p, t_end):
     for g, col in (("H2", "H2_x0.992_m"), ("H4", "H4_x2.638_m")):
         sim = np.interp(th[sel], t, np.asarray(diag[g], float))
         e[g + " rms"] = float(np.sqrt(np.mean((sim - exp_h[col][sel]) ** 2)))
+    early = (th >= 0.0) & (th <= CI_H2_UNTIL)
+    sim = np.interp(th[early], t, np.asarray(diag["H2"], float))
+    e["H2 rms early"] = float(np.sqrt(np.mean((sim - exp_h["H2_x0.992_m"][early]) ** 2)))
     e["H2 arrival"] = first_above(t, np.asarray(diag["H2"], float), ARRIVAL_H)
     e["H2 arrival exp"] = first_above(th, exp_h["H2_x0.992_m"], ARRIVAL_H)
     avg = {}
@@ -125,9 +129,16 @@ def run(ctx):
     at = "%d over the depth" % n
     full = ctx.level == "full"
     for g in ("H2", "H4"):
-        bound = HEIGHT_BOUND if full or g == "H4" else CI_H2
-        ctx.check("%s, %s: RMS height difference over t in [0, %g] s [m]" % (g, at, t_end),
-                  round(e[g + " rms"], 4), bound, e[g + " rms"] <= bound)
+        if full or g == "H4":
+            ctx.check("%s, %s: RMS height difference over t in [0, %g] s [m]" % (g, at, t_end),
+                      round(e[g + " rms"], 4), HEIGHT_BOUND, e[g + " rms"] <= HEIGHT_BOUND)
+        else:
+            ctx.check("H2, %s: RMS height difference over t in [0, %g] s (the front's arrival) "
+                      "[m]" % (at, CI_H2_UNTIL), round(e["H2 rms early"], 4), HEIGHT_BOUND,
+                      e["H2 rms early"] <= HEIGHT_BOUND)
+            ctx.note("H2, %s: RMS height difference over t in [0, %g] s: %.3f m (not checked at "
+                     "the ci level: the splash off the box falls back over the gauge)"
+                     % (at, t_end, e["H2 rms"]))
     d = e["H2 arrival"] - e["H2 arrival exp"]
     ctx.check("H2, %s: first arrival (height > %g m) against the experiment's [s]" % (at, ARRIVAL_H),
               round(d, 4), ARRIVAL_BOUND, abs(d) <= ARRIVAL_BOUND,
