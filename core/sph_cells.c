@@ -85,16 +85,19 @@ static inline __attribute__((always_inline)) int cell_key(const int D, const sph
     return (int)g->ncells;
 }
 
-/* Each particle's cell into g->key: cell_keys2 and cell_keys3 (D a literal there). */
+/* Each particle's cell into g->key: cell_keys2 and cell_keys3 (D a literal there). The grid is
+ * copied into each thread (firstprivate), so that its constants stay in registers: the store of
+ * a lost particle's type, a char, may alias anything read through g. */
 /* clang-format off */
 #define SPH_CELL_KEYS(D)                                                                           \
     static void cell_keys##D(sph_cells *g, sph_particles *P)                                       \
     {                                                                                              \
         const long n = P->n;                                                                       \
         int *restrict key = g->key;                                                                \
-        _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)")         \
+        const sph_cells grid = *g;                                                                 \
+        _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(grid) if (n >= SPH_OMP_MIN)") \
         for (long i = 0; i < n; i++)                                                               \
-            key[i] = cell_key(D, g, P, i);                                                         \
+            key[i] = cell_key(D, &grid, P, i);                                                     \
     }
 /* clang-format on */
 SPH_CELL_KEYS(2)

@@ -226,11 +226,6 @@ static double next_multiple(double t, double interval)
     return next;
 }
 
-static int step_due(const sph_sim *s, long every)
-{
-    return sph_sim_diag(s)->step % every == 0;
-}
-
 static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, sphd_emit_fn emit,
                                     void *ud, sph_error *err)
 {
@@ -260,7 +255,8 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
         done += sph_sim_diag(x->sim)->step - step;
         if (rc)
             break;
-        if (interval > 0.0 ? sph_sim_time(x->sim) >= t_diag : step_due(x->sim, every))
+        if (interval > 0.0 ? sph_sim_time(x->sim) >= t_diag
+                           : sph_sim_diag(x->sim)->step % every == 0)
             rc = emit_diag(x, emit, ud, err);
         if (rc == 0 && sph_sim_time(x->sim) < t_end)
             rc = outputs_due(x, 0, emit, ud, err);

@@ -23,7 +23,10 @@ falls back over H2 from 0.55 s on. Checked there: the arrival at H2, the RMS at 
 H2 over [0, CI_H2_UNTIL] s (the front's arrival, before the splash) within the issue's bounds, and
 the first impacts within CI_IMPACT; the RMS at H2 over [0, 1] s and the pressures' are reported.
 """
+import os
+
 import numpy as np
+from validate import read_diag
 
 TITLE = "3D dam break with a box (SPHERIC Test 2): heights and pressures against Kleefsman et al."
 DEPTH = 0.55
@@ -114,8 +117,7 @@ def run(ctx):
         else:
             events, d = ctx.sphd_run("cases/dambreak3d.json", sets, job="dambreak3d")
             assert events[-1].get("state") == "done", events[-1]
-            from validate import read_diag
-            diag = read_diag(d + "/diag.h5")
+            diag = read_diag(os.path.join(d, "diag.h5"))
         e, avg = compare(diag, exp_h, exp_p, t_end)
         errs.append((n, e))
         label = "sphd, %d over the depth (dx = %.1f mm)" % (n, 1e3 * dx)
