@@ -1,6 +1,7 @@
 #include "sph_cells.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -35,8 +36,9 @@ int sph_cells_alloc(sph_cells *g, int dim, const double lo[3], const double hi[3
     g->start = g->counts ? g->counts + 2 : NULL;
     g->key = calloc((size_t)(n > 0 ? n : 1), sizeof *g->key);
     g->perm = calloc((size_t)(n > 0 ? n : 1), sizeof *g->perm);
+    g->out = calloc((size_t)(n > 0 ? n : 1), sizeof *g->out);
     g->cap = n > 0 ? n : 1;
-    if (!g->start || !g->key || !g->perm) {
+    if (!g->start || !g->key || !g->perm || !g->out) {
         sph_cells_free(g);
         return -1;
     }
@@ -48,6 +50,7 @@ void sph_cells_free(sph_cells *g)
     free(g->counts);
     free(g->key);
     free(g->perm);
+    free(g->out);
     memset(g, 0, sizeof *g);
 }
 
@@ -63,6 +66,10 @@ int sph_cells_reserve(sph_cells *g, long n)
     if (!perm)
         return -1;
     g->perm = perm;
+    int *out = realloc(g->out, (size_t)n * sizeof *out);
+    if (!out)
+        return -1;
+    g->out = out;
     g->cap = n;
     return 0;
 }
@@ -105,30 +112,108 @@ SPH_CELL_KEYS(3)
 
 long sph_cells_sort(sph_cells *g, sph_particles *P)
 {
-    const long n = P->n, ncells = g->ncells;
+    const long n = P->n, ncells = g->ncells, nc = ncells + 4;
     const int *restrict key = g->key;
     if (g->dim == 3)
         cell_keys3(g, P);
     else
         cell_keys2(g, P);
-    /* counts[k + 2]: particles in cell k; the prefix sum makes it the end of cell k; the
-     * backward scatter moves it down to the beginning of cell k, so that start = counts + 2
-     * holds the beginnings, start[ncells] the active count and start[ncells + 1] = n. Stable:
-     * particles of one cell keep their order. */
-    int *restrict counts = g->counts;
-    const long nc = ncells + 4;
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (nc >= 16 * SPH_OMP_MIN)
-    for (long c = 0; c < nc; c++)
-        counts[c] = 0;
-    for (long i = 0; i < n; i++)
-        counts[key[i] + 2]++;
-    for (long c = 0; c + 1 < nc; c++)
-        counts[c + 1] += counts[c];
+    /* A stable counting sort in parallel passes, no pass over the particles or the cells left
+     * serial, and no per-thread copy of the counts. With k = key + 2 (lost particles: k =
+     * ncells + 2), counts[k + 1] counts cell k's particles, then holds where its next particle
+     * goes, and ends as the beginning of cell k + 1: start = counts + 2 then holds the
+     * beginnings of the cells, start[ncells] the active count and start[ncells + 1] = n.
+     *
+     * Each thread t takes one contiguous chunk of the particles, [lo, hi), and owns the range
+     * of k [bnd[t], bnd[t + 1]) that its chunk's first particle opens. The particles are still
+     * nearly in cell order from the previous step, so a chunk's particles nearly all fall into
+     * its own range; the others (the outliers: particles that crossed into another thread's
+     * range, lost ones, and all of them on the first sort) are listed in out[lo ..]. Only the
+     * owner of a cell counts and places its particles: those of the outlier lists of the
+     * chunks before its own, then its own chunk's, then those of the lists after, each in
+     * particle order, so that particles of one cell keep their order: the result is the serial
+     * stable sort's, whatever the number of threads. The passes over the cells (zeroing, the
+     * prefix sum) are split evenly among the threads, apart from the ownership. */
+    int nt = n >= 2 * SPH_OMP_MIN ? omp_get_max_threads() : 1;
+    nt = nt < SPH_CELLS_SORT_THREADS ? nt : SPH_CELLS_SORT_THREADS;
+    int *restrict counts = g->counts, *restrict out = g->out;
+    long *restrict perm = g->perm;
+    long bnd[SPH_CELLS_SORT_THREADS + 1], nout[SPH_CELLS_SORT_THREADS];
+    long block[SPH_CELLS_SORT_THREADS];
     long moved = 0;
-    for (long i = n - 1; i >= 0; i--) {
-        const long to = --counts[key[i] + 2];
-        g->perm[to] = i;
-        moved += to != i;
+#pragma omp parallel num_threads(nt) reduction(+ : moved)
+    {
+        const int t = omp_get_thread_num(), m = omp_get_num_threads();
+        const long lo = n * t / m, hi = n * (t + 1) / m;
+        const long clo = nc * t / m, chi = nc * (t + 1) / m; /* the even split of the cells */
+        memset(counts + clo, 0, (size_t)(chi - clo) * sizeof *counts);
+#pragma omp single
+        {
+            bnd[0] = 0;
+            for (int u = 1; u < m; u++) {
+                const long k = key[n * u / m] + 2;
+                bnd[u] = k > bnd[u - 1] ? k : bnd[u - 1];
+            }
+            bnd[m] = nc - 1;
+        } /* (a barrier: the counts are zero) */
+        const long blo = bnd[t], bhi = bnd[t + 1];
+        long no = 0;
+        for (long i = lo; i < hi; i++) {
+            const long k = key[i] + 2;
+            if (k >= blo && k < bhi)
+                counts[k + 1]++;
+            else
+                out[lo + no++] = (int)i;
+        }
+        nout[t] = no;
+#pragma omp barrier
+        for (int u = 0; u < m; u++) {
+            const int *o = out + n * u / m;
+            for (long j = 0; u != t && j < nout[u]; j++) {
+                const long k = key[o[j]] + 2;
+                if (k >= blo && k < bhi)
+                    counts[k + 1]++;
+            }
+        }
+#pragma omp barrier
+        if (m > 1) { /* each block's total, for the offsets of the blocks after it */
+            long sum = 0;
+            for (long c = clo; c < chi; c++)
+                sum += counts[c];
+            block[t] = sum;
+#pragma omp barrier
+        }
+        long off = 0;
+        for (int u = 0; u < t; u++)
+            off += block[u];
+        for (long c = clo; c < chi; c++) {
+            const int k = counts[c];
+            counts[c] = (int)off;
+            off += k;
+        }
+#pragma omp barrier
+        for (int u = 0; u < m; u++) {
+            if (u == t) {
+                for (long i = lo; i < hi; i++) {
+                    const long k = key[i] + 2;
+                    if (k >= blo && k < bhi) {
+                        const long to = counts[k + 1]++;
+                        perm[to] = i;
+                        moved += to != i;
+                    }
+                }
+                continue;
+            }
+            const int *o = out + n * u / m;
+            for (long j = 0; j < nout[u]; j++) {
+                const long k = key[o[j]] + 2;
+                if (k >= blo && k < bhi) {
+                    const long to = counts[k + 1]++;
+                    perm[to] = o[j];
+                    moved += to != o[j];
+                }
+            }
+        }
     }
     const int sorted = moved == 0;
     if (!sorted)

@@ -7,12 +7,16 @@
  * * nz + cz), so the three cells of a neighbouring (cx, cy) column are one range likewise.
  *
  * sph_cells_sort() is a stable counting sort of the particles by cell (lost particles go to the
- * end); the pair loops then read cell cell's particles as [start[cell], start[cell + 1]).
+ * end), in parallel passes; the pair loops then read cell cell's particles as [start[cell],
+ * start[cell + 1]).
  */
 #ifndef SPH_CELLS_H
 #define SPH_CELLS_H
 
 #include "sph_particles.h"
+
+/* The most threads the sort uses. */
+#define SPH_CELLS_SORT_THREADS 64
 
 typedef struct sph_cells {
     int dim;           /* 2 or 3 */
@@ -25,6 +29,7 @@ typedef struct sph_cells {
     int *counts;       /* ncells + 4: the counting sort's array, start = counts + 2 */
     int *key;          /* n: cell of each particle (ncells for lost particles) */
     long *perm;        /* n: sorting permutation, new index -> old index */
+    int *out;          /* n: the sort's lists of particles outside their thread's cells */
     long cap;          /* particles key and perm can hold */
 } sph_cells;
 

@@ -122,16 +122,19 @@ void sph_particles_permute(sph_particles *P, const long *perm)
     for (size_t f = 0; f < sizeof d / sizeof d[0]; f++)
         if (*d[f])
             permute_doubles(d[f], &P->scratch, perm, n);
-    /* the 1- and 4-byte fields go through the scratch buffer too (it holds n doubles) */
-    unsigned char *t = (unsigned char *)P->scratch;
-    int *id = (int *)(t + ((n + 7) / 8) * 8); /* n bytes, then n ints: fits in n doubles */
+    /* the 1- and 4-byte fields go through the scratch buffer too (it holds n doubles); read
+     * through restrict locals, since a char store may alias anything, P included */
+    unsigned char *restrict t = (unsigned char *)P->scratch;
+    int *restrict id = (int *)(P->scratch + (n + 7) / 8); /* n bytes, then n ints */
+    unsigned char *restrict type = P->type;
+    int *restrict pid = P->id;
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++) {
-        t[i] = P->type[perm[i]];
-        id[i] = P->id[perm[i]];
+        t[i] = type[perm[i]];
+        id[i] = pid[perm[i]];
     }
-    memcpy(P->type, t, (size_t)n);
-    memcpy(P->id, id, (size_t)n * sizeof(int));
+    memcpy(type, t, (size_t)n);
+    memcpy(pid, id, (size_t)n * sizeof *pid);
 }
 
 long sph_particles_remove(sph_particles *P, unsigned char type, long *perm)

@@ -283,6 +283,70 @@ static void test_sort(void **state)
     sph_sim_destroy(s);
 }
 
+/* The parallel counting sort, 3D, 40,000 particles in random order (some lost, some outside the
+ * grid), with 1, 2 and 3 threads: the same order as a stable sort by cell (checked against the
+ * keys computed here), the same cell starts, and every particle kept. */
+static void sort_cloud(int threads, int *ids, int *starts, long *active)
+{
+    const long n = 40000;
+    sph_particles P;
+    assert_int_equal(sph_particles_alloc(&P, n, 3, 0), 0);
+    srand(12345);
+    for (long i = 0; i < n; i++) {
+        P.x[i] = 1.2 * rand() / (double)RAND_MAX - 0.1; /* some outside [0, 1] */
+        P.y[i] = rand() / (double)RAND_MAX;
+        P.z[i] = 0.5 * rand() / (double)RAND_MAX;
+        P.type[i] = i % 97 == 0 ? SPH_LOST : (i % 5 == 0 ? SPH_BOUNDARY : SPH_FLUID);
+        P.id[i] = (int)i;
+    }
+    sph_cells g;
+    const double lo[3] = {0, 0, 0}, hi[3] = {1.0, 1.0, 0.5};
+    assert_int_equal(sph_cells_alloc(&g, 3, lo, hi, 0.05, n), 0);
+    omp_set_num_threads(threads);
+    *active = sph_cells_sort(&g, &P);
+    long k = 0;
+    for (long c = 0; c < g.ncells; c++)
+        for (long i = g.start[c]; i < g.start[c + 1]; i++, k++) {
+            assert_int_equal(i, k);
+            const int cx = (int)((P.x[i] - g.x0) * g.inv_size);
+            const int cy = (int)((P.y[i] - g.y0) * g.inv_size);
+            const int cz = (int)((P.z[i] - g.z0) * g.inv_size);
+            assert_int_equal(((long)cx * g.ny + cy) * g.nz + cz, c);
+            assert_true(i == g.start[c] || P.id[i - 1] < P.id[i]); /* stable */
+        }
+    assert_int_equal(k, *active);
+    assert_int_equal(g.start[g.ncells + 1], n);
+    for (long i = *active; i < n; i++) {
+        assert_int_equal(P.type[i], SPH_LOST);
+        assert_true(i == *active || P.id[i - 1] < P.id[i]);
+    }
+    memcpy(ids, P.id, (size_t)n * sizeof *ids);
+    memcpy(starts, g.start, ((size_t)g.ncells + 2) * sizeof *starts);
+    sph_cells_free(&g);
+    sph_particles_free(&P);
+}
+
+static void test_sort_parallel(void **state)
+{
+    (void)state;
+    const int saved = omp_get_max_threads();
+    const long n = 40000, nstart = 22 * 22 * 12 + 2; /* the grid's cells + 2 */
+    int *ids = calloc(3 * (size_t)n, sizeof *ids),
+        *starts = calloc(3 * (size_t)nstart, sizeof *starts);
+    long active[3];
+    for (int t = 0; t < 3; t++)
+        sort_cloud(t + 1, ids + t * n, starts + t * nstart, &active[t]);
+    omp_set_num_threads(saved);
+    assert_true(active[0] > n / 2 && active[0] < n);
+    for (int t = 1; t < 3; t++) {
+        assert_int_equal(active[t], active[0]);
+        assert_memory_equal(ids, ids + t * n, (size_t)n * sizeof *ids);
+        assert_memory_equal(starts, starts + t * nstart, (size_t)nstart * sizeof *starts);
+    }
+    free(ids);
+    free(starts);
+}
+
 /* A small dam break stepped with 1 and with 2 threads: bitwise the same state (the pair loops
  * visit pairs in an order fixed by the grid, and the reductions are max/min or serial). */
 static sph_sim *small_dambreak(int threads)
@@ -565,11 +629,17 @@ static void test_gauges(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_sort),           cmocka_unit_test(test_artificial),
-        cmocka_unit_test(test_laminar_sps),    cmocka_unit_test(test_delta),
-        cmocka_unit_test(test_reproducible),   cmocka_unit_test(test_probes),
-        cmocka_unit_test(test_gauges),         cmocka_unit_test(test_monaghan),
-        cmocka_unit_test(test_obstacles),      cmocka_unit_test(test_pressure_probes),
+        cmocka_unit_test(test_sort),
+        cmocka_unit_test(test_sort_parallel),
+        cmocka_unit_test(test_artificial),
+        cmocka_unit_test(test_laminar_sps),
+        cmocka_unit_test(test_delta),
+        cmocka_unit_test(test_reproducible),
+        cmocka_unit_test(test_probes),
+        cmocka_unit_test(test_gauges),
+        cmocka_unit_test(test_monaghan),
+        cmocka_unit_test(test_obstacles),
+        cmocka_unit_test(test_pressure_probes),
         cmocka_unit_test(test_wall_viscosity),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
