@@ -233,7 +233,9 @@ int main(int argc, char **argv)
     int repeats = 3;
     const char *threads = "1 2", *sizes = "20000 80000 320000", *walls = "dynamic ghost";
     const char *sizes3d = "100000 400000 1600000", *dsph = "0.0074";
-    for (int i = 1; i + 1 < argc; i += 2) {
+    for (int i = 1; i < argc; i += 2) {
+        if (i + 1 == argc) /* an option without its value, --help among them */
+            argv[i] = "";
         if (strcmp(argv[i], "--steps") == 0)
             steps = atol(argv[i + 1]);
         else if (strcmp(argv[i], "--repeats") == 0)

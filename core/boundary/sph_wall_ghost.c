@@ -7,6 +7,7 @@
 #include "sph_particles.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -90,24 +91,28 @@ static int distinct_axes(const sph_wall_ghost *w, unsigned sub)
     return 1;
 }
 
-long sph_wall_ghost_build(const sph_wall_ghost *w, const sph_config *c, const sph_ghost_arrays *a,
-                          long n, long cap)
+/* The ghosts of particles [lo, hi), written from index g on while below cap; returns g after
+ * them. */
+static long ghosts_of(const sph_wall_ghost *w, const sph_config *c, const sph_ghost_arrays *a,
+                      long lo, long hi, long g, long cap)
 {
     const int dim = w->dim;
-    long g = n;
-    for (long i = 0; i < n; i++) {
+    double *const *pos = a->pos, *const *vel = a->vel;
+    double *restrict rho = a->rho;
+    unsigned char *restrict type = a->type;
+    int *restrict id = a->id;
+    for (long i = lo; i < hi; i++) {
         const unsigned m = near_walls(w, a, i);
         if (!m)
             continue;
-        const double pf = sph_eos_pressure(c, a->rho[i]);
         for (unsigned sub = m; sub; sub = (sub - 1) & m) {
             if (!distinct_axes(w, sub))
                 continue;
             if (g < cap) {
                 double x[3], v[3];
                 for (int d = 0; d < dim; d++) {
-                    x[d] = a->pos[d][i];
-                    v[d] = a->vel[d][i];
+                    x[d] = pos[d][i];
+                    v[d] = vel[d][i];
                 }
                 for (int k = 0; k < w->nwalls; k++)
                     if (sub & (1u << k)) {
@@ -116,18 +121,52 @@ long sph_wall_ghost_build(const sph_wall_ghost *w, const sph_config *c, const sp
                         v[p->axis] = -v[p->axis]; /* free slip: normal reversed */
                     }
                 /* Colagrossi & Landrini 2003: hydrostatic pressure across the wall */
-                double pg = pf;
+                double pg = sph_eos_pressure(c, rho[i]);
                 for (int d = 0; d < dim; d++) {
-                    pg += w->rho0g[d] * (x[d] - a->pos[d][i]);
-                    a->pos[d][g] = x[d];
-                    a->vel[d][g] = v[d];
+                    pg += w->rho0g[d] * (x[d] - pos[d][i]);
+                    pos[d][g] = x[d];
+                    vel[d][g] = v[d];
                 }
-                a->rho[g] = sph_eos_density(c, pg);
-                a->type[g] = SPH_GHOST;
-                a->id[g] = a->id[i];
+                rho[g] = sph_eos_density(c, pg);
+                type[g] = SPH_GHOST;
+                id[g] = id[i];
             }
             g++;
         }
     }
-    return g - n;
+    return g;
+}
+
+/* The most threads the build uses. */
+#define GHOST_THREADS 64
+
+long sph_wall_ghost_build(const sph_wall_ghost *w, const sph_config *c, const sph_ghost_arrays *a,
+                          long n, long cap)
+{
+    /* Two passes over one chunk of the particles per thread: each counts its chunk's ghosts
+     * (written nowhere: cap n), then writes them after those of the chunks before it, so that
+     * the ghosts come in the particles' order whatever the number of threads. */
+    int nt = n >= 2 * SPH_OMP_MIN ? omp_get_max_threads() : 1;
+    nt = nt < GHOST_THREADS ? nt : GHOST_THREADS;
+    if (nt == 1)
+        return ghosts_of(w, c, a, 0, n, n, cap) - n;
+    long count[GHOST_THREADS];
+    int used = 1;
+#pragma omp parallel num_threads(nt)
+    {
+        const int t = omp_get_thread_num(), m = omp_get_num_threads();
+        const long lo = n * t / m, hi = n * (t + 1) / m;
+        count[t] = ghosts_of(w, c, a, lo, hi, 0, 0);
+#pragma omp barrier
+        long g = n;
+        for (int u = 0; u < t; u++)
+            g += count[u];
+        ghosts_of(w, c, a, lo, hi, g, cap);
+        if (t == 0)
+            used = m;
+    }
+    long total = 0;
+    for (int u = 0; u < used; u++)
+        total += count[u];
+    return total;
 }

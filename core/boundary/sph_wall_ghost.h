@@ -64,8 +64,9 @@ int sph_wall_ghost_init(sph_wall_ghost *w, const sph_config *c, double support, 
 void sph_wall_ghost_bounds(const sph_wall_ghost *w, double *lo, double *hi);
 
 /* Appends the ghosts of the fluid particles among [0, n) at [n, cap) and returns how many the
- * walls need; when that is more than cap - n the caller makes room and builds again. Serial:
- * the ghosts come in the particles' order, so runs stay the same with any number of threads.
+ * walls need; when that is more than cap - n the caller makes room and builds again. Runs in
+ * parallel; the ghosts come in the particles' order, so runs stay the same with any number of
+ * threads.
  * c gives the EOS. */
 long sph_wall_ghost_build(const sph_wall_ghost *w, const sph_config *c, const sph_ghost_arrays *a,
                           long n, long cap);

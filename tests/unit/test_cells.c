@@ -348,15 +348,19 @@ static void test_sort_parallel(void **state)
 }
 
 /* A small dam break stepped with 1 and with 2 threads: bitwise the same state (the pair loops
- * visit pairs in an order fixed by the grid, and the reductions are max/min or serial). */
-static sph_sim *small_dambreak(int threads)
+ * visit pairs in an order fixed by the grid, the sort and the ghost build keep the particles'
+ * order whatever the threads, and the reductions are max/min or serial). dx 0.004: 3750 fluid
+ * and 843 wall particles, above SPH_OMP_MIN, so the loops run in parallel; dx 0.0025 (9600
+ * fluid particles, above 2 SPH_OMP_MIN) so that the sort and the ghost build do too. */
+static sph_sim *small_dambreak(int threads, double dx, sph_boundary_type walls, long steps)
 {
     sph_config c = sph_config_default();
-    c.dx = 0.004; /* 3750 fluid, 843 wall particles: above SPH_OMP_MIN, so threads do run */
+    c.dx = dx;
     c.h_over_dx = 1.414;
     c.domain = (sph_box){{0, 0, 0}, {0.5, 0.5, 0}};
     c.nfluid = 1;
     c.fluid[0] = (sph_box){{0, 0, 0}, {0.3, 0.2, 0}};
+    c.boundary = walls;
     c.has_tank = 1;
     c.tank = (sph_box){{0, 0, 0}, {0.5, 0.3, 0}};
     c.c0 = 25.0;
@@ -369,15 +373,15 @@ static sph_sim *small_dambreak(int threads)
     sph_sim *s = sph_sim_create(&c, &err);
     assert_non_null(s);
     assert_true(s->P.n >= SPH_OMP_MIN);
-    assert_int_equal(sph_sim_step(s, 150, &err), 0);
+    assert_int_equal(sph_sim_step(s, steps, &err), 0);
     return s;
 }
 
-static void test_reproducible(void **state)
+static void reproducible(double dx, sph_boundary_type walls, long steps)
 {
-    (void)state;
     const int saved = omp_get_max_threads();
-    sph_sim *a = small_dambreak(1), *b = small_dambreak(1), *c = small_dambreak(2);
+    sph_sim *a = small_dambreak(1, dx, walls, steps), *b = small_dambreak(1, dx, walls, steps),
+            *c = small_dambreak(2, dx, walls, steps);
     omp_set_num_threads(saved);
     const sph_sim *other[2] = {b, c};
     for (int k = 0; k < 2; k++) {
@@ -389,12 +393,21 @@ static void test_reproducible(void **state)
         assert_memory_equal(P->vx, Q->vx, nb);
         assert_memory_equal(P->vy, Q->vy, nb);
         assert_memory_equal(P->rho, Q->rho, nb);
+        assert_memory_equal(P->id, Q->id, (size_t)P->n * sizeof(int));
         assert_memory_equal(&a->diag, &other[k]->diag, sizeof a->diag);
     }
     assert_true(a->diag.ekin > 0.0);
     sph_sim_destroy(a);
     sph_sim_destroy(b);
     sph_sim_destroy(c);
+}
+
+static void test_reproducible(void **state)
+{
+    (void)state;
+    reproducible(0.004, SPH_BOUNDARY_DYNAMIC, 150);
+    reproducible(0.0025, SPH_BOUNDARY_DYNAMIC, 40);
+    reproducible(0.0025, SPH_BOUNDARY_GHOST, 40);
 }
 
 /* A block of 20 x 10 fluid particles (dx = 0.01 m) at the left of a 1 m domain, no walls. */
