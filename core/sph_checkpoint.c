@@ -18,8 +18,9 @@
  * viscosity, initial fields, the envelope; 5: rigid bodies (config, diag and state); 6: the
  * walls' viscosity factor; 7: a body's pressure option; 8: sph_mps_config.stabilization; 9: the
  * height gauges (sph_config and sph_diag); 10: 3D (a gauge's y; the third axis's arrays);
- * 11: obstacles; 12: pressure probes (sph_config and sph_diag); 13: sph_config.diag_interval */
-#define SIM_VERSION 13u
+ * 11: obstacles; 12: pressure probes (sph_config and sph_diag); 13: sph_config.diag_interval;
+ * 14: sph_config.wall_density */
+#define SIM_VERSION 14u
 
 typedef struct {
     char magic[8];

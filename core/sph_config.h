@@ -41,6 +41,10 @@ typedef enum {
     SPH_BOUNDARY_COUNT
 } sph_boundary_type;
 
+/* How dynamic wall particles get their density: by continuity (DBC, Crespo et al. 2007), or
+ * interpolated from the fluid at their mirror points (mDBC, English et al. 2021; sph_mdbc.h). */
+typedef enum { SPH_WALL_CONTINUITY = 0, SPH_WALL_MDBC, SPH_WALL_COUNT } sph_wall_density;
+
 typedef enum { SPH_EOS_LINEAR = 0, SPH_EOS_TAIT, SPH_EOS_COUNT } sph_eos_type;
 typedef enum {
     SPH_VISC_ARTIFICIAL = 0,
@@ -144,9 +148,10 @@ typedef struct sph_config {
     sph_boundary_type boundary;          /* wall treatment: dynamic particles or ghosts */
     int layers;                          /* layers of dynamic boundary particles [-] */
     double wall_viscosity; /* dynamic walls: factor on the viscous terms of fluid-wall pairs [-] */
-    int has_tank;          /* 1 if `tank` holds walls */
-    sph_box tank;          /* inner faces of the tank walls (bottom and sides; open top) [m] */
-    int nobstacles;        /* fixed obstacles (dynamic walls): boxes filled with wall particles */
+    sph_wall_density wall_density; /* dynamic walls: continuity (DBC) or mDBC */
+    int has_tank;                  /* 1 if `tank` holds walls */
+    sph_box tank;   /* inner faces of the tank walls (bottom and sides; open top) [m] */
+    int nobstacles; /* fixed obstacles (dynamic walls): boxes filled with wall particles */
     sph_box obstacles[SPH_CONFIG_MAX_BOXES]; /* their boxes [m] */
     double rho0;                             /* reference density [kg/m^3] */
     double gravity[3];                       /* [m/s^2] */

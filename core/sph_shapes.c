@@ -63,6 +63,58 @@ int sph_shapes_in_obstacle(const sph_config *c, const double *x)
     return 0;
 }
 
+void sph_shapes_wall_mirror(const sph_config *c, const double *x, double *g)
+{
+    const int dim = c->dim, up = sph_shapes_up(dim);
+    const double dx = c->dx, half = 0.5 * dx;
+    for (int d = 0; d < 3; d++)
+        g[d] = d < dim ? x[d] : 0.0;
+    for (int k = 0; k < c->nobstacles; k++) { /* a point of an obstacle: across its nearest face */
+        const sph_box *o = &c->obstacles[k];
+        double lo[3], hi[3];
+        int in = 1;
+        for (int d = 0; d < dim && in; d++) {
+            double first;
+            const long n = obstacle_axis(o, d, dx, &first);
+            lo[d] = first - half; /* the faces the particles stand for */
+            hi[d] = first + (double)(n - 1) * dx + half;
+            in = x[d] > lo[d] && x[d] < hi[d];
+        }
+        if (!in)
+            continue;
+        double best = INFINITY, at = 0.0;
+        int axis = -1;
+        for (int d = 0; d < dim; d++) {
+            /* a face on the tank's floor or against one of its walls faces no water */
+            const int lo_wet = !c->has_tank || lo[d] > c->tank.min[d] + 0.25 * dx;
+            const int hi_wet = !c->has_tank || d == up || hi[d] < c->tank.max[d] - 0.25 * dx;
+            if (lo_wet && x[d] - lo[d] < best) {
+                best = x[d] - lo[d];
+                at = lo[d];
+                axis = d;
+            }
+            if (hi_wet && hi[d] - x[d] < best) {
+                best = hi[d] - x[d];
+                at = hi[d];
+                axis = d;
+            }
+        }
+        if (axis >= 0)
+            g[axis] = 2.0 * at - x[axis];
+        return;
+    }
+    if (!c->has_tank)
+        return;
+    for (int d = 0; d < dim; d++) { /* a point of the tank's walls: across the nearest point of
+                                       the tank's inside (a face, an edge or a corner) */
+        const sph_box *t = &c->tank;
+        if (x[d] < t->min[d])
+            g[d] = 2.0 * t->min[d] - x[d];
+        else if (x[d] > t->max[d] && d != up)
+            g[d] = 2.0 * t->max[d] - x[d];
+    }
+}
+
 long sph_shapes_obstacle_points(const sph_config *c, const sph_box *b, double *const *pos)
 {
     const int dim = c->dim;

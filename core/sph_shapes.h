@@ -55,6 +55,15 @@ long sph_shapes_tank_points(const sph_config *c, double *const *pos);
  * when pos is not NULL; returns the count. */
 long sph_shapes_obstacle_points(const sph_config *c, const sph_box *b, double *const *pos);
 
+/* The mirror point of the wall particle at x (mDBC, English et al. 2021: its ghost node) into g
+ * (dim components; 0 beyond): x reflected across the nearest point of the water's side of the
+ * wall it belongs to. For an obstacle's particle, the nearest face of the obstacle that can be
+ * wet (not one on the tank's floor or against a tank wall); for a tank wall's particle, the
+ * nearest point of the tank's inside, so that a particle in an edge or a corner of the walls is
+ * reflected through that edge or corner. The faces are those the particles stand for: dx / 2
+ * beyond the outermost particles. g = x for a point that belongs to no wall. */
+void sph_shapes_wall_mirror(const sph_config *c, const double *x, double *g);
+
 /* 1 if the point x lies where an obstacle is: within dx of the region of one's lattice (a fluid
  * point there would sit closer than dx to the obstacle's particles). */
 int sph_shapes_in_obstacle(const sph_config *c, const double *x);

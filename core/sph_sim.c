@@ -207,6 +207,13 @@ int sph_sim_check(const sph_config *c, sph_error *err)
     if (!(c->wall_viscosity >= 0.0 && c->wall_viscosity <= 1.0))
         return sph_error_set(err, SPH_ERR_INVALID, "/boundary/viscosity_factor",
                              "viscosity_factor must be in [0, 1]");
+    if ((unsigned)c->wall_density >= SPH_WALL_COUNT)
+        return sph_error_set(err, SPH_ERR_INVALID, "/boundary/density",
+                             "unknown wall density: continuity or mdbc");
+    if (c->wall_density == SPH_WALL_MDBC &&
+        (c->boundary != SPH_BOUNDARY_DYNAMIC || c->method != SPH_METHOD_WCSPH))
+        return sph_error_set(err, SPH_ERR_INVALID, "/boundary/density",
+                             "mdbc is for the dynamic walls of wcsph: remove boundary.density");
     if (c->boundary == SPH_BOUNDARY_DYNAMIC && (c->layers < 1 || c->layers > 8))
         return sph_error_set(err, SPH_ERR_INVALID, "/boundary/layers",
                              "layers must be from 1 to 8");

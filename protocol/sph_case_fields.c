@@ -38,6 +38,8 @@ static const char *const kernel_names[] = {
     "renormalized_gaussian", "koshizuka", "sheu_quartic",  NULL}; /* sph_kernel_type order */
 static const char *const boundary_names[] = {"dynamic", "ghost", "none", NULL};
 static const int boundary_values[] = {SPH_BOUNDARY_DYNAMIC, SPH_BOUNDARY_GHOST, SPH_BOUNDARY_NONE};
+static const char *const wall_density_names[] = {"continuity", "mdbc", NULL};
+static const int wall_density_values[] = {SPH_WALL_CONTINUITY, SPH_WALL_MDBC};
 static const char *const eos_names[] = {"linear", "tait", NULL};
 static const int eos_values[] = {SPH_EOS_LINEAR, SPH_EOS_TAIT};
 static const char *const visc_names[] = {"artificial", "laminar", "monaghan", NULL};
@@ -201,6 +203,13 @@ const sph_case_field sph_case_fields[] = {
      CFG(wall_viscosity),
      .doc = "factor on the viscous terms between fluid and wall particles (DualSPHysics' "
             "ViscoBoundFactor); 0: the walls exert no viscous friction"},
+    {.path = "/boundary/density", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
+     .when = "/boundary/type=dynamic", .names = wall_density_names,
+     .values = wall_density_values, .has_def = 1, .def = 0, CFG(wall_density),
+     .doc = "how the wall particles get their density: continuity (DBC: by the continuity "
+            "equation, never below rho0); mdbc (English et al. 2021: interpolated from the fluid "
+            "at the particle's mirror point across the wall, first-order corrected; smoother "
+            "wall pressures, no gap at the walls)"},
     {.path = "/boundary/tank", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS,
      .required = SPH_CF_MPS, .parse = parse_tank, CFG(tank),
      .doc = "{\"min\", \"max\"}: inner faces of a tank with bottom, left and right walls (open "

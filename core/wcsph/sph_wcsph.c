@@ -18,6 +18,8 @@
  * results are bitwise the same whatever the number of threads.
  */
 #include "sph_wcsph.h"
+#include "sph_mdbc.h"
+#include "sph_shapes.h"
 #include "sph_wcsph_pair.h"
 
 #include <math.h>
@@ -387,6 +389,67 @@ static double gravity(const sph_config *cfg, sph_particles *P, long n)
     return amax2;
 }
 
+/* mDBC (sph_mdbc.h): wall particle i's density from the fluid around its mirror point. The
+ * fluid is searched in the 3 x 3 (x 3) cells around the mirror point; one that falls outside the
+ * grid's inner cells (no wall of this geometry sends it there) leaves rho0. */
+static inline __attribute__((always_inline)) void mdbc_one(const int D, const sph_sim *s,
+                                                           sph_particles *P, long i)
+{
+    if (P->type[i] != SPH_BOUNDARY)
+        return;
+    const sph_cells *g = &s->cells;
+    const double x[3] = {P->x[i], P->y[i], D == 3 ? P->z[i] : 0.0};
+    double gx[3];
+    sph_shapes_wall_mirror(&s->cfg, x, gx);
+    const double f[3] = {(gx[0] - g->x0) * g->inv_size, (gx[1] - g->y0) * g->inv_size,
+                         D == 3 ? (gx[2] - g->z0) * g->inv_size : 1.5};
+    double rho = s->cfg.rho0;
+    if (f[0] >= 1.0 && f[0] < g->nx - 1.0 && f[1] >= 1.0 && f[1] < g->ny - 1.0 &&
+        (D == 2 || (f[2] >= 1.0 && f[2] < g->nz - 1.0))) {
+        const int cx = (int)f[0], cy = (int)f[1], cz = D == 3 ? (int)f[2] : 0;
+        const double support2 = s->kernel.support * s->kernel.support, m = s->mass;
+        sph_mdbc_sum sum;
+        memset(&sum, 0, sizeof sum);
+        for (int a = -1; a <= 1; a++)
+            for (int b = -1; b <= 1; b++) {
+                const long col = (long)(cx + a) * g->ny + cy + b; /* one contiguous range */
+                const long cell = D == 3 ? col * g->nz + cz : col;
+                const long jb = g->start[cell - 1], je = g->start[cell + 2];
+                for (long j = jb; j < je; j++) {
+                    if (P->type[j] != SPH_FLUID)
+                        continue;
+                    const double r[3] = {gx[0] - P->x[j], gx[1] - P->y[j],
+                                         D == 3 ? gx[2] - P->z[j] : 0.0};
+                    const double r2 = r[0] * r[0] + r[1] * r[1] + (D == 3 ? r[2] * r[2] : 0.0);
+                    if (r2 >= support2)
+                        continue;
+                    const double q = sqrt(r2);
+                    double dwdr;
+                    const double w = sph_kernel_eval_t(s->kernel.type, &s->kernel, q, &dwdr);
+                    sph_mdbc_add(D, &sum, r, w, q > 0.0 ? dwdr / q : 0.0, m, P->rho[j]);
+                }
+            }
+        const double dpos[3] = {x[0] - gx[0], x[1] - gx[1], x[2] - gx[2]};
+        rho = sph_mdbc_density(D, &sum, dpos, s->cfg.rho0);
+    }
+    P->rho[i] = rho;
+}
+
+/* Every wall particle's density by mDBC, before the pair loop reads it (mdbc2, mdbc3: D a
+ * literal there). Each reads the fluid only and writes itself: any number of threads gives the
+ * same densities. */
+/* clang-format off */
+#define SPH_MDBC_LOOP(D)                                                                           \
+    static void mdbc##D(const sph_sim *s, sph_particles *P, long n)                                \
+    {                                                                                              \
+        _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)")         \
+        for (long i = 0; i < n; i++)                                                               \
+            mdbc_one(D, s, P, i);                                                                  \
+    }
+/* clang-format on */
+SPH_MDBC_LOOP(2)
+SPH_MDBC_LOOP(3)
+
 /* Appends the ghosts of the free-slip walls after the real particles (room made as needed).
  * Returns 0 or -1 when out of memory. */
 static int add_ghosts(sph_sim *s)
@@ -423,6 +486,12 @@ int sph_wcsph_forces(sph_sim *s)
     double t1 = omp_get_wtime();
     s->timing.neighbours += t1 - t0;
 
+    if (cfg->boundary == SPH_BOUNDARY_DYNAMIC && cfg->wall_density == SPH_WALL_MDBC) {
+        if (cfg->dim == 3)
+            mdbc3(s, P, s->nactive);
+        else
+            mdbc2(s, P, s->nactive);
+    }
     prepare(s);
     if (s->bodies.n > 0) { /* the body particles' pressure from the fluid around them */
         const double tb = omp_get_wtime();

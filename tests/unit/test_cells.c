@@ -10,6 +10,7 @@
 
 #include <cmocka.h>
 
+#include "sph_shapes.h"
 #include "sph_wcsph.h"
 
 #include <math.h>
@@ -347,6 +348,49 @@ static void test_sort_parallel(void **state)
     free(starts);
 }
 
+/* mDBC's mirror points (sph_shapes_wall_mirror): tank walls through the nearest face, edge or
+ * corner; an obstacle's particles through its nearest face that can be wet (not the one on the
+ * floor, not one against a tank wall); points of no wall stay. */
+static void mirror_is(const sph_config *c, double x, double y, double z, double gx, double gy,
+                      double gz)
+{
+    const double p[3] = {x, y, z};
+    double g[3];
+    sph_shapes_wall_mirror(c, p, g);
+    close_to(g[0], gx, 1e-12, "mirror x");
+    close_to(g[1], gy, 1e-12, "mirror y");
+    close_to(g[2], gz, 1e-12, "mirror z");
+}
+
+static void test_wall_mirror(void **state)
+{
+    (void)state;
+    sph_config c = sph_config_default();
+    c.dim = 3;
+    c.dx = 0.1;
+    c.has_tank = 1;
+    c.tank = (sph_box){{0, 0, 0}, {1, 1, 1}};
+    c.nobstacles = 2;
+    c.obstacles[0] = (sph_box){{0.3, 0.3, 0}, {0.6, 0.6, 0.3}}; /* on the floor */
+    c.obstacles[1] = (sph_box){{0, 0.8, 0.5}, {0.2, 1, 0.7}};   /* in the corner x 0, y 1 */
+    mirror_is(&c, 0.25, 0.75, -0.05, 0.25, 0.75, 0.05);         /* floor */
+    mirror_is(&c, 0.25, 0.75, -0.25, 0.25, 0.75, 0.25);         /* floor, third layer */
+    mirror_is(&c, -0.05, -0.15, -0.05, 0.05, 0.15, 0.05);       /* a corner of the walls */
+    mirror_is(&c, 1.05, 0.5, 0.9, 0.95, 0.5, 0.9);              /* side wall, near the open top */
+    mirror_is(&c, 1.05, 0.5, 1.3, 0.95, 0.5, 1.3);              /* above the top: across x only */
+    mirror_is(&c, 0.45, 0.45, 0.25, 0.45, 0.45, 0.35);          /* the obstacle's top */
+    mirror_is(&c, 0.35, 0.45, 0.15, 0.25, 0.45, 0.15);          /* its face at x 0.3 */
+    /* the second obstacle: particles at x 0.05, 0.15; y 0.85, 0.95; z 0.55, 0.65. Its faces at x
+     * 0 and y 1 are against tank walls: its particle (0.05, 0.95, 0.55), 0.05 from them and from
+     * z 0.5, goes across z 0.5 */
+    mirror_is(&c, 0.05, 0.95, 0.55, 0.05, 0.95, 0.45);
+    mirror_is(&c, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5); /* in the water: no wall */
+    c.dim = 2;
+    c.nobstacles = 0;
+    mirror_is(&c, -0.05, -0.05, 0, 0.05, 0.05, 0);
+    mirror_is(&c, 1.15, 0.5, 0, 0.85, 0.5, 0);
+}
+
 /* A small dam break stepped with 1 and with 2 threads: bitwise the same state (the pair loops
  * visit pairs in an order fixed by the grid, the sort and the ghost build keep the particles'
  * order whatever the threads, and the reductions are max/min or serial). dx 0.004: 3750 fluid
@@ -654,6 +698,7 @@ int main(void)
         cmocka_unit_test(test_obstacles),
         cmocka_unit_test(test_pressure_probes),
         cmocka_unit_test(test_wall_viscosity),
+        cmocka_unit_test(test_wall_mirror),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
