@@ -51,6 +51,7 @@ void sph_cells_free(sph_cells *g)
     free(g->key);
     free(g->perm);
     free(g->out);
+    free(g->wet);
     memset(g, 0, sizeof *g);
 }
 
@@ -220,4 +221,22 @@ long sph_cells_sort(sph_cells *g, sph_particles *P)
         sph_particles_permute(P, g->perm);
     const int *start = g->start;
     return start[ncells];
+}
+
+const unsigned char *sph_cells_wet(sph_cells *g, const sph_particles *P)
+{
+    if (!g->wet && !(g->wet = malloc((size_t)g->ncells)))
+        return NULL;
+    const long nc = g->ncells;
+    const int *start = g->start;
+    const unsigned char *restrict type = P->type;
+    unsigned char *restrict wet = g->wet;
+#pragma omp parallel for schedule(dynamic, 16 * SPH_OMP_CHUNK) if (P->n >= SPH_OMP_MIN)
+    for (long c = 0; c < nc; c++) {
+        unsigned char w = 0;
+        for (long j = start[c]; j < start[c + 1]; j++)
+            w |= type[j] == SPH_FLUID;
+        wet[c] = w;
+    }
+    return wet;
 }

@@ -19,18 +19,19 @@
 #define SPH_CELLS_SORT_THREADS 64
 
 typedef struct sph_cells {
-    int dim;           /* 2 or 3 */
-    double x0, y0, z0; /* lower corner of cell (0, 0, 0), the padding cell [m] (z0: 3D) */
-    double size;       /* cell edge [m], >= support radius */
-    double inv_size;   /* 1 / size [1/m] */
-    int nx, ny, nz;    /* cells per axis, padding included [-] (nz = 1 in 2D) */
-    long ncells;       /* nx * ny * nz */
-    int *start;        /* ncells + 2 offsets: cell c holds [start[c], start[c + 1]) */
-    int *counts;       /* ncells + 4: the counting sort's array, start = counts + 2 */
-    int *key;          /* n: cell of each particle (ncells for lost particles) */
-    long *perm;        /* n: sorting permutation, new index -> old index */
-    int *out;          /* n: the sort's lists of particles outside their thread's cells */
-    long cap;          /* particles key and perm can hold */
+    int dim;            /* 2 or 3 */
+    double x0, y0, z0;  /* lower corner of cell (0, 0, 0), the padding cell [m] (z0: 3D) */
+    double size;        /* cell edge [m], >= support radius */
+    double inv_size;    /* 1 / size [1/m] */
+    int nx, ny, nz;     /* cells per axis, padding included [-] (nz = 1 in 2D) */
+    long ncells;        /* nx * ny * nz */
+    int *start;         /* ncells + 2 offsets: cell c holds [start[c], start[c + 1]) */
+    int *counts;        /* ncells + 4: the counting sort's array, start = counts + 2 */
+    int *key;           /* n: cell of each particle (ncells for lost particles) */
+    long *perm;         /* n: sorting permutation, new index -> old index */
+    int *out;           /* n: the sort's lists of particles outside their thread's cells */
+    unsigned char *wet; /* ncells, made on first use: cells that hold fluid (sph_cells_wet) */
+    long cap;           /* particles key and perm can hold */
 } sph_cells;
 
 /* Number of cells of the dim-dimensional grid covering [lo, hi] with cells of edge >= size
@@ -66,5 +67,9 @@ static inline void sph_cells_column3(const sph_cells *g, int cx, int cy, long *j
 /* Sorts P by cell. Particles of type SPH_LOST, or outside the grid (they become SPH_LOST), go
  * to the end. Returns the number of particles in cells (the active ones). */
 long sph_cells_sort(sph_cells *g, sph_particles *P);
+
+/* After a sort: for each cell, 1 if it holds a fluid particle (into g->wet, allocated on the
+ * first call). Returns g->wet, or NULL when out of memory. */
+const unsigned char *sph_cells_wet(sph_cells *g, const sph_particles *P);
 
 #endif

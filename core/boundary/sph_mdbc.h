@@ -11,7 +11,8 @@
  *
  * with r_j = x_g - x_j, V_j = m_j / rho_j and gradW the kernel's gradient at the ghost node.
  * Where A is near singular (|det A| < SPH_MDBC_DETERMINANT: a ghost node at the water's edge)
- * the Shepard value b_0 / A_00 is used, and rho0 where no fluid is within reach.
+ * the Shepard value b_0 / A_00 is used, and rho0 where no fluid is within reach. The caller
+ * keeps the result at rho0 or above, as the continuity walls do (sph_wcsph.c).
  *
  * The physics of one ghost node, written once for the C loop (sph_wcsph.c) and a device's.
  */

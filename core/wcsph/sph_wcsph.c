@@ -392,8 +392,8 @@ static double gravity(const sph_config *cfg, sph_particles *P, long n)
 /* mDBC (sph_mdbc.h): wall particle i's density from the fluid around its mirror point. The
  * fluid is searched in the 3 x 3 (x 3) cells around the mirror point; one that falls outside the
  * grid's inner cells (no wall of this geometry sends it there) leaves rho0. */
-static inline __attribute__((always_inline)) void mdbc_one(const int D, const sph_sim *s,
-                                                           sph_particles *P, long i)
+static inline __attribute__((always_inline)) void
+mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *wet, long i)
 {
     if (P->type[i] != SPH_BOUNDARY)
         return;
@@ -414,6 +414,8 @@ static inline __attribute__((always_inline)) void mdbc_one(const int D, const sp
             for (int b = -1; b <= 1; b++) {
                 const long col = (long)(cx + a) * g->ny + cy + b; /* one contiguous range */
                 const long cell = D == 3 ? col * g->nz + cz : col;
+                if (!(wet[cell - 1] | wet[cell] | wet[cell + 1]))
+                    continue; /* no fluid there: most of a tank's walls are dry */
                 const long jb = g->start[cell - 1], je = g->start[cell + 2];
                 for (long j = jb; j < je; j++) {
                     if (P->type[j] != SPH_FLUID)
@@ -432,19 +434,21 @@ static inline __attribute__((always_inline)) void mdbc_one(const int D, const sp
         const double dpos[3] = {x[0] - gx[0], x[1] - gx[1], x[2] - gx[2]};
         rho = sph_mdbc_density(D, &sum, dpos, s->cfg.rho0);
     }
-    P->rho[i] = rho;
+    /* never below rho0, as the continuity walls: a wall does not pull water in (and an
+     * extrapolation from a few particles of a splash cannot send it into tension) */
+    P->rho[i] = rho > s->cfg.rho0 ? rho : s->cfg.rho0;
 }
 
 /* Every wall particle's density by mDBC, before the pair loop reads it (mdbc2, mdbc3: D a
  * literal there). Each reads the fluid only and writes itself: any number of threads gives the
- * same densities. */
+ * same densities. wet[c]: 1 when cell c holds fluid. */
 /* clang-format off */
 #define SPH_MDBC_LOOP(D)                                                                           \
-    static void mdbc##D(const sph_sim *s, sph_particles *P, long n)                                \
+    static void mdbc##D(const sph_sim *s, sph_particles *P, const unsigned char *wet, long n)      \
     {                                                                                              \
         _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)")         \
         for (long i = 0; i < n; i++)                                                               \
-            mdbc_one(D, s, P, i);                                                                  \
+            mdbc_one(D, s, P, wet, i);                                                             \
     }
 /* clang-format on */
 SPH_MDBC_LOOP(2)
@@ -487,10 +491,13 @@ int sph_wcsph_forces(sph_sim *s)
     s->timing.neighbours += t1 - t0;
 
     if (cfg->boundary == SPH_BOUNDARY_DYNAMIC && cfg->wall_density == SPH_WALL_MDBC) {
+        const unsigned char *wet = sph_cells_wet(&s->cells, P);
+        if (!wet)
+            return -1;
         if (cfg->dim == 3)
-            mdbc3(s, P, s->nactive);
+            mdbc3(s, P, wet, s->nactive);
         else
-            mdbc2(s, P, s->nactive);
+            mdbc2(s, P, wet, s->nactive);
     }
     prepare(s);
     if (s->bodies.n > 0) { /* the body particles' pressure from the fluid around them */
