@@ -18,10 +18,10 @@
 
 size_t sph_particles_bytes_per_particle(int dim, int sps)
 {
-    /* the double arrays, type, id, cell key, perm */
+    /* the double arrays, type, id, cell key, the sort's outlier list, perm */
     const size_t nd =
         N_FIELDS2 + (dim == 3 ? N_FIELDS3 : 0) + (sps ? N_SPS2 + (dim == 3 ? N_SPS3 : 0) : 0);
-    return nd * sizeof(double) + 1 + sizeof(int) + sizeof(int) + sizeof(long);
+    return nd * sizeof(double) + 1 + sizeof(int) + sizeof(int) + sizeof(int) + sizeof(long);
 }
 
 /* Every double array's address in P, the absent ones included (their pointers stay NULL). */

@@ -84,7 +84,8 @@ double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nbounda
         span = fmax(span, hi[2] - lo[2]);
     const double bins = (span / cfg->dx + 2.0) * 12.0;
     const double ghosts = 1.25 * (double)ghosts_estimate(cfg);
-    return (double)(nf + nb + ghosts) * per + cells * sizeof(int) + bins + sizeof(sph_sim);
+    /* per cell: its start, and with mDBC its wet flag */
+    return (double)(nf + nb + ghosts) * per + cells * (sizeof(int) + 1) + bins + sizeof(sph_sim);
 }
 
 /* The names that a gauge may not take: the diag series' own and diag.h5's tables (PROTOCOL.md

@@ -252,8 +252,9 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
 
     /* sorts by cell: the arrays are permuted, nactive updated */
     if (sph_wcsph_forces(s))
-        return sph_error_set(err, SPH_ERR_NOMEM, "",
-                             "out of memory for the ghost particles at step %ld", step);
+        return sph_error_set(
+            err, SPH_ERR_NOMEM, "",
+            "out of memory for the ghost particles or the wet-cell map at step %ld", step);
 
     /* corrector and checks */
     const double t1 = omp_get_wtime();
@@ -315,7 +316,8 @@ static size_t wcsph_bytes_per_particle(const sph_config *c)
 static int wcsph_init(sph_sim *s, sph_error *err)
 {
     if (sph_wcsph_forces(s))
-        return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the ghost particles");
+        return sph_error_set(err, SPH_ERR_NOMEM, "",
+                             "out of memory for the ghost particles or the wet-cell map");
     return 0;
 }
 
