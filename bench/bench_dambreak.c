@@ -234,23 +234,23 @@ int main(int argc, char **argv)
     const char *threads = "1 2", *sizes = "20000 80000 320000", *walls = "dynamic ghost";
     const char *sizes3d = "100000 400000 1600000", *dsph = "0.0074";
     for (int i = 1; i < argc; i += 2) {
-        if (i + 1 == argc) /* an option without its value, --help among them */
-            argv[i] = "";
-        if (strcmp(argv[i], "--steps") == 0)
+        /* an option without its value (--help among them) matches none: the usage */
+        const char *opt = i + 1 < argc ? argv[i] : "";
+        if (strcmp(opt, "--steps") == 0)
             steps = atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--repeats") == 0)
+        else if (strcmp(opt, "--repeats") == 0)
             repeats = atoi(argv[i + 1]);
-        else if (strcmp(argv[i], "--threads") == 0)
+        else if (strcmp(opt, "--threads") == 0)
             threads = argv[i + 1];
-        else if (strcmp(argv[i], "--sizes") == 0)
+        else if (strcmp(opt, "--sizes") == 0)
             sizes = argv[i + 1];
-        else if (strcmp(argv[i], "--walls") == 0)
+        else if (strcmp(opt, "--walls") == 0)
             walls = argv[i + 1];
-        else if (strcmp(argv[i], "--steps3d") == 0)
+        else if (strcmp(opt, "--steps3d") == 0)
             steps3d = atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--sizes3d") == 0)
+        else if (strcmp(opt, "--sizes3d") == 0)
             sizes3d = argv[i + 1];
-        else if (strcmp(argv[i], "--dsph") == 0)
+        else if (strcmp(opt, "--dsph") == 0)
             dsph = argv[i + 1];
         else {
             fprintf(stderr,

@@ -169,8 +169,10 @@ long sph_cells_sort(sph_cells *g, sph_particles *P)
         nout[t] = no;
 #pragma omp barrier
         for (int u = 0; u < m; u++) {
+            if (u == t)
+                continue;
             const int *o = out + n * u / m;
-            for (long j = 0; u != t && j < nout[u]; j++) {
+            for (long j = 0; j < nout[u]; j++) {
                 const long k = key[o[j]] + 2;
                 if (k >= blo && k < bhi)
                     counts[k + 1]++;

@@ -54,12 +54,35 @@ static inline void sph_cells_of(const sph_cells *g, double x, double y, int *cx,
     *cy = (int)((y - g->y0) * g->inv_size);
 }
 
+/* The index of cell (cx, cy, cz), cz = 0 in 2D (nz = 1). The last axis runs fastest: cells
+ * index - 1 .. index + 1 are one contiguous range of particles once they are sorted. */
+static inline long sph_cells_index(const sph_cells *g, int cx, int cy, int cz)
+{
+    return ((long)cx * g->ny + cy) * g->nz + cz;
+}
+
+/* The cell of the point x (D components; D the grid's dimension, a constant at the call) into c
+ * (c[2] = 0 in 2D) when x lies in the grid's inner cells, the padding excluded; returns 1 then, 0
+ * otherwise (NaN included). */
+static inline int sph_cells_locate(const int D, const sph_cells *g, const double *x, int c[3])
+{
+    const double f[3] = {(x[0] - g->x0) * g->inv_size, (x[1] - g->y0) * g->inv_size,
+                         D == 3 ? (x[2] - g->z0) * g->inv_size : 1.5};
+    if (!(f[0] >= 1.0 && f[0] < g->nx - 1.0 && f[1] >= 1.0 && f[1] < g->ny - 1.0 &&
+          (D == 2 || (f[2] >= 1.0 && f[2] < g->nz - 1.0))))
+        return 0;
+    c[0] = (int)f[0];
+    c[1] = (int)f[1];
+    c[2] = D == 3 ? (int)f[2] : 0;
+    return 1;
+}
+
 /* 2D grids: the particles of the cells (cx, cy - 1), (cx, cy), (cx, cy + 1): one contiguous range
  * [*jb, *je) once they are sorted. Over cx - 1 .. cx + 1 it visits every neighbour within the
  * cell size of a particle in cell (cx, cy). */
 static inline void sph_cells_column3(const sph_cells *g, int cx, int cy, long *jb, long *je)
 {
-    const long cell = (long)cx * g->ny + cy;
+    const long cell = sph_cells_index(g, cx, cy, 0);
     *jb = g->start[cell - 1];
     *je = g->start[cell + 2];
 }

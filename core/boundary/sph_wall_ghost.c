@@ -150,8 +150,7 @@ long sph_wall_ghost_build(const sph_wall_ghost *w, const sph_config *c, const sp
     nt = nt < GHOST_THREADS ? nt : GHOST_THREADS;
     if (nt == 1)
         return ghosts_of(w, c, a, 0, n, n, cap) - n;
-    long count[GHOST_THREADS];
-    int used = 1;
+    long count[GHOST_THREADS], end = n;
 #pragma omp parallel num_threads(nt)
     {
         const int t = omp_get_thread_num(), m = omp_get_num_threads();
@@ -161,12 +160,9 @@ long sph_wall_ghost_build(const sph_wall_ghost *w, const sph_config *c, const sp
         long g = n;
         for (int u = 0; u < t; u++)
             g += count[u];
-        ghosts_of(w, c, a, lo, hi, g, cap);
-        if (t == 0)
-            used = m;
+        g = ghosts_of(w, c, a, lo, hi, g, cap);
+        if (t == m - 1) /* the last chunk's ghosts end them all */
+            end = g;
     }
-    long total = 0;
-    for (int u = 0; u < used; u++)
-        total += count[u];
-    return total;
+    return end - n;
 }

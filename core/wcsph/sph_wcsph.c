@@ -390,8 +390,9 @@ static double gravity(const sph_config *cfg, sph_particles *P, long n)
 }
 
 /* mDBC (sph_mdbc.h): wall particle i's density from the fluid around its mirror point. The
- * fluid is searched in the 3 x 3 (x 3) cells around the mirror point; one that falls outside the
- * grid's inner cells (no wall of this geometry sends it there) leaves rho0. */
+ * fluid is searched in the 3 x 3 (x 3) cells around the mirror point, a column of 3 cells at a
+ * time; one that falls outside the grid's inner cells (no wall of this geometry sends it there)
+ * leaves rho0. */
 static inline __attribute__((always_inline)) void
 mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *wet, long i)
 {
@@ -401,19 +402,15 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
     const double x[3] = {P->x[i], P->y[i], D == 3 ? P->z[i] : 0.0};
     double gx[3];
     sph_shapes_wall_mirror(&s->cfg, x, gx);
-    const double f[3] = {(gx[0] - g->x0) * g->inv_size, (gx[1] - g->y0) * g->inv_size,
-                         D == 3 ? (gx[2] - g->z0) * g->inv_size : 1.5};
     double rho = s->cfg.rho0;
-    if (f[0] >= 1.0 && f[0] < g->nx - 1.0 && f[1] >= 1.0 && f[1] < g->ny - 1.0 &&
-        (D == 2 || (f[2] >= 1.0 && f[2] < g->nz - 1.0))) {
-        const int cx = (int)f[0], cy = (int)f[1], cz = D == 3 ? (int)f[2] : 0;
+    int c[3];
+    if (sph_cells_locate(D, g, gx, c)) {
         const double support2 = s->kernel.support * s->kernel.support, m = s->mass;
         sph_mdbc_sum sum;
         memset(&sum, 0, sizeof sum);
         for (int a = -1; a <= 1; a++)
             for (int b = -1; b <= 1; b++) {
-                const long col = (long)(cx + a) * g->ny + cy + b; /* one contiguous range */
-                const long cell = D == 3 ? col * g->nz + cz : col;
+                const long cell = sph_cells_index(g, c[0] + a, c[1] + b, c[2]);
                 if (!(wet[cell - 1] | wet[cell] | wet[cell + 1]))
                     continue; /* no fluid there: most of a tank's walls are dry */
                 const long jb = g->start[cell - 1], je = g->start[cell + 2];
@@ -490,7 +487,7 @@ int sph_wcsph_forces(sph_sim *s)
     double t1 = omp_get_wtime();
     s->timing.neighbours += t1 - t0;
 
-    if (cfg->boundary == SPH_BOUNDARY_DYNAMIC && cfg->wall_density == SPH_WALL_MDBC) {
+    if (cfg->wall_density == SPH_WALL_MDBC) { /* (dynamic walls only: sph_sim_check) */
         const unsigned char *wet = sph_cells_wet(&s->cells, P);
         if (!wet)
             return -1;
