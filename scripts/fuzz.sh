@@ -13,16 +13,18 @@
 # far a run gets, and some of libFuzzer's choices, depend on its speed); scripts/test.sh fixes
 # it so that CI tries about the same inputs each time rather than new ones by chance.
 # --fresh: start from the seed corpus only, not from what earlier runs in build-fuzz/ found.
-# Usage: scripts/fuzz.sh [--seconds S] [--seed S] [--fresh] [--keep-going]
+# --jobs J: run up to J targets at once (default 1; each is one process on one core).
+# Usage: scripts/fuzz.sh [--seconds S] [--jobs J] [--seed S] [--fresh] [--keep-going]
 #                        [--build-only | --no-build] [TARGET ...]
 #   targets: request case sim_restore ckpt journal (default: all). FUZZ_NICE=19 runs it niced.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-seconds=30 seed=0 fresh=0 build_only=0 build=1 targets=() mode=()
+seconds=30 jobs=1 seed=0 fresh=0 build_only=0 build=1 targets=() mode=()
 while [ $# -gt 0 ]; do
   case $1 in
     --seconds) seconds=$2; shift 2 ;;
     --seed) seed=$2; shift 2 ;;
+    --jobs) jobs=$2; shift 2 ;;
     --fresh) fresh=1; shift ;;
     --build-only) build_only=1; shift ;;
     --no-build) build=0; shift ;;
@@ -40,22 +42,34 @@ fi
 export OMP_NUM_THREADS=1
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
-rc=0
-for t in "${targets[@]}"; do
+# One target's run; its summary goes to build-fuzz/logs/NAME.result (printed in order at the
+# end), its status is the exit code.
+run_one() {
+  local t=$1
   [ "$fresh" = 0 ] || rm -rf "build-fuzz/corpus/$t"
   mkdir -p "build-fuzz/corpus/$t" "build-fuzz/artifacts/$t" build-fuzz/logs
-  dict=()
+  local dict=()
   [ -f "tests/fuzz/$t.dict" ] && dict=(-dict="tests/fuzz/$t.dict")
-  log="build-fuzz/logs/$t-$(date +%Y%m%d-%H%M%S).log"
+  local log="build-fuzz/logs/$t-$(date +%Y%m%d-%H%M%S).log" out="build-fuzz/logs/$t.result"
   if nice -n "${FUZZ_NICE:-0}" "build-fuzz/fuzz/fuzz_$t" "build-fuzz/corpus/$t" "tests/fuzz/corpus/$t" \
        "${dict[@]}" "${mode[@]}" -seed="$seed" -max_total_time="$seconds" -max_len=65536 -rss_limit_mb=2048 -timeout=20 \
        -print_final_stats=1 -artifact_prefix="build-fuzz/artifacts/$t/" >"$log" 2>&1; then
-    echo "fuzz $t: $(grep -E '^#[0-9]+' "$log" | tail -n 1)"
-    [ ${#mode[@]} -eq 0 ] || echo "  findings kept: $(ls "build-fuzz/artifacts/$t/" | wc -l)"
+    echo "fuzz $t: $(grep -E '^#[0-9]+' "$log" | tail -n 1)" >"$out"
+    [ ${#mode[@]} -eq 0 ] || echo "  findings kept: $(ls "build-fuzz/artifacts/$t/" | wc -l)" >>"$out"
   else
-    echo "fuzz $t: FAILED (a crash; log $log)"; grep -E 'ERROR|SUMMARY|runtime error' "$log" | head -n 5
-    ls "build-fuzz/artifacts/$t/"
-    rc=1
+    { echo "fuzz $t: FAILED (a crash; log $log)"; grep -E 'ERROR|SUMMARY|runtime error' "$log" | head -n 5
+      ls "build-fuzz/artifacts/$t/"; } >"$out"
+    return 1
   fi
+}
+rc=0 pids=() names=()
+for t in "${targets[@]}"; do
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do sleep 1; done
+  run_one "$t" &
+  pids+=($!) names+=("$t")
+done
+for k in "${!pids[@]}"; do
+  wait "${pids[$k]}" || rc=1
+  cat "build-fuzz/logs/${names[$k]}.result"
 done
 exit "$rc"
