@@ -24,8 +24,14 @@
  * source put p = 0 on most of the column (false free surface, 90% of it at L/40 by t = 0.05 s),
  * which left small systems; the case's settings solve the whole column.
  *
+ * Block IC(0) (mps.preconditioner "bic0", 2026-11-27, --time 0.02, medians of 3, ms per step,
+ * IC(0) / bic0): 1 thread 1.59 / 1.98, 7.64 / 8.01, 41.7 / 48.6 at L/20, L/40, L/80; 2 threads
+ * 1.59 / 1.95, 6.39 / 8.04, 32.9 / 29.7, and 361 / 242 at L/160 (one run of 0.004 s); CG
+ * iterations per step 22 / 38, 43 / 62, 86 / 110, 144 / 179 (README).
+ *
  * Usage: bench_mps_dambreak SOURCE_DIR [--time T] [--threads "1 2"] [--sizes "20 40 80"]
- * [--methods "mps wcsph"]   (SOURCE_DIR: where cases/mps_dambreak.json is)
+ * [--methods "mps wcsph"]   (SOURCE_DIR: where cases/mps_dambreak.json is; a method "mps:PC"
+ * runs MPS with the preconditioner PC, e.g. "mps:bic0", "mps:amg")
  */
 #include "bench_opts.h"
 #include "sph_case.h"
@@ -46,17 +52,19 @@ static json_t *mps_case;
 /* The dam break at dx = L/n to time t_end: MPS as cases/mps_dambreak.json has it, or WCSPH on
  * the same geometry with cases/dambreak.json's settings and c0 = 25 m/s. Returns 0, or -1 with
  * the case's error printed. */
-static int dambreak(int mps, int n, double t_end, sph_config *out)
+static int dambreak(int mps, const char *pc, int n, double t_end, sph_config *out)
 {
-    char dx[64], end[64];
+    char dx[64], end[64], pcs[64];
     snprintf(dx, sizeof dx, "dx=%.17g", L_COLUMN / n);
     snprintf(end, sizeof end, "time.end=%.17g", t_end);
+    snprintf(pcs, sizeof pcs, "mps.preconditioner=\"%s\"", pc ? pc : "ic0");
     json_t *root = json_deep_copy(mps_case);
     sph_case *cs = calloc(1, sizeof *cs);
     sph_error err;
     int rc = !root || !cs ? -1 : 0;
-    if (rc == 0 && (sph_json_apply_set(root, dx, &err) || sph_json_apply_set(root, end, &err) ||
-                    sph_case_from_json(root, cs, &err))) {
+    if (rc == 0 &&
+        (sph_json_apply_set(root, dx, &err) || sph_json_apply_set(root, end, &err) ||
+         (pc && sph_json_apply_set(root, pcs, &err)) || sph_case_from_json(root, cs, &err))) {
         fprintf(stderr, "bench_mps_dambreak: %s\n", err.message);
         rc = -1;
     }
@@ -90,11 +98,13 @@ static int dambreak(int mps, int n, double t_end, sph_config *out)
     return rc;
 }
 
-static int one(int mps, int n, int threads, double t_sim)
+static int one(const char *method, int n, int threads, double t_sim)
 {
     omp_set_num_threads(threads);
+    const int mps = strncmp(method, "mps", 3) == 0;
+    const char *pc = mps && method[3] == ':' ? method + 4 : NULL;
     sph_config c;
-    if (dambreak(mps, n, t_sim, &c))
+    if (dambreak(mps, pc, n, t_sim, &c))
         return -1;
     sph_error err;
     sph_sim *s = sph_sim_create(&c, &err);
@@ -119,8 +129,8 @@ static int one(int mps, int n, int threads, double t_sim)
     const sph_diag *d = sph_sim_diag(s);
     const long np = d->nfluid + d->nboundary, steps = d->step;
     const double solve = t1.solve - t0.solve;
-    printf("%6s %5d %7ld %7ld %7d %6ld %9.2e %10.3f %8.3f", mps ? "mps" : "wcsph", n, d->nfluid, np,
-           threads, steps, d->t / (double)steps, (double)np * (double)steps / wall / 1e6,
+    printf("%9s %5d %7ld %7ld %7d %6ld %9.2e %10.3f %8.3f", method, n, d->nfluid, np, threads,
+           steps, d->t / (double)steps, (double)np * (double)steps / wall / 1e6,
            1e3 * wall / (double)steps);
     if (mps)
         printf(" %6.0f%% %7.1f", 100.0 * solve / wall, (double)cg / (double)steps);
@@ -166,7 +176,7 @@ int main(int argc, char **argv)
     }
     printf("Koshizuka & Oka's dam break (L = %.3f m), the first %.3g s; sizes are L/dx\n", L_COLUMN,
            t_sim);
-    printf("%6s %5s %7s %7s %7s %6s %9s %10s %8s %7s %7s %9s\n", "method", "L/dx", "fluid", "total",
+    printf("%9s %5s %7s %7s %7s %6s %9s %10s %8s %7s %7s %9s\n", "method", "L/dx", "fluid", "total",
            "threads", "steps", "dt [s]", "Mpart-st/s", "ms/step", "solve", "CG/step", "s per s");
     char sz[128];
     snprintf(sz, sizeof sz, "%s", sizes);
@@ -176,18 +186,20 @@ int main(int argc, char **argv)
             fprintf(stderr, "bench_mps_dambreak: sizes are L/dx in [4, 1000], not %s\n", sv);
             return 64;
         }
-        char ml[64];
+        char ml[256];
         snprintf(ml, sizeof ml, "%s", methods);
         for (char *mp = NULL, *mv = strtok_r(ml, " ,", &mp); mv; mv = strtok_r(NULL, " ,", &mp)) {
-            const int mps = strcmp(mv, "mps") == 0;
-            if (!mps && strcmp(mv, "wcsph") != 0) {
-                fprintf(stderr, "bench_mps_dambreak: methods are mps and wcsph, not %s\n", mv);
+            if (strcmp(mv, "wcsph") != 0 && strcmp(mv, "mps") != 0 && strncmp(mv, "mps:", 4) != 0) {
+                fprintf(stderr,
+                        "bench_mps_dambreak: methods are mps, mps:PRECONDITIONER and wcsph, not "
+                        "%s\n",
+                        mv);
                 return 64;
             }
             char th[64];
             snprintf(th, sizeof th, "%s", threads);
             for (char *tp = NULL, *tv = strtok_r(th, " ,", &tp); tv; tv = strtok_r(NULL, " ,", &tp))
-                if (one(mps, n, atoi(tv), t_sim))
+                if (one(mv, n, atoi(tv), t_sim))
                     return 1;
         }
     }

@@ -60,8 +60,8 @@ static const int body_pressure_values[] = {SPH_BODY_PRESSURE_FLUID, SPH_BODY_PRE
 static const char *const dof_names[] = {"x", "y", "rotation", NULL};
 static const int dof_bits[] = {SPH_DOF_X, SPH_DOF_Y, SPH_DOF_ROTATION};
 /* the MPS method's choices, in the order of their values in sph_mps_config (sph_config.h) */
-static const char *const precond_names[] = {"none", "jacobi", "ic0", "amg",
-                                            NULL}; /* sph_mps_precond */
+static const char *const precond_names[] = {"none", "jacobi", "ic0",
+                                            "amg",  "bic0",   NULL}; /* sph_mps_precond */
 static const char *const source_names[] = {"density", "mixed", NULL};
 static const char *const gradient_names[] = {"minimum", "corrected", NULL};
 static const char *const surface_names[] = {"particles", "water_line", NULL};

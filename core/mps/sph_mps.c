@@ -167,7 +167,7 @@ static int mps_check(const sph_config *c, sph_error *err)
     if (m->maxit < 1)
         return sph_error_set(err, SPH_ERR_INVALID, "/mps/max_iterations",
                              "max_iterations must be at least 1");
-    if (m->precond < SPH_MPS_PC_NONE || m->precond > SPH_MPS_PC_AMG)
+    if (m->precond < SPH_MPS_PC_NONE || m->precond > SPH_MPS_PC_BIC0)
         return sph_error_set(err, SPH_ERR_INVALID, "/mps/preconditioner",
                              "unknown preconditioner %d", m->precond);
     if (m->precond == SPH_MPS_PC_AMG && !sph_mps_amg_available())

@@ -37,7 +37,7 @@ static int reserve_unknowns(sph_mps_ppe *S, long n)
         return 0;
     const long cap = n + n / 4 + 16;
     if (grow((void **)&S->ptr, cap + 1, sizeof(long)) ||
-        grow((void **)&S->lend, cap, sizeof(long)) ||
+        grow((void **)&S->lend, cap, sizeof(long)) || grow((void **)&S->lbeg, cap, sizeof(long)) ||
         grow((void **)&S->diag, cap, sizeof(double)) ||
         grow((void **)&S->ldiag, cap, sizeof(double)) ||
         grow((void **)&S->partial, cap / DOT_BLOCK + 1, sizeof(double)))
@@ -255,20 +255,36 @@ static double dot(const sph_mps_ppe *S, const double *restrict a, const double *
     return s;
 }
 
-void sph_mps_ppe_factor(sph_mps_ppe *S)
+/* The unknowns of block b of nb: [*u0, *u1). */
+static void block_range(long n, int nb, int b, long *u0, long *u1)
 {
-    const long n = S->n;
+    const long size = (n + nb - 1) / nb;
+    *u0 = (long)b * size < n ? (long)b * size : n;
+    *u1 = (long)(b + 1) * size < n ? (long)(b + 1) * size : n;
+}
+
+/* IC(0) of the rows [u0, u1), the entries of columns below u0 left out (lbeg[u]: the first
+ * entry of row u kept). */
+static void factor_block(sph_mps_ppe *S, long u0, long u1)
+{
     const long *ptr = S->ptr, *lend = S->lend;
+    long *lbeg = S->lbeg;
     const int *col = S->col;
     const double *val = S->val;
     double *l = S->lval, *ld = S->ldiag;
-    for (long u = 0; u < n; u++) {
+    for (long u = u0; u < u1; u++) {
+        long e0 = ptr[u];
+        while (e0 < lend[u] && col[e0] < u0)
+            e0++;
+        lbeg[u] = e0;
+    }
+    for (long u = u0; u < u1; u++) {
         double dsum = 0.0;
-        for (long e = ptr[u]; e < lend[u]; e++) {
+        for (long e = lbeg[u]; e < lend[u]; e++) {
             const long v = col[e];
             double s = val[e];
             /* minus sum over m < v of L_um L_vm: merge row u's and row v's lower entries */
-            long a = ptr[u], b = ptr[v];
+            long a = lbeg[u], b = lbeg[v];
             while (a < e && b < lend[v]) {
                 if (col[a] == col[b])
                     s -= l[a++] * l[b++];
@@ -284,7 +300,46 @@ void sph_mps_ppe_factor(sph_mps_ppe *S)
         /* never below zero for an M-matrix; guarded all the same (the factor stays usable) */
         ld[u] = sqrt(piv > 1e-12 * S->diag[u] ? piv : S->diag[u]);
     }
+}
+
+/* Solves L L^T z = r over the rows [u0, u1) of a factor_block() factor. */
+static void solve_block(const sph_mps_ppe *S, long u0, long u1, const double *restrict r,
+                        double *restrict z)
+{
+    const long *lbeg = S->lbeg, *lend = S->lend;
+    const int *col = S->col;
+    const double *l = S->lval, *ld = S->ldiag;
+    for (long u = u0; u < u1; u++) { /* L y = r */
+        double s = r[u];
+        for (long e = lbeg[u]; e < lend[u]; e++)
+            s -= l[e] * z[col[e]];
+        z[u] = s / ld[u];
+    }
+    for (long u = u1 - 1; u >= u0; u--) { /* L^T z = y */
+        const double zu = z[u] / ld[u];
+        z[u] = zu;
+        for (long e = lbeg[u]; e < lend[u]; e++)
+            z[col[e]] -= l[e] * zu;
+    }
+}
+
+void sph_mps_ppe_factor(sph_mps_ppe *S)
+{
+    factor_block(S, 0, S->n);
     S->factored = 1;
+}
+
+/* Block IC(0)'s factor: the blocks in parallel. */
+static void factor_blocks(sph_mps_ppe *S)
+{
+    const long n = S->n;
+#pragma omp parallel for schedule(dynamic, 1) if (n >= SPH_OMP_MIN)
+    for (int b = 0; b < SPH_MPS_BIC0_BLOCKS; b++) {
+        long u0, u1;
+        block_range(n, SPH_MPS_BIC0_BLOCKS, b, &u0, &u1);
+        factor_block(S, u0, u1);
+    }
+    S->factored = 2;
 }
 
 /* z = M^-1 r */
@@ -298,20 +353,13 @@ static void precondition(const sph_mps_ppe *S, sph_mps_precond pc, const double 
         for (long u = 0; u < n; u++)
             z[u] = r[u] / diag[u];
     } else if (pc == SPH_MPS_PC_IC0) {
-        const long *ptr = S->ptr, *lend = S->lend;
-        const int *col = S->col;
-        const double *l = S->lval, *ld = S->ldiag;
-        for (long u = 0; u < n; u++) { /* L y = r */
-            double s = r[u];
-            for (long e = ptr[u]; e < lend[u]; e++)
-                s -= l[e] * z[col[e]];
-            z[u] = s / ld[u];
-        }
-        for (long u = n - 1; u >= 0; u--) { /* L^T z = y */
-            const double zu = z[u] / ld[u];
-            z[u] = zu;
-            for (long e = ptr[u]; e < lend[u]; e++)
-                z[col[e]] -= l[e] * zu;
+        solve_block(S, 0, n, r, z);
+    } else if (pc == SPH_MPS_PC_BIC0) {
+#pragma omp parallel for schedule(dynamic, 1) if (n >= SPH_OMP_MIN)
+        for (int b = 0; b < SPH_MPS_BIC0_BLOCKS; b++) {
+            long u0, u1;
+            block_range(n, SPH_MPS_BIC0_BLOCKS, b, &u0, &u1);
+            solve_block(S, u0, u1, r, z);
         }
     } else {
         memcpy(z, r, (size_t)n * sizeof *z);
@@ -394,8 +442,10 @@ int sph_mps_ppe_solve(sph_mps_ppe *S, const double *rhs, double *p, sph_mps_prec
     } else {
         if (pc == SPH_MPS_PC_AMG)
             return solve_amg(S, b, xv, bnorm, tol, maxit, st, p);
-        if (pc == SPH_MPS_PC_IC0 && !S->factored)
+        if (pc == SPH_MPS_PC_IC0 && S->factored != 1)
             sph_mps_ppe_factor(S);
+        if (pc == SPH_MPS_PC_BIC0 && S->factored != 2)
+            factor_blocks(S);
         double res = residual_of(S, b, xv, r, q, bnorm);
         long it = 0;
         if (res > tol) {
@@ -434,9 +484,9 @@ int sph_mps_ppe_solve(sph_mps_ppe *S, const double *rhs, double *p, sph_mps_prec
 
 void sph_mps_ppe_free(sph_mps_ppe *S)
 {
-    void *all[] = {S->ptr,  S->lend, S->col,   S->val,     S->diag, S->row,
-                   S->part, S->lval, S->ldiag, S->w[0],    S->w[1], S->w[2],
-                   S->w[3], S->w[4], S->w[5],  S->partial, S->flag, S->queue};
+    void *all[] = {S->lbeg, S->ptr,  S->lend,    S->col,  S->val,  S->diag, S->row,
+                   S->part, S->lval, S->ldiag,   S->w[0], S->w[1], S->w[2], S->w[3],
+                   S->w[4], S->w[5], S->partial, S->flag, S->queue};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         free(all[i]);
     memset(S, 0, sizeof *S);
@@ -445,11 +495,11 @@ void sph_mps_ppe_free(sph_mps_ppe *S)
 double sph_mps_ppe_bytes(const sph_mps_ppe *S)
 {
     return (double)S->cap_part * (2 * sizeof(int) + 1 + sizeof(int)) +
-           (double)S->cap_n * (2 * sizeof(long) + 8 * sizeof(double)) +
+           (double)S->cap_n * (3 * sizeof(long) + 8 * sizeof(double)) +
            (double)S->cap_nnz * (sizeof(int) + 2 * sizeof(double));
 }
 
-static const char *const pc_names[] = {"none", "jacobi", "ic0", "amg"};
+static const char *const pc_names[] = {"none", "jacobi", "ic0", "amg", "bic0"};
 #define NPC (int)(sizeof pc_names / sizeof pc_names[0])
 
 const char *sph_mps_precond_name(sph_mps_precond pc)

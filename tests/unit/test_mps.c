@@ -640,9 +640,13 @@ static void dense_solve(const sph_mps_ppe *S, const double *b, double *x)
 static void test_ppe_dense(void **state)
 {
     (void)state;
-    const int npc = sph_mps_amg_available() ? 4 : 3; /* AMG with -DSPH_HYPRE=ON */
+    /* AMG with -DSPH_HYPRE=ON only */
+    const sph_mps_precond pcs[] = {SPH_MPS_PC_NONE, SPH_MPS_PC_JACOBI, SPH_MPS_PC_IC0,
+                                   SPH_MPS_PC_BIC0, SPH_MPS_PC_AMG};
+    const int npc = sph_mps_amg_available() ? 5 : 4;
     for (int t = 0; t < 2; t++)
-        for (int pc = 0; pc < npc; pc++) {
+        for (int k = 0; k < npc; k++) {
+            const sph_mps_precond pc = pcs[k];
             lattice tk;
             sph_mps_ppe S;
             double *rhs;
@@ -652,8 +656,7 @@ static void test_ppe_dense(void **state)
             double *p = calloc(tk.n, sizeof *p), *b = malloc(S.n * sizeof *b),
                    *xd = malloc(S.n * sizeof *xd);
             sph_mps_cg_stats st;
-            assert_int_equal(sph_mps_ppe_solve(&S, rhs, p, (sph_mps_precond)pc, 1e-13, 10000, &st),
-                             0);
+            assert_int_equal(sph_mps_ppe_solve(&S, rhs, p, pc, 1e-13, 10000, &st), 0);
             for (long u = 0; u < S.n; u++)
                 b[u] = rhs[S.part[u]];
             dense_solve(&S, b, xd);
@@ -741,8 +744,10 @@ static void test_pcg_iterations(void **state)
         double *rhs;
         ppe_setup(&tk, &S, type, 2.1, 60, 120, &rhs);
         double *p = malloc(tk.n * sizeof *p);
-        long it[4] = {0, 0, 0, -1};
-        for (int pc = 0; pc < (sph_mps_amg_available() ? 4 : 3); pc++) {
+        long it[5] = {0, 0, 0, -1, 0}; /* indexed by sph_mps_precond */
+        for (int pc = 0; pc < 5; pc++) {
+            if (pc == SPH_MPS_PC_AMG && !sph_mps_amg_available())
+                continue;
             memset(p, 0, tk.n * sizeof *p);
             sph_mps_cg_stats st;
             assert_int_equal(sph_mps_ppe_solve(&S, rhs, p, (sph_mps_precond)pc, 1e-8, 20000, &st),
@@ -754,15 +759,19 @@ static void test_pcg_iterations(void **state)
                              0);
             assert_true(st.iterations <= 1);
         }
-        printf("CG iterations to 1e-8, %-12s %ld unknowns: none %ld, jacobi %ld, ic0 %ld, amg %ld "
-               "(-1: not in this build)\n",
-               sph_kernel_type_name(type), S.n, it[0], it[1], it[2], it[3]);
+        printf(
+            "CG iterations to 1e-8, %-12s %ld unknowns: none %ld, jacobi %ld, ic0 %ld, bic0 %ld, "
+            "amg %ld (-1: not in this build)\n",
+            sph_kernel_type_name(type), S.n, it[0], it[1], it[2], it[4], it[3]);
         if (it[3] >= 0) /* one V-cycle a step: fewer iterations than IC(0) */
             assert_true(it[3] < it[2]);
         /* on a lattice the diagonal is nearly constant and Jacobi is nearly plain CG */
         assert_true(it[1] <= it[0] + it[0] / 10);
         assert_true(it[2] < it[0]);
         assert_true(it[2] < it[1]);
+        /* block IC(0) drops the couplings between its blocks: between IC(0) and Jacobi */
+        assert_true(it[4] >= it[2]);
+        assert_true(it[4] < it[1]);
         free(p);
         free(rhs);
         sph_mps_ppe_free(&S);
@@ -770,33 +779,38 @@ static void test_pcg_iterations(void **state)
     }
 }
 
-/* Bitwise the same with 1 and 2 threads (a system large enough for the parallel paths). */
+/* Bitwise the same with 1 and 2 threads (a system large enough for the parallel paths), with
+ * Jacobi and with block IC(0) (its factor and solves run a block per thread). */
 static void test_threads_bitwise(void **state)
 {
     (void)state;
-    lattice tk;
-    sph_mps_ppe S;
-    double *rhs;
-    ppe_setup(&tk, &S, SPH_KERNEL_KOSHIZUKA, 2.1, 80, 80, &rhs);
-    assert_true(S.n > SPH_OMP_MIN);
-    double *p[2];
-    long it[2];
-    const int saved = omp_get_max_threads();
-    for (int t = 0; t < 2; t++) {
-        omp_set_num_threads(t + 1);
-        p[t] = calloc(tk.n, sizeof *p[t]);
-        sph_mps_cg_stats st;
-        assert_int_equal(sph_mps_ppe_solve(&S, rhs, p[t], SPH_MPS_PC_JACOBI, 1e-10, 20000, &st), 0);
-        it[t] = st.iterations;
+    const sph_mps_precond pcs[] = {SPH_MPS_PC_JACOBI, SPH_MPS_PC_BIC0};
+    for (int k = 0; k < 2; k++) {
+        lattice tk;
+        sph_mps_ppe S;
+        double *rhs;
+        ppe_setup(&tk, &S, SPH_KERNEL_KOSHIZUKA, 2.1, 80, 80, &rhs);
+        assert_true(S.n > SPH_OMP_MIN);
+        double *p[2];
+        long it[2];
+        const int saved = omp_get_max_threads();
+        for (int t = 0; t < 2; t++) {
+            omp_set_num_threads(t + 1);
+            S.factored = 0; /* factored again with this many threads */
+            p[t] = calloc(tk.n, sizeof *p[t]);
+            sph_mps_cg_stats st;
+            assert_int_equal(sph_mps_ppe_solve(&S, rhs, p[t], pcs[k], 1e-10, 20000, &st), 0);
+            it[t] = st.iterations;
+        }
+        omp_set_num_threads(saved);
+        assert_int_equal(it[0], it[1]);
+        assert_memory_equal(p[0], p[1], tk.n * sizeof(double));
+        free(p[0]);
+        free(p[1]);
+        free(rhs);
+        sph_mps_ppe_free(&S);
+        lattice_free(&tk);
     }
-    omp_set_num_threads(saved);
-    assert_int_equal(it[0], it[1]);
-    assert_memory_equal(p[0], p[1], tk.n * sizeof(double));
-    free(p[0]);
-    free(p[1]);
-    free(rhs);
-    sph_mps_ppe_free(&S);
-    lattice_free(&tk);
 }
 
 static void test_iteration_cap(void **state)
