@@ -231,7 +231,7 @@ static size_t mps_bytes_per_particle(const sph_config *c)
     const double nl = M_PI * rmax * rmax, np = M_PI * c->mps.re * c->mps.re;
     return sph_particles_bytes_per_particle(2, 0) + 5 + 4 * sizeof(double) +
            (size_t)(1.25 * (nl * sizeof(int) + sizeof(long)) +
-                    1.25 * (np * (sizeof(int) + 2 * sizeof(double)) + 2 * sizeof(long) +
+                    1.25 * (np * (sizeof(int) + 2 * sizeof(double)) + 3 * sizeof(long) +
                             8 * sizeof(double) + 3 * sizeof(int) + 1));
 }
 
