@@ -57,7 +57,8 @@ static int dambreak(int mps, const char *pc, int n, double t_end, sph_config *ou
     char dx[64], end[64], pcs[64];
     snprintf(dx, sizeof dx, "dx=%.17g", L_COLUMN / n);
     snprintf(end, sizeof end, "time.end=%.17g", t_end);
-    snprintf(pcs, sizeof pcs, "mps.preconditioner=\"%s\"", pc ? pc : "ic0");
+    if (pc)
+        snprintf(pcs, sizeof pcs, "mps.preconditioner=\"%s\"", pc);
     json_t *root = json_deep_copy(mps_case);
     sph_case *cs = calloc(1, sizeof *cs);
     sph_error err;

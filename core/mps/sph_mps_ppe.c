@@ -323,23 +323,28 @@ static void solve_block(const sph_mps_ppe *S, long u0, long u1, const double *re
     }
 }
 
-void sph_mps_ppe_factor(sph_mps_ppe *S)
+/* The blocks of IC(0) (one: the plain factor) and of block IC(0). */
+static int ic_blocks(sph_mps_precond pc)
 {
-    factor_block(S, 0, S->n);
-    S->factored = 1;
+    return pc == SPH_MPS_PC_BIC0 ? SPH_MPS_BIC0_BLOCKS : 1;
 }
 
-/* Block IC(0)'s factor: the blocks in parallel. */
-static void factor_blocks(sph_mps_ppe *S)
+/* The factor in nb blocks, in parallel when there are several. */
+static void factor_blocks(sph_mps_ppe *S, int nb)
 {
     const long n = S->n;
-#pragma omp parallel for schedule(dynamic, 1) if (n >= SPH_OMP_MIN)
-    for (int b = 0; b < SPH_MPS_BIC0_BLOCKS; b++) {
+#pragma omp parallel for schedule(dynamic, 1) if (nb > 1 && n >= SPH_OMP_MIN)
+    for (int b = 0; b < nb; b++) {
         long u0, u1;
-        block_range(n, SPH_MPS_BIC0_BLOCKS, b, &u0, &u1);
+        block_range(n, nb, b, &u0, &u1);
         factor_block(S, u0, u1);
     }
-    S->factored = 2;
+    S->factored = nb;
+}
+
+void sph_mps_ppe_factor(sph_mps_ppe *S)
+{
+    factor_blocks(S, 1);
 }
 
 /* z = M^-1 r */
@@ -352,13 +357,12 @@ static void precondition(const sph_mps_ppe *S, sph_mps_precond pc, const double 
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
         for (long u = 0; u < n; u++)
             z[u] = r[u] / diag[u];
-    } else if (pc == SPH_MPS_PC_IC0) {
-        solve_block(S, 0, n, r, z);
-    } else if (pc == SPH_MPS_PC_BIC0) {
-#pragma omp parallel for schedule(dynamic, 1) if (n >= SPH_OMP_MIN)
-        for (int b = 0; b < SPH_MPS_BIC0_BLOCKS; b++) {
+    } else if (pc == SPH_MPS_PC_IC0 || pc == SPH_MPS_PC_BIC0) {
+        const int nb = ic_blocks(pc);
+#pragma omp parallel for schedule(dynamic, 1) if (nb > 1 && n >= SPH_OMP_MIN)
+        for (int b = 0; b < nb; b++) {
             long u0, u1;
-            block_range(n, SPH_MPS_BIC0_BLOCKS, b, &u0, &u1);
+            block_range(n, nb, b, &u0, &u1);
             solve_block(S, u0, u1, r, z);
         }
     } else {
@@ -442,10 +446,8 @@ int sph_mps_ppe_solve(sph_mps_ppe *S, const double *rhs, double *p, sph_mps_prec
     } else {
         if (pc == SPH_MPS_PC_AMG)
             return solve_amg(S, b, xv, bnorm, tol, maxit, st, p);
-        if (pc == SPH_MPS_PC_IC0 && S->factored != 1)
-            sph_mps_ppe_factor(S);
-        if (pc == SPH_MPS_PC_BIC0 && S->factored != 2)
-            factor_blocks(S);
+        if ((pc == SPH_MPS_PC_IC0 || pc == SPH_MPS_PC_BIC0) && S->factored != ic_blocks(pc))
+            factor_blocks(S, ic_blocks(pc));
         double res = residual_of(S, b, xv, r, q, bnorm);
         long it = 0;
         if (res > tol) {

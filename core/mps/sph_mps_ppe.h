@@ -76,8 +76,8 @@ typedef struct sph_mps_ppe {
     int *part;           /* per unknown: its particle */
     long surface;        /* Dirichlet (free-surface) particles of the latest assembly [-] */
     long isolated;       /* pressure particles cut off from every free surface: p = 0 [-] */
-    int factored;        /* 1 when lval, ldiag hold the IC(0) factor of the current matrix, 2 block
-                            IC(0)'s */
+    int factored;        /* lval, ldiag hold the current matrix's IC(0) factor in this many
+                            blocks (1: IC(0), SPH_MPS_BIC0_BLOCKS: block IC(0)); 0: none */
     double *lval;        /* IC(0): strictly lower factor entries, parallel to val */
     double *ldiag;       /* IC(0): factor diagonal */
     double *w[6];        /* CG vectors: b, x, r, z, d, q */
