@@ -62,72 +62,12 @@ typedef struct command {
 
 /* ---- helpers ---- */
 
-int sphctl_usage(const char *cmd, const char *fmt, const char *arg)
-{
-    fputs("sphctl: ", stderr);
-    fprintf(stderr, fmt, arg);
-    fprintf(stderr, "\nTry 'sphctl %s --help'.\n", cmd ? cmd : "");
-    return SPHCTL_EX_USAGE;
-}
-
-int sphctl_args(const sphctl_argspec *spec, int argc, char **argv,
-                int (*on_opt)(void *ud, int o, const char *arg), void *ud)
-{
-    static const struct option help_only[] = {{"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
-    int o;
-    optind = 0;
-    while ((o = getopt_long(argc, argv, spec->optstring, spec->opts ? spec->opts : help_only,
-                            NULL)) != -1) {
-        if (o == 'h') {
-            fputs(spec->help, stdout);
-            return 0;
-        }
-        if (o == '?' || !on_opt) {
-            if (spec->bad_option)
-                return sphctl_usage(argv[0], "%s", spec->bad_option);
-            return sphctl_usage(argv[0], "bad option for %s", argv[0]);
-        }
-        int rc = on_opt(ud, o, optarg);
-        if (rc)
-            return rc;
-    }
-    int npos = argc - optind;
-    if (npos >= spec->min_args && npos <= spec->max_args)
-        return SPHCTL_RUN;
-    if (spec->bad_count)
-        return sphctl_usage(argv[0], "%s", spec->bad_count);
-    fprintf(stderr, "sphctl: %s takes %d argument%s\n%s", argv[0], spec->min_args,
-            spec->min_args == 1 ? "" : "s", spec->help);
-    return SPHCTL_EX_USAGE;
-}
-
 /* Parses the options of a command that takes none but --help, and exactly nargs positionals. */
 static int simple_args(int argc, char **argv, int nargs, const char *help)
 {
     const sphctl_argspec spec = {
         .help = help, .optstring = "+h", .min_args = nargs, .max_args = nargs};
     return sphctl_args(&spec, argc, argv, NULL, NULL);
-}
-
-int sphctl_store_opt(void *ud, int o, const char *arg)
-{
-    ((const char **)ud)[o] = arg ? arg : "";
-    return 0;
-}
-
-int sphctl_show(sphctl *c, const char *op, json_t *args,
-                void (*human)(const json_t *r, const void *ud), const void *ud)
-{
-    json_t *r;
-    int rc = sphctl_request(c, op, args, &r, NULL, 0);
-    if (rc)
-        return rc;
-    if (c->json || !human)
-        sphctl_print_json(r, c->json);
-    else
-        human(r, ud);
-    json_decref(r);
-    return 0;
 }
 
 static void print_status_line(const json_t *s)

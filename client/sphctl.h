@@ -1,4 +1,13 @@
-/* sphctl: the client of sphd. Internal interfaces of its files. */
+/*
+ * sphctl: the client of sphd. Internal interfaces of its files.
+ *
+ * The files call each other downwards only; floors, bottom up:
+ *   sphctl_util.c                   shared helpers (command-line parsing, printing)
+ *   sphctl_curve.c                  settings, CURVE keys, socket monitor, keygen
+ *   sphctl_conn.c                   the control connection: requests
+ *   sphctl_watch.c, sphctl_files.c  the event stream; the result-file commands
+ *   sphctl.c                        main and the command table
+ */
 #ifndef SPHCTL_H
 #define SPHCTL_H
 
@@ -35,67 +44,7 @@ typedef struct sphctl {
     const char *file; /* for messages about a case file */
 } sphctl;
 
-/* Sends {"v":1,"id":..,"op":op,"args":args} (args stolen, may be NULL) and waits for the reply,
- * at most c->timeout seconds. On success returns 0 and *result (new ref). On a refusal prints the
- * error to stderr and returns its exit code (65 invalid_case, 75 busy, 1 otherwise); 69 when the
- * server does not answer. *errcode gets the error code name when not NULL (static storage). */
-int sphctl_request(sphctl *c, const char *op, json_t *args, json_t **result, char *errcode,
-                   size_t errcode_len);
-
-void sphctl_close(sphctl *c);
-
-/* sphctl_curve.c: the endpoint and the CURVE keys from the options given (NULL: not given), the
- * environment or the config file. Returns 0 or an exit code (said on stderr). */
-int sphctl_settings(sphctl *c, const char *endpoint, const char *server_key, const char *key);
-/* $XDG_CONFIG_HOME/sphctl or ~/.config/sphctl. Returns 0 or -1. */
-int sphctl_config_dir(char *out, size_t n);
-/* Sets the CURVE client keys on sock when CURVE is on. Returns 0 or -1 (said). */
-int sphctl_secure(sphctl *c, void *sock);
-/* A PAIR receiving sock's handshake events (name: unique per socket), or NULL. */
-void *sphctl_monitor(sphctl *c, void *sock, const char *name);
-/* Reads what mon has; 1 when it reports that sphd refused the handshake (said on stderr, with
- * why: key not authorised, CURVE required, ...), else 0. */
-int sphctl_refused(sphctl *c, void *mon, const char *endpoint);
-/* The same, and sets *connected (when not NULL) if a handshake succeeded. */
-int sphctl_monitor_read(sphctl *c, void *mon, const char *endpoint, int *connected);
-int sphctl_cmd_keygen(sphctl *c, int argc, char **argv);
-
-/* Prints a JSON value as one line (compact) or indented, to stdout. */
-void sphctl_print_json(const json_t *v, int compact);
-
-/* sphctl_watch.c: the event stream, subscribed and connected. */
-typedef struct sphctl_stream {
-    void *sub;                 /* SUB socket */
-    void *mon;                 /* its monitor */
-    char topic[128];           /* what it is subscribed to ("" = every job) */
-    char ep[SPH_ENDPOINT_MAX]; /* the stream endpoint */
-    int connected;             /* its handshake was seen before sphctl_stream_open returned */
-} sphctl_stream;
-/* Subscribes to topic (a job id, or "" for every job, when the id is not known yet) and waits
- * up to c->timeout for the connection's handshake, so that events published after it returns
- * reach it. Returns 0 or the exit code (said). */
-int sphctl_stream_open(sphctl *c, const char *topic, sphctl_stream *st);
-void sphctl_stream_close(sphctl_stream *st);
-/* Follows job to its end on an open stream (subscribe, then snapshot), and closes it; with
- * from_start (the stream was connected before the job was created) every event of the job is
- * on the stream, so it is followed from its first event, without a snapshot. Returns the exit
- * code: 0 done, 1 failed or stopped, 69 server gone. */
-int sphctl_watch_stream(sphctl *c, sphctl_stream *st, const char *job, int from_start);
-/* Both: watch JOB. */
-int sphctl_watch(sphctl *c, const char *job);
-
-/* sphctl_files.c: results, fetch and export (argv[0] is the command's name). */
-int sphctl_cmd_results(sphctl *c, int argc, char **argv);
-int sphctl_cmd_fetch(sphctl *c, int argc, char **argv);
-int sphctl_cmd_export(sphctl *c, int argc, char **argv);
-
-/* Human formatting helpers. */
-void sphctl_fmt_duration(double s, char *buf, size_t n);
-
-/* The number o[k], NaN when it is not a number. */
-double sphctl_num(const json_t *o, const char *k);
-
-/* sphctl.c: the command line of one command. */
+/* ---- sphctl_util.c: the command line of one command, JSON and human formatting ---- */
 
 /* Prints "sphctl: " fmt (with arg) and a pointer to 'sphctl CMD --help' to stderr; returns 64. */
 int sphctl_usage(const char *cmd, const char *fmt, const char *arg);
@@ -123,9 +72,77 @@ int sphctl_args(const sphctl_argspec *spec, int argc, char **argv,
  * 0), that gets the option's value ("" for an option without one). */
 int sphctl_store_opt(void *ud, int o, const char *arg);
 
+/* Prints a JSON value as one line (compact) or indented, to stdout. */
+void sphctl_print_json(const json_t *v, int compact);
+
+/* Human formatting helpers. */
+void sphctl_fmt_duration(double s, char *buf, size_t n);
+
+/* The number o[k], NaN when it is not a number. */
+double sphctl_num(const json_t *o, const char *k);
+
+/* ---- sphctl_curve.c: settings, CURVE keys, the socket monitor, keygen ---- */
+
+/* The endpoint and the CURVE keys from the options given (NULL: not given), the environment or
+ * the config file. Returns 0 or an exit code (said on stderr). */
+int sphctl_settings(sphctl *c, const char *endpoint, const char *server_key, const char *key);
+/* $XDG_CONFIG_HOME/sphctl or ~/.config/sphctl. Returns 0 or -1. */
+int sphctl_config_dir(char *out, size_t n);
+/* Sets the CURVE client keys on sock when CURVE is on. Returns 0 or -1 (said). */
+int sphctl_secure(sphctl *c, void *sock);
+/* A PAIR receiving sock's handshake events (name: unique per socket), or NULL. */
+void *sphctl_monitor(sphctl *c, void *sock, const char *name);
+/* Reads what mon has; 1 when it reports that sphd refused the handshake (said on stderr, with
+ * why: key not authorised, CURVE required, ...), else 0. */
+int sphctl_refused(sphctl *c, void *mon, const char *endpoint);
+/* The same, and sets *connected (when not NULL) if a handshake succeeded. */
+int sphctl_monitor_read(sphctl *c, void *mon, const char *endpoint, int *connected);
+int sphctl_cmd_keygen(sphctl *c, int argc, char **argv);
+
+/* ---- sphctl_conn.c: the control connection, one request at a time ---- */
+
+/* Sends {"v":1,"id":..,"op":op,"args":args} (args stolen, may be NULL) and waits for the reply,
+ * at most c->timeout seconds. On success returns 0 and *result (new ref). On a refusal prints the
+ * error to stderr and returns its exit code (65 invalid_case, 75 busy, 1 otherwise); 69 when the
+ * server does not answer. *errcode gets the error code name when not NULL (static storage). */
+int sphctl_request(sphctl *c, const char *op, json_t *args, json_t **result, char *errcode,
+                   size_t errcode_len);
+
+void sphctl_close(sphctl *c);
+
 /* Sends op with args (stolen, may be NULL); on success prints the result, with --json as one
  * compact line, else with human(r, ud) (NULL: indented JSON). Returns the exit code. */
 int sphctl_show(sphctl *c, const char *op, json_t *args,
                 void (*human)(const json_t *r, const void *ud), const void *ud);
+
+/* ---- sphctl_watch.c: the event stream, subscribed and connected ---- */
+
+typedef struct sphctl_stream {
+    void *sub;                 /* SUB socket */
+    void *mon;                 /* its monitor */
+    char topic[128];           /* what it is subscribed to ("" = every job) */
+    char ep[SPH_ENDPOINT_MAX]; /* the stream endpoint */
+    int connected;             /* its handshake was seen before sphctl_stream_open returned */
+} sphctl_stream;
+/* Subscribes to topic (a job id, or "" for every job, when the id is not known yet) and waits
+ * up to c->timeout for the connection's handshake, so that events published after it returns
+ * reach it. Returns 0 or the exit code (said). */
+int sphctl_stream_open(sphctl *c, const char *topic, sphctl_stream *st);
+void sphctl_stream_close(sphctl_stream *st);
+/* Follows job to its end on an open stream (subscribe, then snapshot), and closes it; with
+ * from_start (the stream was connected before the job was created) every event of the job is
+ * on the stream, so it is followed from its first event, without a snapshot. Returns the exit
+ * code: 0 done, 1 failed or stopped, 69 server gone. */
+int sphctl_watch_stream(sphctl *c, sphctl_stream *st, const char *job, int from_start);
+/* Both: watch JOB. */
+int sphctl_watch(sphctl *c, const char *job);
+
+/* ---- sphctl_files.c: results, fetch and export (argv[0] is the command's name) ---- */
+
+int sphctl_cmd_results(sphctl *c, int argc, char **argv);
+int sphctl_cmd_fetch(sphctl *c, int argc, char **argv);
+int sphctl_cmd_export(sphctl *c, int argc, char **argv);
+
+/* sphctl.c (main and the command table) is the top floor: it declares nothing here. */
 
 #endif

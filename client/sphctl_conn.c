@@ -1,4 +1,5 @@
-/* sphctl's connection: one DEALER socket, one request at a time, a timeout on every reply. */
+/* sphctl's connection: one DEALER socket, one request at a time, a timeout on every reply;
+ * sphctl_show prints a reply for a command. */
 #include "sphctl.h"
 
 #include <errno.h>
@@ -56,17 +57,6 @@ void sphctl_close(sphctl *c)
     if (c->ctx)
         zmq_ctx_term(c->ctx);
     c->ctx = NULL;
-}
-
-void sphctl_print_json(const json_t *v, int compact)
-{
-    char *s = json_dumps(v, (compact ? JSON_COMPACT : JSON_INDENT(2)) | JSON_REAL_PRECISION(12));
-    if (s) {
-        fputs(s, stdout);
-        fputc('\n', stdout);
-        free(s);
-    }
-    fflush(stdout);
 }
 
 static int exit_code_for(const char *code)
@@ -188,4 +178,19 @@ int sphctl_request(sphctl *c, const char *op, json_t *args, json_t **result, cha
         json_decref(reply);
         return rc;
     }
+}
+
+int sphctl_show(sphctl *c, const char *op, json_t *args,
+                void (*human)(const json_t *r, const void *ud), const void *ud)
+{
+    json_t *r;
+    int rc = sphctl_request(c, op, args, &r, NULL, 0);
+    if (rc)
+        return rc;
+    if (c->json || !human)
+        sphctl_print_json(r, c->json);
+    else
+        human(r, ud);
+    json_decref(r);
+    return 0;
 }
