@@ -17,54 +17,6 @@
 #include <string.h>
 #include <unistd.h>
 
-/* ---- errors ---- */
-
-static const char *const errcode_names[SPHD_E_COUNT] = {
-    [SPHD_E_BAD_REQUEST] = "bad_request",   [SPHD_E_UNKNOWN_OP] = "unknown_op",
-    [SPHD_E_INVALID_CASE] = "invalid_case", [SPHD_E_NOT_FOUND] = "not_found",
-    [SPHD_E_CONFLICT] = "conflict",         [SPHD_E_BAD_STATE] = "bad_state",
-    [SPHD_E_TOO_LARGE] = "too_large",       [SPHD_E_BUSY] = "busy",
-    [SPHD_E_INTERNAL] = "internal",
-};
-
-const char *sphd_errcode_name(sphd_errcode c)
-{
-    return (unsigned)c < SPHD_E_COUNT ? errcode_names[c] : "internal";
-}
-
-int sphd_err_set(sphd_err *e, sphd_errcode code, const char *path, const char *fmt, ...)
-{
-    e->code = code;
-    snprintf(e->path, sizeof e->path, "%s", path ? path : "");
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(e->message, sizeof e->message, fmt, ap);
-    va_end(ap);
-    return -1;
-}
-
-json_t *sphd_reply_new(json_t *id, json_t *result, const sphd_err *e)
-{
-    json_t *r = json_pack("{s:i, s:O}", "v", SPHD_PROTOCOL_VERSION, "id", id ? id : json_null());
-    if (!r) {
-        json_decref(result);
-        return NULL;
-    }
-    if (!e) {
-        json_object_set_new(r, "ok", json_true());
-        json_object_set_new(r, "result", result ? result : json_object());
-        return r;
-    }
-    json_decref(result);
-    json_t *err =
-        json_pack("{s:s, s:s}", "code", sphd_errcode_name(e->code), "message", e->message);
-    if (err && e->path[0])
-        json_object_set_new(err, "path", json_string(e->path));
-    json_object_set_new(r, "ok", json_false());
-    json_object_set_new(r, "error", err);
-    return r;
-}
-
 /* ---- the table ---- */
 
 /* Argument types: 's' string, 'I' integer, 'F' number, 'b' boolean, 'O' object, 'A' array. */
@@ -654,20 +606,47 @@ static int op_query(sphd_request *r, json_t **result, sphd_err *e)
                             "job %s has not run yet: its particles are made when it first runs "
                             "(step it once)",
                             j->id);
-    if (fields && j->worker >= 0) {
-        /* the worker owns the executor: it answers between two slices */
+    if (fields && (j->worker >= 0 || d->files_started)) {
+        /* the thread that may read the executor answers and encodes the reply: the job's
+         * worker between two slices while it runs, else the files thread */
+        json_t *s = sphd_job_status(j);
+        if (s)
+            json_object_set(s, "diag", j->diag ? j->diag : json_null());
         sphd_pending *p = sphd_pending_copy(r->from);
-        if (!p)
+        json_t *status = s ? json_deep_copy(s) : NULL, *id = json_deep_copy(r->from->id);
+        json_t *names = json_deep_copy(fields); /* the thread's own copies */
+        json_decref(s);
+        if (!p || !status || !id || !names) {
+            sphd_pending_free(p);
+            json_decref(status);
+            json_decref(id);
+            json_decref(names);
             return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+        }
+        if (j->worker < 0) {
+            sphd_pending_free(p);
+            sphd_fcmd cmd = {.kind = SPHD_F_PARTICLES,
+                             .job = j,
+                             .exec = j->exec,
+                             .fields = names,
+                             .status = status,
+                             .id = id,
+                             .max = max};
+            return sphd_files_send(d, &cmd, r->from, e);
+        }
         p->token = ++d->next_token;
         snprintf(p->job, sizeof p->job, "%s", j->id);
         sphd_wcmd cmd = {.kind = SPHD_W_PARTICLES,
                          .job = j,
-                         .fields = json_deep_copy(fields), /* the worker's own copy */
+                         .fields = names,
                          .max = max,
-                         .token = p->token};
-        if (!cmd.fields || sphd_worker_send(&d->workers[j->worker], &cmd) != 0) {
-            json_decref(cmd.fields);
+                         .token = p->token,
+                         .status = status,
+                         .id = id};
+        if (sphd_worker_send(&d->workers[j->worker], &cmd) != 0) {
+            json_decref(names);
+            json_decref(status);
+            json_decref(id);
             sphd_pending_free(p);
             return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's worker");
         }
@@ -693,7 +672,7 @@ static int op_query(sphd_request *r, json_t **result, sphd_err *e)
             return 0;
         }
     }
-    if (fields) {
+    if (fields) { /* the unit tests' daemon, without threads */
         json_t *parts = sphd_particles(j->exec, j->c, fields, max, e);
         if (!parts) {
             json_decref(s);

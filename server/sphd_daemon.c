@@ -30,156 +30,6 @@
 /* The write end of the signal self-pipe: the only global mutable state. */
 static volatile sig_atomic_t sig_pipe_w = -1;
 
-double sphd_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_REALTIME, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-double sphd_mono(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-void sphd_log(const char *fmt, ...)
-{
-    char buf[1024];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(buf, sizeof buf, fmt, ap);
-    va_end(ap);
-    time_t t = time(NULL);
-    struct tm tm;
-    char stamp[32];
-    strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%SZ", gmtime_r(&t, &tm));
-    fprintf(stderr, "%s sphd: %s\n", stamp, buf);
-}
-
-sphd_pending *sphd_pending_copy(const sphd_pending *p)
-{
-    sphd_pending *c = calloc(1, sizeof *c);
-    if (!c)
-        return NULL;
-    c->nframes = p->nframes;
-    c->op = p->op;
-    c->token = p->token;
-    snprintf(c->job, sizeof c->job, "%s", p->job);
-    c->id = json_incref(p->id ? p->id : json_null());
-    for (int i = 0; i < p->nframes; i++) {
-        c->len[i] = p->len[i];
-        c->frame[i] = malloc(p->len[i] ? p->len[i] : 1);
-        if (!c->frame[i]) {
-            sphd_pending_free(c);
-            return NULL;
-        }
-        memcpy(c->frame[i], p->frame[i], p->len[i]);
-    }
-    return c;
-}
-
-void sphd_pending_free(sphd_pending *p)
-{
-    if (!p)
-        return;
-    for (int i = 0; i < p->nframes; i++)
-        free(p->frame[i]);
-    json_decref(p->id);
-    free(p);
-}
-
-sphd_pending *sphd_pending_take(sphd_pending **list, long token)
-{
-    for (sphd_pending **pp = list; *pp; pp = &(*pp)->next) {
-        if ((*pp)->token == token) {
-            sphd_pending *p = *pp;
-            *pp = p->next;
-            return p;
-        }
-    }
-    return NULL;
-}
-
-void *sphd_pair_open(void *ctx, const char *endpoint, int bind)
-{
-    void *s = zmq_socket(ctx, ZMQ_PAIR);
-    int zero = 0;
-    if (!s || zmq_setsockopt(s, ZMQ_LINGER, &zero, sizeof zero) != 0 ||
-        (bind ? zmq_bind(s, endpoint) : zmq_connect(s, endpoint)) != 0) {
-        sphd_log("cannot %s %s: %s", bind ? "bind" : "connect", endpoint, zmq_strerror(errno));
-        if (s)
-            zmq_close(s);
-        return NULL;
-    }
-    return s;
-}
-
-int sphd_pair_send(void *sock, const void *msg, size_t len)
-{
-    for (;;) {
-        if (zmq_send(sock, msg, len, 0) == (int)len)
-            return 0;
-        if (errno != EINTR)
-            return -1;
-    }
-}
-
-/* Sends an encoded reply (taken: freed here) with the request's envelope. */
-static void send_reply_text(sphd_daemon *d, const sphd_pending *to, char *text)
-{
-    if (!text) {
-        sphd_log("cannot encode a reply (out of memory)");
-        return;
-    }
-    for (int i = 0; i < to->nframes; i++) {
-        if (zmq_send(d->router, to->frame[i], to->len[i], ZMQ_SNDMORE | ZMQ_DONTWAIT) < 0) {
-            /* EHOSTUNREACH: the client went away (ROUTER_MANDATORY); EAGAIN: it does not read */
-            if (i == 0) {
-                sphd_log("reply dropped: %s", zmq_strerror(errno));
-                free(text);
-                return;
-            }
-        }
-    }
-    if (zmq_send(d->router, text, strlen(text), ZMQ_DONTWAIT) < 0)
-        sphd_log("reply dropped: %s", zmq_strerror(errno));
-    free(text);
-}
-
-static void send_reply_json(sphd_daemon *d, const sphd_pending *to, json_t *reply)
-{
-    char *text = reply ? json_dumps(reply, JSON_COMPACT | JSON_REAL_PRECISION(12)) : NULL;
-    json_decref(reply);
-    send_reply_text(d, to, text);
-}
-
-void sphd_reply(sphd_daemon *d, const sphd_pending *to, json_t *result, const sphd_err *e)
-{
-    send_reply_json(d, to, sphd_reply_new(to->id, result, e));
-}
-
-void sphd_publish(sphd_daemon *d, sphd_job *j, const char *type, json_t *body)
-{
-    sphd_job_touch(j); /* its seq changes */
-    json_t *ev = sph_event_new(j->id, ++j->seq, type);
-    if (ev && body)
-        json_object_update_missing(ev, body); /* job, seq and type are ours */
-    json_decref(body);
-    char *text = ev ? json_dumps(ev, JSON_COMPACT | JSON_REAL_PRECISION(12)) : NULL;
-    json_decref(ev);
-    if (!text) {
-        sphd_log("job %s: event %ld lost (out of memory)", j->id, j->seq);
-        return;
-    }
-    /* PUB never blocks: past the HWM a slow subscriber loses events (and sees the gap in seq). */
-    if (zmq_send(d->pub, j->id, strlen(j->id), ZMQ_SNDMORE | ZMQ_DONTWAIT) < 0 ||
-        zmq_send(d->pub, text, strlen(text), ZMQ_DONTWAIT) < 0)
-        sphd_log("job %s: event %ld not published: %s", j->id, j->seq, zmq_strerror(errno));
-    free(text);
-}
-
 /* ---- one request ---- */
 
 #define SPHD_TRANSPORT_FACTOR 8 /* ZMQ_MAXMSGSIZE = this x --max-msg-size */
@@ -254,7 +104,7 @@ static void handle_request(sphd_daemon *d)
         json_decref(r);
     }
     if (reply)
-        send_reply_text(d, &from, reply);
+        sphd_reply_text(d, &from, reply);
     for (int i = 0; i < n; i++)
         zmq_msg_close(&parts[i]);
 }
@@ -542,8 +392,10 @@ static int loop(sphd_daemon *d)
         for (int i = 0; i < d->nworkers; i++)
             if (items[2 + i].revents & ZMQ_POLLIN)
                 handle_worker(d, &d->workers[i]);
-        if (files_item->revents & ZMQ_POLLIN)
+        if (files_item->revents & ZMQ_POLLIN) {
             sphd_files_on_answer(d);
+            sphd_jobs_schedule(d); /* a job whose particles were being read may run now */
+        }
         if (zap_item && (zap_item->revents & ZMQ_POLLIN))
             sphd_curve_on_zap(d->curve);
         if (items[0].revents & ZMQ_POLLIN) {

@@ -108,12 +108,14 @@ typedef struct sphd_job {
     double step_until; /* pending `step`: time to reach (INFINITY: none) */
     int stepping;      /* the current run ends paused (a `step`) */
     int pause_requested, stop_requested;
-    json_t *progress;        /* latest executor progress (new ref) */
-    json_t *diag;            /* latest diag event body (new ref) */
-    json_t *result;          /* result event body, when done (new ref) */
-    double submitted;        /* unix time */
-    double wall;             /* seconds spent running, finished runs */
-    double run_wall;         /* seconds into the current run */
+    int readers;      /* requests the files thread serves on this job: not forgotten meanwhile */
+    int exec_readers; /* of which particle queries: its executor is not run nor freed meanwhile */
+    json_t *progress; /* latest executor progress (new ref) */
+    json_t *diag;     /* latest diag event body (new ref) */
+    json_t *result;   /* result event body, when done (new ref) */
+    double submitted; /* unix time */
+    double wall;      /* seconds spent running, finished runs */
+    double run_wall;  /* seconds into the current run */
     double steps_per_s, eta; /* from the worker, while running */
     sphd_pending *waiters;   /* replies due when the current run ends */
     char *query_text;        /* the encoded `query` result until the job changes (sphd_job_touch) */
@@ -138,6 +140,8 @@ typedef struct sphd_wcmd {
     json_t *fields;  /* PARTICLES: array of names (stolen) */
     long max;        /* PARTICLES: at most this many particles */
     long token;      /* PARTICLES */
+    json_t *status;  /* PARTICLES: the job's status for the reply (stolen; a deep copy) */
+    json_t *id;      /* PARTICLES: the request's id (stolen; a deep copy) */
 } sphd_wcmd;
 
 /* Worker -> loop. */
@@ -159,8 +163,8 @@ typedef struct sphd_wev {
     char reason[SPHD_REASON_MAX];
     double wall; /* END/PROGRESS: seconds run in this run */
     double steps_per_s, eta;
-    long token;   /* PARTICLES */
-    sphd_err err; /* PARTICLES failed when body is NULL */
+    long token; /* PARTICLES */
+    char *text; /* PARTICLES: the encoded reply (malloc'ed), NULL when out of memory */
 } sphd_wev;
 
 typedef struct sphd_worker {
@@ -173,22 +177,35 @@ typedef struct sphd_worker {
 } sphd_worker;
 
 /* Loop -> files thread (sphd_files.c). */
-typedef enum { SPHD_F_LIST = 1, SPHD_F_FETCH, SPHD_F_EXPORT, SPHD_F_QUIT } sphd_fkind;
+typedef enum {
+    SPHD_F_LIST = 1,
+    SPHD_F_FETCH,
+    SPHD_F_EXPORT,
+    SPHD_F_PARTICLES, /* `query` with fields of a paused job (its idle executor) */
+    SPHD_F_QUIT
+} sphd_fkind;
 
 typedef struct sphd_fcmd {
     sphd_fkind kind;
-    const sphd_job *job;
+    sphd_job *job;
     int checksums;    /* LIST */
     char *file;       /* FETCH: malloc'ed, freed by whoever ends the request */
     long long offset; /* FETCH */
     long length;      /* FETCH */
+    sphd_exec *exec;  /* PARTICLES: the paused job's executor (read only) */
+    json_t *fields;   /* PARTICLES: names; status and id as sphd_wcmd's (all three stolen) */
+    json_t *status, *id;
+    long max;
     long token;
 } sphd_fcmd;
 
 /* Files thread -> loop: the answer to the request with the same token (token -1: the last). */
 typedef struct sphd_fev {
     long token;
-    json_t *body; /* the result, or NULL with err set */
+    json_t *body; /* the result, or NULL with err set (text NULL) */
+    char *text;   /* PARTICLES: the encoded reply (NULL: out of memory, err set) */
+    sphd_job *job;
+    int exec_read; /* a PARTICLES answer */
     sphd_err err;
 } sphd_fev;
 
@@ -220,14 +237,20 @@ typedef struct sphd_daemon {
     long requests, errors;
 } sphd_daemon;
 
-/* sphd_daemon.c */
-int sphd_daemon_main(const sphd_opts *opts);
+/* ---- floor 0, sphd_base.c: shared by every floor (also sphd_errcode_name, sphd_err_set and
+ * sphd_job_state_name above). ---- */
 double sphd_now(void);  /* unix time, seconds */
 double sphd_mono(void); /* monotonic seconds */
+void sphd_log(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* {"v","id","ok","result"|"error"} (result stolen). */
+json_t *sphd_reply_new(json_t *id, json_t *result, const sphd_err *e);
 /* Replies to a request (the result or the error; result stolen). */
 void sphd_reply(sphd_daemon *d, const sphd_pending *to, json_t *result, const sphd_err *e);
+/* Sends an encoded reply (taken: handed to ZeroMQ without a copy) with the request's envelope. */
+void sphd_reply_text(sphd_daemon *d, const sphd_pending *to, char *text);
 void sphd_publish(sphd_daemon *d, sphd_job *j, const char *type, json_t *body);
-void sphd_log(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* Forgets what was cached about j (call on every change to a job). */
+void sphd_job_touch(sphd_job *j);
 sphd_pending *sphd_pending_copy(const sphd_pending *p);
 void sphd_pending_free(sphd_pending *p);
 /* Unlinks and returns the request of `list` kept under token, or NULL. */
@@ -239,10 +262,12 @@ void *sphd_pair_open(void *ctx, const char *endpoint, int bind);
  * Returns 0 or -1 (errno). */
 int sphd_pair_send(void *sock, const void *msg, size_t len);
 
+/* ---- top floor, sphd_daemon.c: the socket loop ---- */
+int sphd_daemon_main(const sphd_opts *opts);
+
 /* sphd_commands.c: parses and dispatches one request; returns the encoded reply to send now
  * (malloc'ed) or NULL when the reply is deferred (the handler kept a copy of `req`). */
 char *sphd_dispatch(sphd_daemon *d, const sphd_pending *req, const char *body, size_t len);
-json_t *sphd_reply_new(json_t *id, json_t *result, const sphd_err *e);
 /* The name of the i-th op of the table, NULL past the end (for the tests). */
 const char *sphd_op_name(size_t i);
 
@@ -252,8 +277,6 @@ sphd_job *sphd_job_find(sphd_daemon *d, const char *id);
 sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int start,
                           sphd_err *e);
 json_t *sphd_job_status(const sphd_job *j);
-/* Forgets what was cached about j (call on every change to a job). */
-void sphd_job_touch(sphd_job *j);
 void sphd_job_set_state(sphd_daemon *d, sphd_job *j, sphd_job_state s, const char *reason);
 void sphd_job_record(sphd_daemon *d, sphd_job *j, int interrupted);
 void sphd_jobs_schedule(sphd_daemon *d);
@@ -277,6 +300,15 @@ json_t *sphd_results_fetch(const sphd_job *j, const char *file, long long offset
 /* The diagnostics series as CSV: {"format":"csv","rows","csv"}; bad_state without diag.h5. */
 json_t *sphd_results_export_csv(const sphd_job *j, sphd_err *e);
 
+/* sphd_query.c: particle queries, answered by the thread that may read the executor (a running
+ * job's worker, the files thread for a paused job), never by the loop. */
+/* Particle fields of an executor: new ref or NULL with e set. */
+json_t *sphd_particles(sphd_exec *x, const sph_case *c, json_t *fields, long max, sphd_err *e);
+/* The whole encoded reply to a particle query: status (stolen) with "particles" added, or the
+ * error; id stolen. NULL when out of memory. */
+char *sphd_particles_reply(sphd_exec *x, const sph_case *c, json_t *fields, long max,
+                           json_t *status, json_t *id);
+
 /* sphd_files.c: the thread that reads job files for `results`, `fetch` and `export`. */
 int sphd_files_start(sphd_daemon *d);
 /* Sends cmd (its file now owned) and keeps from for the answer: 1 (deferred), or -1 with e. */
@@ -294,8 +326,6 @@ void sphd_workers_stop(sphd_daemon *d);
 int sphd_worker_send(sphd_worker *w, const sphd_wcmd *cmd);
 /* 1 when this build's executor runs jobs of method m (hello's "methods"). */
 int sphd_method_available(sph_method m);
-/* Particle fields of an idle executor (paused job): new ref or NULL with e set. */
-json_t *sphd_particles(sphd_exec *x, const sph_case *c, json_t *fields, long max, sphd_err *e);
 
 /* sphd_sched.c: where the request threads (the socket loop, the ZeroMQ threads) run. */
 #define SPHD_CPU_ANY  (-1) /* not pinned */

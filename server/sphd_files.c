@@ -5,7 +5,9 @@
  * envelope (sphd_pending, with a token) and sends the work over inproc://sphd-files; the answer
  * comes back as a sphd_fev with the same token. Requests are served one at a time, in order.
  * What the thread reads of a job (its id, directory and case) never changes once the job
- * exists, and jobs are never freed while sphd runs.
+ * exists, and a job is not forgotten while the thread serves a request on it (job->readers).
+ * A `query` with fields of a paused job reads its idle executor here too (job->exec_readers:
+ * meanwhile the job is not run and its executor not freed), and the thread encodes the reply.
  */
 #include "sphd_daemon.h"
 
@@ -26,6 +28,7 @@ json_t *sphd_files_do(const sphd_fcmd *cmd, sphd_err *e)
         return sphd_results_fetch(cmd->job, cmd->file, cmd->offset, cmd->length, e);
     case SPHD_F_EXPORT:
         return sphd_results_export_csv(cmd->job, e);
+
     default:
         sphd_err_set(e, SPHD_E_INTERNAL, NULL, "unknown files request");
         return NULL;
@@ -49,12 +52,22 @@ static void *files_main(void *arg)
             sphd_pair_send(sock, &bye, sizeof bye);
             break;
         }
-        sphd_fev ev = {.token = cmd.token};
-        ev.body = sphd_files_do(&cmd, &ev.err);
+        sphd_fev ev = {.token = cmd.token, .job = cmd.job};
+        if (cmd.kind == SPHD_F_PARTICLES) {
+            ev.exec_read = 1;
+            ev.text =
+                sphd_particles_reply(cmd.exec, cmd.job->c, cmd.fields, cmd.max, cmd.status, cmd.id);
+            json_decref(cmd.fields);
+            if (!ev.text)
+                sphd_err_set(&ev.err, SPHD_E_INTERNAL, NULL, "out of memory");
+        } else {
+            ev.body = sphd_files_do(&cmd, &ev.err);
+        }
         free(cmd.file);
         if (sphd_pair_send(sock, &ev, sizeof ev) != 0) {
             sphd_log("files thread: cannot answer: %s", zmq_strerror(errno));
             json_decref(ev.body);
+            free(ev.text);
         }
     }
     zmq_close(sock);
@@ -85,12 +98,18 @@ int sphd_files_send(sphd_daemon *d, sphd_fcmd *cmd, const sphd_pending *from, sp
     cmd->token = p->token = ++d->next_token;
     if (sphd_pair_send(d->files, cmd, sizeof *cmd) != 0) {
         free(cmd->file);
+        json_decref(cmd->fields);
+        json_decref(cmd->status);
+        json_decref(cmd->id);
         sphd_pending_free(p);
         return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the files thread: %s",
                             zmq_strerror(errno));
     }
     p->next = d->file_waits;
     d->file_waits = p;
+    cmd->job->readers++;
+    if (cmd->kind == SPHD_F_PARTICLES)
+        cmd->job->exec_readers++;
     return 1;
 }
 
@@ -110,12 +129,24 @@ static int take_answers(sphd_daemon *d, int wait)
             continue;
         if (ev.token == -1)
             return 1;
+        sphd_job *j = ev.job;
+        if (j) {
+            j->readers--;
+            if (ev.exec_read && --j->exec_readers == 0 && sphd_job_state_final(j->state)) {
+                sphd_exec_free(j->exec); /* stopped while it was read */
+                j->exec = NULL;
+            }
+        }
         sphd_pending *p = sphd_pending_take(&d->file_waits, ev.token);
         if (!p) {
             json_decref(ev.body);
+            free(ev.text);
             continue;
         }
-        sphd_reply(d, p, ev.body, ev.body ? NULL : &ev.err);
+        if (ev.text)
+            sphd_reply_text(d, p, ev.text);
+        else
+            sphd_reply(d, p, ev.body, ev.body ? NULL : &ev.err);
         sphd_pending_free(p);
     }
 }

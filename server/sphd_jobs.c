@@ -19,21 +19,6 @@
 #include <string.h>
 #include <unistd.h>
 
-static const char *const state_names[] = {
-    [SPHD_JOB_QUEUED] = "queued", [SPHD_JOB_RUNNING] = "running", [SPHD_JOB_PAUSED] = "paused",
-    [SPHD_JOB_DONE] = "done",     [SPHD_JOB_FAILED] = "failed",   [SPHD_JOB_STOPPED] = "stopped",
-};
-
-const char *sphd_job_state_name(sphd_job_state s)
-{
-    return (unsigned)s < sizeof state_names / sizeof state_names[0] ? state_names[s] : "unknown";
-}
-
-int sphd_job_state_final(sphd_job_state s)
-{
-    return s == SPHD_JOB_DONE || s == SPHD_JOB_FAILED || s == SPHD_JOB_STOPPED;
-}
-
 int sphd_job_id_ok(const char *id)
 {
     size_t n = strlen(id);
@@ -126,8 +111,10 @@ void sphd_job_set_state(sphd_daemon *d, sphd_job *j, sphd_job_state s, const cha
     if (sphd_job_state_final(s) && !was_final) {
         d->njobs_active--;
         d->njobs_final++;
-        sphd_exec_free(j->exec);
-        j->exec = NULL;
+        if (j->exec_readers == 0) { /* else the files thread reads it: freed when done */
+            sphd_exec_free(j->exec);
+            j->exec = NULL;
+        }
         j->step_n = 0;
         j->step_until = INFINITY;
     }
@@ -146,14 +133,6 @@ void sphd_job_set_state(sphd_daemon *d, sphd_job *j, sphd_job_state s, const cha
     json_decref(rec);
     sphd_publish(d, j, "state", b);
     sphd_job_record(d, j, 0);
-}
-
-void sphd_job_touch(sphd_job *j)
-{
-    free(j->query_text);
-    j->query_text = NULL;
-    free(j->status_text);
-    j->status_text = NULL;
 }
 
 static void job_free(sphd_job *j)
@@ -181,7 +160,7 @@ static void prune(sphd_daemon *d)
     sphd_job **pp = &d->jobs;
     while (*pp && d->njobs_final > SPHD_KEEP_FINISHED) {
         sphd_job *j = *pp;
-        if (sphd_job_state_final(j->state)) {
+        if (sphd_job_state_final(j->state) && j->readers == 0) {
             *pp = j->next;
             d->njobs_final--;
             job_free(j);
@@ -288,7 +267,7 @@ sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int
 
 static int runnable(const sphd_job *j)
 {
-    if (j->worker >= 0 || sphd_job_state_final(j->state))
+    if (j->worker >= 0 || j->exec_readers > 0 || sphd_job_state_final(j->state))
         return 0;
     return j->state == SPHD_JOB_QUEUED ||
            (j->state == SPHD_JOB_PAUSED && (j->step_n > 0 || isfinite(j->step_until)));
@@ -379,15 +358,12 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
         j->run_wall = ev->wall;
         return;
     case SPHD_WEV_PARTICLES: {
+        /* the worker encoded the whole reply: the loop only sends it */
         sphd_pending *p = sphd_pending_take(&d->particle_waits, ev->token);
-        json_t *s = NULL;
-        if (p && ev->body && (s = sphd_job_status(j))) {
-            json_object_set(s, "diag", j->diag ? j->diag : json_null());
-            json_object_set(s, "particles", ev->body);
-        }
-        json_decref(ev->body);
         if (p)
-            sphd_reply(d, p, s, s ? NULL : &ev->err);
+            sphd_reply_text(d, p, ev->text);
+        else
+            free(ev->text);
         sphd_pending_free(p);
         return;
     }
@@ -473,8 +449,8 @@ static json_t *load_json(const char *dir, const char *name)
 
 static int state_from_name(const char *name)
 {
-    for (int s = 0; s < (int)(sizeof state_names / sizeof state_names[0]); s++)
-        if (name && strcmp(name, state_names[s]) == 0)
+    for (int s = SPHD_JOB_QUEUED; s <= SPHD_JOB_STOPPED; s++)
+        if (name && strcmp(name, sphd_job_state_name((sphd_job_state)s)) == 0)
             return s;
     return -1;
 }

@@ -90,40 +90,33 @@ int sphd_method_available(sph_method m)
     return m == SPH_METHOD_KERNEL_STUDY || sph_sim_has_method(m);
 }
 
-#define SPHD_MAX_FIELDS 8
-
-json_t *sphd_particles(sphd_exec *x, const sph_case *c, json_t *fields, long max, sphd_err *e)
-{
-    const char *names[SPHD_MAX_FIELDS];
-    const size_t n = json_array_size(fields);
-    if (!sph_case_is_sim(c)) {
-        sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/fields", "%s jobs have no particle fields",
-                     sph_method_name(c->method));
-        return NULL;
-    }
-    if (n < 1 || n > SPHD_MAX_FIELDS) {
-        sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/fields", "'fields' names 1 to %d fields",
-                     SPHD_MAX_FIELDS);
-        return NULL;
-    }
-    for (size_t i = 0; i < n; i++)
-        names[i] = json_string_value(json_array_get(fields, i));
-    sph_error err;
-    sph_error_clear(&err);
-    json_t *r = sphd_exec_particles(x, names, (int)n, max > 0 ? max : LONG_MAX, &err);
-    if (!r)
-        sphd_err_set(e, err.code == SPH_ERR_INVALID ? SPHD_E_BAD_REQUEST : SPHD_E_INTERNAL,
-                     "/args/fields", "%s", err.message);
-    return r;
-}
-
 static void answer_particles(run_ctx *r, sphd_exec *x, sphd_wcmd *cmd)
 {
     sphd_wev ev = {.kind = SPHD_WEV_PARTICLES, .job = r->job, .token = cmd->token};
-    ev.body = sphd_particles(x, r->job->c, cmd->fields, cmd->max, &ev.err);
+    ev.text = sphd_particles_reply(x, r->job->c, cmd->fields, cmd->max, cmd->status, cmd->id);
     json_decref(cmd->fields);
     if (send_wev(r->sock, &ev) != 0)
-        json_decref(ev.body);
+        free(ev.text);
+}
+
+/* A particle query that came after the run ended: the client asks again (the loop then reads the
+ * paused job's executor on the files thread). */
+static void answer_stale(void *sock, sphd_wcmd *cmd)
+{
+    sphd_err e;
+    sphd_err_set(&e, SPHD_E_BAD_STATE, NULL,
+                 "job %s stopped running while its particles were "
+                 "asked for: ask again",
+                 cmd->job->id);
+    json_t *reply = sphd_reply_new(cmd->id, NULL, &e);
+    json_decref(cmd->id);
+    json_decref(cmd->status);
+    json_decref(cmd->fields);
+    sphd_wev ev = {.kind = SPHD_WEV_PARTICLES, .job = cmd->job, .token = cmd->token};
+    ev.text = reply ? json_dumps(reply, JSON_COMPACT) : NULL;
+    json_decref(reply);
+    if (send_wev(sock, &ev) != 0)
+        free(ev.text);
 }
 
 static void set_omp_threads(sphd_worker *w)
@@ -308,7 +301,7 @@ static void *worker_main(void *arg)
         if (cmd.kind == SPHD_W_RUN)
             run_job(w, sock, &cmd);
         else if (cmd.kind == SPHD_W_PARTICLES)
-            json_decref(cmd.fields); /* stale: the run already ended */
+            answer_stale(sock, &cmd); /* the run ended before it was read */
         /* stale PAUSE/STOP (the run ended first) are dropped */
     }
     zmq_close(sock);
