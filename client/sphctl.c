@@ -17,8 +17,10 @@ static const char usage_text[] =
     "  ping                          is sphd there? (round-trip time)\n"
     "  submit FILE [--id ID] [--set PATH=VALUE]... [--no-start] [--watch]\n"
     "                                send a case file; prints the job id\n"
+    "  sweep FILE --set PATH=V1,V2,... [--set ...]... [--id SWEEP] [--no-start]\n"
+    "                                one job per combination of values; prints the jobs\n"
     "  status [JOB]                  one job's state and progress, or all jobs\n"
-    "  list                          all jobs\n"
+    "  list [--sweep SWEEP]          all jobs (a sweep's jobs together), or one sweep's\n"
     "  watch JOB                     follow a job to its end (progress line on a TTY, JSON\n"
     "                                Lines otherwise); exit 0 done, 1 failed or stopped\n"
     "  start JOB                     start a job submitted with --no-start\n"
@@ -30,6 +32,8 @@ static const char usage_text[] =
     "  fetch JOB [--dest DIR] [--include-checkpoints]   download the job's files into\n"
     "                                DIR/JOB/, checksums verified (for another machine)\n"
     "  export JOB [--out FILE]       the diagnostics time series as CSV\n"
+    "  export --sweep SWEEP [--format csv|json] [--out FILE]\n"
+    "                                a sweep's parameters and results, one row per job\n"
     "  shutdown                      pause every job and stop sphd\n"
     "  keygen [--out PATH]           make a CURVE key pair for this client (or a server)\n"
     "\n"
@@ -70,6 +74,7 @@ static int simple_args(int argc, char **argv, int nargs, const char *help)
     return sphctl_args(&spec, argc, argv, NULL, NULL);
 }
 
+/* One job's row; a sweep's job has its params appended. */
 static void print_status_line(const json_t *s)
 {
     const json_t *p = json_object_get(s, "progress");
@@ -79,20 +84,52 @@ static void print_status_line(const json_t *s)
         snprintf(prog, sizeof prog, "%.4g/%.4g s", t, te);
     sphctl_fmt_duration(sphctl_num(p, "eta"), eta, sizeof eta);
     sphctl_fmt_duration(sphctl_num(p, "wall"), wall, sizeof wall);
-    printf("%-24s %-8s %-13s %-18s %10lld %9s %8s\n", json_string_value(json_object_get(s, "job")),
+    printf("%-24s %-8s %-13s %-18s %10lld %9s %8s", json_string_value(json_object_get(s, "job")),
            json_string_value(json_object_get(s, "state")),
            json_string_value(json_object_get(s, "method")), prog,
            (long long)json_integer_value(json_object_get(p, "steps")), wall, eta);
+    char params[1024];
+    if (json_object_get(s, "sweep"))
+        printf("  %s",
+               sphctl_fmt_params(json_object_get(s, "params"), NULL, params, sizeof params));
+    printf("\n");
 }
 
+/* The jobs table: the jobs of no sweep first, then each sweep's (in the order of its first job)
+ * under a line "sweep S (N jobs)". */
 static void print_status_table(const json_t *r, const void *ud)
 {
     (void)ud;
     printf("%-24s %-8s %-13s %-18s %10s %9s %8s\n", "JOB", "STATE", "METHOD", "TIME", "STEPS",
            "WALL", "ETA");
+    json_t *sweeps = json_object(), *order = json_array(); /* sweep -> [STATUS]; the sweeps */
     size_t i;
     json_t *s;
-    json_array_foreach(json_object_get(r, "jobs"), i, s) print_status_line(s);
+    json_array_foreach(json_object_get(r, "jobs"), i, s)
+    {
+        const char *sw = json_string_value(json_object_get(s, "sweep"));
+        if (!sw) {
+            print_status_line(s);
+            continue;
+        }
+        json_t *jobs = json_object_get(sweeps, sw);
+        if (!jobs) {
+            json_object_set_new(sweeps, sw, jobs = json_array());
+            json_array_append_new(order, json_string(sw));
+        }
+        json_array_append(jobs, s);
+    }
+    json_t *name;
+    json_array_foreach(order, i, name)
+    {
+        const json_t *jobs = json_object_get(sweeps, json_string_value(name));
+        printf("sweep %s (%zu job%s)\n", json_string_value(name), json_array_size(jobs),
+               json_array_size(jobs) == 1 ? "" : "s");
+        size_t k;
+        json_array_foreach(jobs, k, s) print_status_line(s);
+    }
+    json_decref(sweeps);
+    json_decref(order);
 }
 
 static void print_status_long(const json_t *s, const void *ud)
@@ -286,11 +323,21 @@ static int cmd_status(sphctl *c, int argc, char **argv)
 
 static int cmd_list(sphctl *c, int argc, char **argv)
 {
-    static const char help[] = "Usage: sphctl list\nAll jobs sphd holds, oldest first.\n";
-    int rc = simple_args(argc, argv, 0, help);
+    static const char help[] =
+        "Usage: sphctl list [--sweep SWEEP]\n"
+        "All jobs sphd holds, oldest first; the jobs of a sweep together, under a line\n"
+        "'sweep SWEEP (N jobs)', each with its parameters.\n"
+        "  --sweep SWEEP   only that sweep's jobs\n";
+    static const struct option lo[] = {{"sweep", required_argument, NULL, 0},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
+    static const sphctl_argspec spec = {help, "+h", lo, NULL, 0, 0, NULL};
+    const char *sweep = NULL;
+    int rc = sphctl_args(&spec, argc, argv, sphctl_store_opt, &sweep);
     if (rc != SPHCTL_RUN)
         return rc;
-    return sphctl_show(c, "list", NULL, print_status_table, NULL);
+    return sphctl_show(c, "list", sweep ? json_pack("{s:s}", "sweep", sweep) : NULL,
+                       print_status_table, NULL);
 }
 
 static int cmd_watch(sphctl *c, int argc, char **argv)
@@ -438,6 +485,7 @@ static int cmd_shutdown(sphctl *c, int argc, char **argv)
 static const command commands[] = {
     {"ping", cmd_ping, ""},
     {"submit", cmd_submit, ""},
+    {"sweep", sphctl_cmd_sweep, ""},
     {"status", cmd_status, ""},
     {"list", cmd_list, ""},
     {"watch", cmd_watch, ""},
@@ -554,8 +602,8 @@ int main(int argc, char **argv)
         }
         argv[n++] = argv[i];
         /* the command's options that take a value: keep the value with them */
-        static const char *const with_value[] = {"--id",  "--set",  "--until", "--fields",
-                                                 "--max", "--dest", "--out",   NULL};
+        static const char *const with_value[] = {"--id",   "--set", "--until", "--fields", "--max",
+                                                 "--dest", "--out", "--sweep", "--format", NULL};
         for (const char *const *w = with_value; *w; w++)
             if (strcmp(a, *w) == 0 && i + 1 < argc)
                 argv[n++] = argv[++i];

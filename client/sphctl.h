@@ -5,7 +5,8 @@
  *   sphctl_util.c                   shared helpers (command-line parsing, printing)
  *   sphctl_curve.c                  settings, CURVE keys, socket monitor, keygen
  *   sphctl_conn.c                   the control connection: requests
- *   sphctl_watch.c, sphctl_files.c  the event stream; the result-file commands
+ *   sphctl_watch.c, sphctl_files.c, the event stream; the result-file commands; parameter
+ *   sphctl_sweep.c                  sweeps
  *   sphctl.c                        main and the command table
  */
 #ifndef SPHCTL_H
@@ -81,6 +82,11 @@ void sphctl_fmt_duration(double s, char *buf, size_t n);
 /* The number o[k], NaN when it is not a number. */
 double sphctl_num(const json_t *o, const char *k);
 
+/* A sweep job's params ({"dotted.path": value}) as "path=value path=value" (strings bare, other
+ * values as compact JSON) into buf (truncated to n); the paths in order (an array of strings,
+ * may be NULL) first, then the others in the object's order. Returns buf. */
+const char *sphctl_fmt_params(const json_t *params, const json_t *order, char *buf, size_t n);
+
 /* ---- sphctl_curve.c: settings, CURVE keys, the socket monitor, keygen ---- */
 
 /* The endpoint and the CURVE keys from the options given (NULL: not given), the environment or
@@ -142,6 +148,10 @@ int sphctl_watch(sphctl *c, const char *job);
 int sphctl_cmd_results(sphctl *c, int argc, char **argv);
 int sphctl_cmd_fetch(sphctl *c, int argc, char **argv);
 int sphctl_cmd_export(sphctl *c, int argc, char **argv);
+
+/* ---- sphctl_sweep.c: sweep, one job per combination of values (argv[0] is "sweep") ---- */
+
+int sphctl_cmd_sweep(sphctl *c, int argc, char **argv);
 
 /* sphctl.c (main and the command table) is the top floor: it declares nothing here. */
 

@@ -1,5 +1,5 @@
 /* sphctl's result-file commands: results (the listing), fetch (download, checksum verified) and
- * export (the diagnostics as CSV). */
+ * export (the diagnostics as CSV, or a sweep's table). */
 #include "sphctl.h"
 
 #include "sph_base64.h"
@@ -280,49 +280,114 @@ int sphctl_cmd_fetch(sphctl *c, int argc, char **argv)
 
 /* ---- export ---- */
 
+/* Writes the table r holds as text (len bytes) to out atomically (when out is not NULL), then says
+ * so: with --json r with the text's key (what) replaced by "out", else "N rows written to out";
+ * without out, the text on stdout (--json: r, compact). rows: the key of r's row count. Returns
+ * the exit code. */
+static int put_table(sphctl *c, json_t *r, const char *what, const char *text, size_t len,
+                     const char *out, const char *rows)
+{
+    if (out && sph_write_atomic(out, text, len, 0644) != 0)
+        return local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot write %s: %s", out,
+                           strerror(errno));
+    if (c->json) {
+        if (out) {
+            json_object_del(r, what);
+            json_object_set_new(r, "out", json_string(out));
+        }
+        sphctl_print_json(r, 1);
+    } else if (out) {
+        printf("%lld rows written to %s\n", (long long)json_integer_value(json_object_get(r, rows)),
+               out);
+    } else if (fwrite(text, 1, len, stdout) != len || fflush(stdout) != 0) {
+        return SPHCTL_EX_CANTCREAT;
+    }
+    return 0;
+}
+
+/* A sweep's table in format (csv or json) on stdout or in out. */
+static int export_sweep(sphctl *c, const char *sweep, const char *format, const char *out)
+{
+    json_t *r;
+    int rc = sphctl_request(c, "export", json_pack("{s:s, s:s}", "sweep", sweep, "format", format),
+                            &r, NULL, 0);
+    if (rc)
+        return rc;
+    if (strcmp(format, "csv") == 0) {
+        json_t *csv = json_object_get(r, "csv");
+        rc = json_is_string(csv)
+                 ? put_table(c, r, "csv", json_string_value(csv), json_string_length(csv), out,
+                             "count")
+                 : local_error(c, SPHCTL_EX_SOFTWARE, "internal", "sphd sent no CSV%s%s", "", "");
+    } else if (!out) {
+        sphctl_print_json(r, c->json); /* the table itself: indented unless --json */
+    } else {
+        char *text = json_dumps(r, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
+        size_t len = text ? strlen(text) : 0;
+        char *nl = text ? realloc(text, len + 2) : NULL;
+        if (nl) {
+            memcpy(nl + len, "\n", 2);
+            rc = put_table(c, r, "rows", nl, len + 1, out, "count");
+        } else {
+            free(text);
+            rc = local_error(c, SPHCTL_EX_SOFTWARE, "internal", "out of memory%s%s", "", "");
+        }
+        free(nl);
+    }
+    json_decref(r);
+    return rc;
+}
+
 int sphctl_cmd_export(sphctl *c, int argc, char **argv)
 {
     static const char help[] =
         "Usage: sphctl export JOB [--out FILE]\n"
+        "       sphctl export --sweep SWEEP [--format csv|json] [--out FILE]\n"
         "The job's diagnostics time series (step, t, dt, ekin, ... one row per diag) as CSV,\n"
-        "for a spreadsheet; works while the job runs.\n"
-        "  --out FILE   write it to FILE (atomically) instead of stdout\n"
-        "With --json: {\"format\": \"csv\", \"rows\": N, \"csv\": TEXT} on stdout.\n"
-        "Exit codes: 0 ok, 1 no such job or no diagnostics (kernel studies have none, a\n"
-        "simulation has them once it ran), 69 sphd unreachable, 73 cannot write FILE.\n";
-    static const struct option lo[] = {
-        {"out", required_argument, NULL, 0}, {"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
-    static const sphctl_argspec spec = {help, "h", lo, NULL, 1, 1, "export takes one JOB"};
-    const char *out = NULL;
-    int rc = sphctl_args(&spec, argc, argv, sphctl_store_opt, &out);
+        "for a spreadsheet; works while the job runs. With --sweep, the sweep's table: one row\n"
+        "per job (job, state, its parameters, then its result's summary once it is done).\n"
+        "  --sweep SWEEP   the sweep's table instead of one job's diagnostics\n"
+        "  --format F      the sweep's table as csv (default) or json (the table sphd sends:\n"
+        "                  sweep, params, columns, count, rows; indented, one line with --json)\n"
+        "  --out FILE      write it to FILE (atomically) instead of stdout\n"
+        "With --json: {\"format\": \"csv\", \"rows\": N, \"csv\": TEXT} on stdout (a sweep:\n"
+        "{\"sweep\", \"params\", \"columns\", \"count\", \"format\", \"csv\" or \"rows\"}); with "
+        "--out,\n"
+        "\"out\": FILE instead of the text.\n"
+        "Exit codes: 0 ok, 1 no such job or sweep, or no diagnostics (kernel studies have none,\n"
+        "a simulation has them once it ran), 64 usage, 69 sphd unreachable, 73 cannot write\n"
+        "FILE.\n";
+    enum { OUT, SWEEP, FORMAT, NOPTS };
+    static const struct option lo[] = {{"out", required_argument, NULL, OUT},
+                                       {"sweep", required_argument, NULL, SWEEP},
+                                       {"format", required_argument, NULL, FORMAT},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
+    static const char bad_count[] = "export takes one JOB, or --sweep SWEEP (not both)";
+    static const sphctl_argspec spec = {help, "h", lo, NULL, 0, 1, bad_count};
+    const char *opt[NOPTS] = {NULL};
+    int rc = sphctl_args(&spec, argc, argv, sphctl_store_opt, opt);
     if (rc != SPHCTL_RUN)
         return rc;
+    const char *out = opt[OUT], *format = opt[FORMAT] ? opt[FORMAT] : "csv";
+    if ((argc - optind == 1) == (opt[SWEEP] != NULL))
+        return sphctl_usage("export", "%s", bad_count);
+    if (strcmp(format, "csv") != 0 && (strcmp(format, "json") != 0 || !opt[SWEEP]))
+        return sphctl_usage("export",
+                            opt[SWEEP] ? "--format takes csv or json, not '%s'"
+                                       : "a job's export is csv only, not '%s'",
+                            format);
+    if (opt[SWEEP])
+        return export_sweep(c, opt[SWEEP], format, out);
     json_t *r;
     rc = sphctl_request(c, "export", json_pack("{s:s, s:s}", "job", argv[optind], "format", "csv"),
                         &r, NULL, 0);
     if (rc)
         return rc;
     json_t *csv = json_object_get(r, "csv");
-    const char *text = json_string_value(csv);
-    size_t len = json_string_length(csv);
-    if (!text) {
-        json_decref(r);
-        return local_error(c, SPHCTL_EX_SOFTWARE, "internal", "sphd sent no CSV%s%s", "", "");
-    }
-    if (out && sph_write_atomic(out, text, len, 0644) != 0) {
-        rc = local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot write %s: %s", out, strerror(errno));
-    } else if (c->json) {
-        if (out) {
-            json_object_del(r, "csv");
-            json_object_set_new(r, "out", json_string(out));
-        }
-        sphctl_print_json(r, 1);
-    } else if (out) {
-        printf("%lld rows written to %s\n",
-               (long long)json_integer_value(json_object_get(r, "rows")), out);
-    } else if (fwrite(text, 1, len, stdout) != len || fflush(stdout) != 0) {
-        rc = SPHCTL_EX_CANTCREAT;
-    }
+    rc = json_is_string(csv)
+             ? put_table(c, r, "csv", json_string_value(csv), json_string_length(csv), out, "rows")
+             : local_error(c, SPHCTL_EX_SOFTWARE, "internal", "sphd sent no CSV%s%s", "", "");
     json_decref(r);
     return rc;
 }

@@ -1,11 +1,13 @@
 /* sphctl's shared helpers, its bottom floor (calls no other file of sphctl): the command line of
- * one command (options, positionals, usage errors), and printing JSON, numbers and durations. */
+ * one command (options, positionals, usage errors), and printing JSON, numbers, durations and a
+ * sweep job's parameters. */
 #include "sphctl.h"
 
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 int sphctl_usage(const char *cmd, const char *fmt, const char *arg)
 {
@@ -82,4 +84,43 @@ double sphctl_num(const json_t *o, const char *k)
 {
     json_t *v = json_object_get(o, k);
     return json_is_number(v) ? json_number_value(v) : NAN;
+}
+
+/* Appends "path=value" (with a space before it unless buf is empty) to buf: a string bare
+ * unless it is empty or holds a space, ',', '=' or '"' (then quoted, as JSON). */
+static void add_param(char *buf, size_t n, const char *path, const json_t *v)
+{
+    size_t len = strlen(buf);
+    if (len + 1 >= n)
+        return;
+    const char *str = json_string_value(v);
+    const int bare = str && *str && !strpbrk(str, " ,=\"");
+    char *text =
+        bare ? NULL : json_dumps(v, JSON_COMPACT | JSON_ENCODE_ANY | JSON_REAL_PRECISION(12));
+    snprintf(buf + len, n - len, "%s%s=%s", len ? " " : "", path, bare ? str : text ? text : "?");
+    free(text);
+}
+
+const char *sphctl_fmt_params(const json_t *params, const json_t *order, char *buf, size_t n)
+{
+    if (n)
+        buf[0] = '\0';
+    size_t i;
+    json_t *p;
+    json_array_foreach(order, i, p)
+    {
+        const json_t *v = json_object_get(params, json_string_value(p));
+        if (v)
+            add_param(buf, n, json_string_value(p), v);
+    }
+    const char *k;
+    json_t *v;
+    json_object_foreach((json_t *)params, k, v)
+    {
+        int listed = 0;
+        json_array_foreach(order, i, p) listed |= strcmp(json_string_value(p), k) == 0;
+        if (!listed)
+            add_param(buf, n, k, v);
+    }
+    return buf;
 }

@@ -9,6 +9,7 @@
 
 #include "sph_case_table.h"
 #include "sph_json.h"
+#include "sph_sim.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -67,6 +68,7 @@ static int op_shutdown(sphd_request *r, json_t **result, sphd_err *e);
 static int op_results(sphd_request *r, json_t **result, sphd_err *e);
 static int op_fetch(sphd_request *r, json_t **result, sphd_err *e);
 static int op_export(sphd_request *r, json_t **result, sphd_err *e);
+static int op_sweep(sphd_request *r, json_t **result, sphd_err *e);
 
 static const sphd_command commands[] = {
     {"hello", op_hello, {{0}}, 0, "version, capabilities and the stream endpoint"},
@@ -98,7 +100,17 @@ static const sphd_command commands[] = {
      CMD_JOB,
      "state, progress, latest diagnostics, optionally particle fields"},
     {"stop", op_stop, {{"job", 's', 1}, {0}}, CMD_JOB, "stop a job for good"},
-    {"list", op_list, {{0}}, 0, "all jobs"},
+    {"sweep",
+     op_sweep,
+     {{"case", 'O', 1},
+      {"vary", 'A', 1},
+      {"set", 'A', 0},
+      {"sweep", 's', 0},
+      {"start", 'b', 0},
+      {0}},
+     CMD_MUTATES,
+     "create one job per combination of values of some of a case's fields"},
+    {"list", op_list, {{"sweep", 's', 0}, {0}}, 0, "all jobs, or a sweep's"},
     {"shutdown", op_shutdown, {{0}}, 0, "pause every job at a step boundary and exit"},
     {"results",
      op_results,
@@ -112,9 +124,9 @@ static const sphd_command commands[] = {
      "one chunk of one of the job's files, base64"},
     {"export",
      op_export,
-     {{"job", 's', 1}, {"format", 's', 0}, {0}},
-     CMD_JOB,
-     "the job's diagnostics time series as CSV"},
+     {{"job", 's', 0}, {"sweep", 's', 0}, {"format", 's', 0}, {0}},
+     0,
+     "a job's diagnostics time series as CSV, or a sweep's table (CSV or JSON)"},
 };
 
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
@@ -446,7 +458,7 @@ static int op_submit(sphd_request *r, json_t **result, sphd_err *e)
         json_object_set_new(*result, "created", json_false());
         return 0;
     }
-    j = sphd_job_submit(d, id, c, start, e);
+    j = sphd_job_submit(d, id, c, start, NULL, NULL, e);
     json_decref(c);
     if (!j)
         return -1;
@@ -688,8 +700,18 @@ static int op_list(sphd_request *r, json_t **result, sphd_err *e)
 {
     (void)result;
     /* {"jobs":[STATUS,...]} from each job's encoded status, kept until the job changes */
+    const char *sweep = json_string_value(json_object_get(r->args, "sweep"));
+    if (sweep) {
+        const sphd_job *j = r->d->jobs;
+        while (j && strcmp(j->sweep, sweep) != 0)
+            j = j->next;
+        if (!j)
+            return sphd_err_set(e, SPHD_E_NOT_FOUND, "/args/sweep", "no sweep '%.64s'", sweep);
+    }
     size_t n = 16;
     for (sphd_job *j = r->d->jobs; j; j = j->next) {
+        if (sweep && strcmp(j->sweep, sweep) != 0)
+            continue;
         if (!j->status_text) {
             json_t *s = sphd_job_status(j);
             j->status_text = s ? json_dumps(s, JSON_COMPACT | JSON_REAL_PRECISION(12)) : NULL;
@@ -704,8 +726,13 @@ static int op_list(sphd_request *r, json_t **result, sphd_err *e)
         return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
     char *p = text;
     p += sprintf(p, "{\"jobs\":[");
-    for (sphd_job *j = r->d->jobs; j; j = j->next)
-        p += sprintf(p, "%s%s", j == r->d->jobs ? "" : ",", j->status_text);
+    int first = 1;
+    for (sphd_job *j = r->d->jobs; j; j = j->next) {
+        if (sweep && strcmp(j->sweep, sweep) != 0)
+            continue;
+        p += sprintf(p, "%s%s", first ? "" : ",", j->status_text);
+        first = 0;
+    }
     strcpy(p, "]}");
     r->raw_owned = text;
     return 0;
@@ -766,9 +793,131 @@ static int op_fetch(sphd_request *r, json_t **result, sphd_err *e)
 static int op_export(sphd_request *r, json_t **result, sphd_err *e)
 {
     json_t *fmt = json_object_get(r->args, "format");
+    const char *job = json_string_value(json_object_get(r->args, "job"));
+    const char *sweep = json_string_value(json_object_get(r->args, "sweep"));
+    if (!job == !sweep)
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, job ? "/args/sweep" : "/args/job",
+                            "export takes 'job' (its diagnostics) or 'sweep' (its table)%s",
+                            job ? ", not both" : "");
+    if (sweep) {
+        const char *f = fmt ? json_string_value(fmt) : "csv";
+        if (strcmp(f, "csv") != 0 && strcmp(f, "json") != 0)
+            return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/format",
+                                "unknown format '%.32s' (known: csv, json)", f);
+        /* a few numbers per job, from memory: no file is read */
+        *result = sphd_sweep_table(r->d, sweep, strcmp(f, "csv") == 0, e);
+        return *result ? 0 : -1;
+    }
     if (fmt && strcmp(json_string_value(fmt), "csv") != 0)
         return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/format",
                             "unknown format '%.32s' (known: csv)", json_string_value(fmt));
+    if (!(r->job = sphd_job_find(r->d, job)))
+        return sphd_err_set(e, SPHD_E_NOT_FOUND, "/args/job", "no job '%.64s'", job);
     sphd_fcmd cmd = {.kind = SPHD_F_EXPORT};
     return files_request(r, &cmd, result, e);
+}
+
+static int op_sweep(sphd_request *r, json_t **result, sphd_err *e)
+{
+    sphd_daemon *d = r->d;
+    json_t *sid = json_object_get(r->args, "sweep"), *start_j = json_object_get(r->args, "start");
+    const int start = start_j ? json_is_true(start_j) : 1;
+    json_t *params = NULL;
+    json_t *cases =
+        sphd_sweep_expand(json_object_get(r->args, "case"), json_object_get(r->args, "set"),
+                          json_object_get(r->args, "vary"), &params, e);
+    if (!cases)
+        return -1;
+    const size_t n = json_array_size(cases);
+    char sweep[SPHD_JOB_ID_MAX - 8];
+    int rc = 0;
+    if (sid) {
+        if (strlen(json_string_value(sid)) >= sizeof sweep ||
+            !sphd_job_id_ok(json_string_value(sid)))
+            rc = sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/sweep",
+                              "sweep id '%.64s' is not usable: use 1-%zu letters, digits, '.', "
+                              "'_' or '-', not starting with '.' (its jobs are ID-0, ID-1, ...)",
+                              json_string_value(sid), sizeof sweep - 1);
+        else
+            snprintf(sweep, sizeof sweep, "%s", json_string_value(sid));
+    } else {
+        /* NAME-sN, unused in memory and on disk */
+        const char *name = json_string_value(json_object_get(json_array_get(cases, 0), "name"));
+        for (long k = 1;; k++) {
+            snprintf(sweep, sizeof sweep, "%.30s-s%ld",
+                     name && sphd_job_id_ok(name) ? name : "sweep", k);
+            char id[SPHD_JOB_ID_MAX + 32], dir[SPHD_PATH_MAX + 128];
+            snprintf(id, sizeof id, "%s-0", sweep);
+            snprintf(dir, sizeof dir, "%s/jobs/%s", d->opts.state_dir, id);
+            if (!sphd_job_find(d, id) && access(dir, F_OK) != 0)
+                break;
+        }
+    }
+    /* all or nothing: every id free (or the same job again), every case valid, room for all */
+    size_t fresh = 0;
+    for (size_t i = 0; rc == 0 && i < n; i++) {
+        char id[SPHD_JOB_ID_MAX + 32];
+        snprintf(id, sizeof id, "%s-%zu", sweep, i);
+        sphd_job *j = sphd_job_find(d, id);
+        if (j && !json_equal(j->case_json, json_array_get(cases, i)))
+            rc = sphd_err_set(e, SPHD_E_CONFLICT, "/args/sweep",
+                              "job '%s' exists with a different case; choose another sweep id", id);
+        fresh += !j;
+    }
+    if (rc == 0 && d->njobs_active + (long)fresh > d->opts.max_jobs)
+        rc = sphd_err_set(e, SPHD_E_BUSY, NULL,
+                          "the sweep's %zu new jobs do not fit: sphd holds %d of at most %d jobs "
+                          "(--max-jobs)",
+                          fresh, d->njobs_active, d->opts.max_jobs);
+    for (size_t i = 0; rc == 0 && i < n; i++) {
+        sph_case *tmp = calloc(1, sizeof *tmp);
+        sph_error err;
+        sph_error_clear(&err);
+        if (!tmp) {
+            rc = sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+        } else if (sph_case_from_json(json_array_get(cases, i), tmp, &err)) {
+            char *p = json_dumps(json_array_get(params, i), JSON_COMPACT | JSON_REAL_PRECISION(12));
+            rc = sphd_err_set(e, SPHD_E_INVALID_CASE, err.path, "combination %zu %s: %s", i,
+                              p ? p : "", err.message);
+            free(p);
+        } else if (sph_case_is_sim(tmp)) {
+            long nf = 0, nb = 0;
+            const double bytes = sph_sim_estimate_bytes(&tmp->sim, &nf, &nb);
+            if (bytes > tmp->sim.max_bytes)
+                rc = sphd_err_set(e, SPHD_E_TOO_LARGE, "/dx",
+                                  "combination %zu needs about %.0f MB (%ld fluid and %ld "
+                                  "boundary particles), more than the %.0f MB allowed",
+                                  i, bytes / 1e6, nf, nb, tmp->sim.max_bytes / 1e6);
+        }
+        free(tmp);
+    }
+    json_t *jobs = rc == 0 ? json_array() : NULL;
+    if (rc == 0 && !jobs)
+        rc = sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+    for (size_t i = 0; rc == 0 && i < n; i++) {
+        char id[SPHD_JOB_ID_MAX + 32];
+        snprintf(id, sizeof id, "%s-%zu", sweep, i);
+        sphd_job *j = sphd_job_find(d, id);
+        const int created = !j;
+        if (!j)
+            j = sphd_job_submit(d, id, json_array_get(cases, i), start, sweep,
+                                json_array_get(params, i), e);
+        if (!j) { /* too large (the memory estimate) or the disk: the jobs made so far stay */
+            rc = -1;
+            break;
+        }
+        json_t *s = sphd_job_status(j);
+        if (s)
+            json_object_set_new(s, "created", json_boolean(created));
+        json_array_append_new(jobs, s);
+    }
+    json_decref(cases);
+    json_decref(params);
+    if (rc) {
+        json_decref(jobs);
+        return rc;
+    }
+    *result = json_pack("{s:s, s:I, s:o}", "sweep", sweep, "count", (json_int_t)n, "jobs", jobs);
+    sphd_jobs_schedule(d);
+    return *result ? 0 : sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
 }

@@ -23,7 +23,9 @@
 #define SPHD_PATH_MAX         4096
 #define SPHD_REASON_MAX       512
 #define SPHD_MAX_ENVELOPE     8
-#define SPHD_KEEP_FINISHED    1000 /* finished jobs remembered for list/query */
+#define SPHD_KEEP_FINISHED    1000  /* finished jobs remembered for list/query */
+#define SPHD_SWEEP_MAX_LISTS  8     /* fields a sweep varies */
+#define SPHD_SWEEP_MAX_JOBS   10000 /* combinations of one sweep */
 
 /* Daemon options (`sphd --listen ... --publish ...`). */
 typedef struct sphd_opts {
@@ -95,7 +97,9 @@ typedef struct sphd_pending {
 typedef struct sphd_job {
     char id[SPHD_JOB_ID_MAX];
     char dir[SPHD_PATH_MAX];
-    json_t *case_json; /* the case as run (after `set`), for idempotent submit */
+    json_t *case_json;           /* the case as run (after `set`), for idempotent submit */
+    char sweep[SPHD_JOB_ID_MAX]; /* the sweep it belongs to, or "" */
+    json_t *params;              /* a sweep's job: {"dotted.path": value} (new ref), else NULL */
     sph_case *c;
     sphd_exec *exec; /* NULL until the first run and once finished; the worker's while running */
     sphd_job_state state;
@@ -274,8 +278,9 @@ const char *sphd_op_name(size_t i);
 /* sphd_jobs.c */
 sphd_job *sphd_job_find(sphd_daemon *d, const char *id);
 /* Creates a job from a validated submit; NULL with e filled in. */
+/* sweep and params: a sweep's job (params taken as a new ref), else NULL. */
 sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int start,
-                          sphd_err *e);
+                          const char *sweep, json_t *params, sphd_err *e);
 json_t *sphd_job_status(const sphd_job *j);
 void sphd_job_set_state(sphd_daemon *d, sphd_job *j, sphd_job_state s, const char *reason);
 void sphd_job_record(sphd_daemon *d, sphd_job *j, int interrupted);
@@ -284,6 +289,16 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev);
 void sphd_jobs_free(sphd_daemon *d);
 /* On start: takes up the jobs found in STATE_DIR/jobs (see sphd_jobs.c). */
 void sphd_jobs_recover(sphd_daemon *d);
+
+/* sphd_sweep.c: parameter sweeps. */
+/* The cases of a sweep: case_in with `sets` ("PATH=VALUE" strings) applied, then one case per
+ * combination of vary's lists ([{"path", "values"}], the last varying fastest). Returns the
+ * array of cases and *params ({"path": value} per case), or NULL with e set. */
+json_t *sphd_sweep_expand(const json_t *case_in, const json_t *sets, const json_t *vary,
+                          json_t **params, sphd_err *e);
+/* The table of a sweep's jobs: {"sweep","params","columns","count","format", "rows" (json) or
+ * "csv"}: per job its id, state, parameters and result summary (scalars, dotted names). */
+json_t *sphd_sweep_table(sphd_daemon *d, const char *sweep, int csv, sphd_err *e);
 
 /* sphd_results.c: a job's result files (`results`, `fetch`, `export`); NULL with e set. */
 #define SPHD_FETCH_DEFAULT (1L << 20)

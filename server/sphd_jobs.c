@@ -65,6 +65,10 @@ json_t *sphd_job_status(const sphd_job *j)
         return NULL;
     if (j->state == SPHD_JOB_FAILED || j->reason[0])
         json_object_set_new(s, "reason", json_string(j->reason));
+    if (j->sweep[0]) {
+        json_object_set_new(s, "sweep", json_string(j->sweep));
+        json_object_set(s, "params", j->params ? j->params : json_null());
+    }
     const json_t *p = j->progress;
     json_t *t = json_object_get(p, "t"), *t_end = json_object_get(p, "t_end");
     json_t *prog =
@@ -142,6 +146,7 @@ static void job_free(sphd_job *j)
     sphd_job_touch(j);
     sphd_exec_free(j->exec);
     json_decref(j->case_json);
+    json_decref(j->params);
     json_decref(j->progress);
     json_decref(j->diag);
     json_decref(j->result);
@@ -170,7 +175,8 @@ static void prune(sphd_daemon *d)
     }
 }
 
-sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int start, sphd_err *e)
+sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int start,
+                          const char *sweep, json_t *params, sphd_err *e)
 {
     if (d->njobs_active >= d->opts.max_jobs) {
         sphd_err_set(e, SPHD_E_BUSY, NULL,
@@ -239,6 +245,10 @@ sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int
         return NULL;
     }
     j->case_json = json_incref(case_json);
+    if (sweep) {
+        snprintf(j->sweep, sizeof j->sweep, "%s", sweep);
+        j->params = json_incref(params);
+    }
     j->worker = -1;
     j->step_until = INFINITY;
     j->eta = NAN;
@@ -501,6 +511,11 @@ static sphd_job *recover_one(sphd_daemon *d, const char *id)
     if (r.last && json_integer_value(json_object_get(r.last, "seq")) > j->seq)
         j->seq = (long)json_integer_value(json_object_get(r.last, "seq"));
     j->submitted = json_number_value(json_object_get(rec, "submitted"));
+    const char *sweep = json_string_value(json_object_get(rec, "sweep"));
+    if (sweep && json_is_object(json_object_get(rec, "params"))) {
+        snprintf(j->sweep, sizeof j->sweep, "%s", sweep);
+        j->params = json_incref(json_object_get(rec, "params"));
+    }
     j->wall = json_number_value(json_object_get(json_object_get(rec, "progress"), "wall"));
     json_t *prog = json_object_get(rec, "progress");
     j->worker = -1;

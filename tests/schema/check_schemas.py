@@ -66,6 +66,10 @@ good = [
     {"op": "results", "args": {"job": "db", "checksums": True}},
     {"op": "fetch", "args": {"job": "db", "file": "snap_000001.h5", "offset": 0, "length": 1048576}},
     {"op": "export", "args": {"job": "db", "format": "csv"}},
+    {"op": "export", "args": {"sweep": "S", "format": "json"}},
+    {"op": "list", "args": {"sweep": "S"}},
+    {"op": "sweep", "args": {"case": ks, "sweep": "S", "set": ["particles=51"], "start": False,
+                             "vary": [{"path": "kernel.h", "values": [0.1, 0.2]}]}},
 ]
 bad = [
     {"v": 2, "op": "ping"},
@@ -76,6 +80,11 @@ bad = [
     {"op": "submit", "args": {}},
     {"op": "submit", "args": {"case": ks, "job": "../x"}},
     {"op": "step", "args": {"job": "db"}},
+    {"op": "export", "args": {"job": "db", "sweep": "S"}},
+    {"op": "export", "args": {}},
+    {"op": "sweep", "args": {"case": ks, "vary": []}},
+    {"op": "sweep", "args": {"case": ks, "vary": [{"path": "dx"}]}},
+    {"op": "list", "args": {"job": "x"}},
     {"op": "step", "args": {"job": "db", "n": 1, "until": 1.0}},
     {"op": "step", "args": {"job": "db", "n": "3"}},
     {"op": "query", "args": {"job": "db", "max": 3}},

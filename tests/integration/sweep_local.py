@@ -1,0 +1,153 @@
+#!/usr/bin/python3
+"""Parameter sweeps through a real sphd (local executor): the `sweep` op makes one job per
+combination (the product of the lists, the last varying fastest), `list` with `sweep`, the sweep's
+table from `export` (CSV and JSON), each job's result equal to the same case submitted alone,
+idempotent resubmission, and bad input refused whole (nothing created). With sphctl: `sweep`,
+`list --sweep`, `export --sweep`.
+
+Usage: sweep_local.py SPHD SPHCTL SOURCE_DIR
+"""
+import csv
+import io
+import json
+import os
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sphd_harness import Daemon, Failures  # noqa: E402
+
+sphd, sphctl, src = sys.argv[1], sys.argv[2], sys.argv[3]
+case_file = os.path.join(src, "cases", "dambreak.json")
+F = Failures("sweep_local")
+d = Daemon(sphd, "--threads", "2", "--max-jobs", "12")
+env = dict(os.environ, SPHD_ENDPOINT=d.control)
+
+
+def ctl(*args):
+    p = subprocess.run([sphctl, *args], env=env, capture_output=True, text=True, timeout=120)
+    return p.returncode, p.stdout, p.stderr
+
+
+def wait_done(jobs, timeout=300):
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        st = {j["job"]: j for j in d.ok("list")["jobs"]}
+        if all(st[j]["state"] in ("done", "failed", "stopped") for j in jobs):
+            return st
+        time.sleep(0.1)
+    raise AssertionError(f"{jobs} not finished in {timeout} s")
+
+
+def same_result(a, b):
+    a, b = dict(a), dict(b)
+    a.pop("wall_time", None)
+    b.pop("wall_time", None)
+    return a == b
+
+
+try:
+    case = json.load(open(case_file))
+    fixed = ["dx=0.01", "time.end=0.02"]
+    vary = [{"path": "kernel.type", "values": ["wendland_c2", "cubic_spline"]},
+            {"path": "time.end", "values": [0.01, 0.02]}]
+    r = d.ok("sweep", {"case": case, "set": fixed, "vary": vary, "sweep": "S"})
+    ids = [j["job"] for j in r["jobs"]]
+    F.check(r["sweep"] == "S" and r["count"] == 4 and ids == ["S-0", "S-1", "S-2", "S-3"],
+            "4 jobs S-0..S-3", r)
+    want = [{"kernel.type": k, "time.end": t} for k in ("wendland_c2", "cubic_spline")
+            for t in (0.01, 0.02)]
+    F.check([j["params"] for j in r["jobs"]] == want,
+            "params: the product, the last list varying fastest", [j["params"] for j in r["jobs"]])
+    F.check(all(j["created"] and j["sweep"] == "S" for j in r["jobs"]), "all created, in S")
+    # one combination alone, by submit
+    alone = d.ok("submit", {"case": case, "job": "alone",
+                            "set": fixed + ["kernel.type=cubic_spline", "time.end=0.01"]})
+    st = wait_done(ids + ["alone"])
+    F.check(all(st[j]["state"] == "done" for j in ids), "the sweep's jobs are done",
+            {j: st[j]["state"] for j in ids})
+    res = {j: d.ok("query", {"job": j}).get("result", {}) for j in ids + ["alone"]}
+    F.check(same_result(res["S-2"], res["alone"]),
+            "S-2 gives what the same case submitted alone gives (bit for bit)",
+            {"S-2": res["S-2"].get("diag"), "alone": res["alone"].get("diag")})
+    F.check(res["S-0"]["t"] < res["S-1"]["t"], "time.end varied", [res["S-0"]["t"], res["S-1"]["t"]])
+
+    lst = d.ok("list", {"sweep": "S"})["jobs"]
+    F.check([j["job"] for j in lst] == ids, "list with sweep: only its jobs", [j["job"] for j in lst])
+    F.check(len(d.ok("list")["jobs"]) == 5, "list: all jobs")
+    r = d.request("list", {"sweep": "nosuch"})
+    F.check(r["error"]["code"] == "not_found", "list of an unknown sweep: not_found", r)
+
+    t = d.ok("export", {"sweep": "S", "format": "json"})
+    F.check(t["count"] == 4 and t["params"] == ["kernel.type", "time.end"] and
+            t["columns"][:4] == ["job", "state", "kernel.type", "time.end"] and
+            "steps" in t["columns"], "export json: columns", t.get("columns"))
+    rows = t.get("rows", [])
+    F.check([row["job"] for row in rows] == ids and rows[1]["steps"] == res["S-1"]["steps"] and
+            rows[3]["kernel.type"] == "cubic_spline", "export json: rows", rows[:2])
+    c = d.ok("export", {"sweep": "S"})
+    table = list(csv.DictReader(io.StringIO(c["csv"])))
+    F.check(c["format"] == "csv" and len(table) == 4 and table[2]["kernel.type"] == "cubic_spline"
+            and float(table[2]["time.end"]) == 0.01 and int(table[2]["steps"]) == res["S-2"]["steps"],
+            "export csv: the same table", table[:1])
+
+    # again: the same jobs (created false); another case under the same id: conflict
+    r2 = d.ok("sweep", {"case": case, "set": fixed, "vary": vary, "sweep": "S"})
+    F.check([j["created"] for j in r2["jobs"]] == [False] * 4, "resubmitted: the same jobs")
+    r3 = d.request("sweep", {"case": case, "set": ["dx=0.02"], "vary": vary, "sweep": "S"})
+    F.check(r3["error"]["code"] == "conflict", "a different case under the same sweep id", r3)
+
+    # bad input: nothing is created
+    n0 = len(d.ok("list")["jobs"])
+    bad = [
+        ({"vary": []}, "bad_request", "/args/vary"),
+        ({"vary": [{"path": "dx"}]}, "bad_request", "/args/vary/0"),
+        ({"vary": [{"path": "dx", "values": []}]}, "bad_request", "/args/vary/0/values"),
+        ({"vary": [{"path": "dx", "values": [0.01]}, {"path": "dx", "values": [0.02]}]},
+         "bad_request", "/args/vary/1/path"),
+        ({"vary": [{"path": "kernel.type", "values": ["wendland_c2", "no_such_kernel"]}]},
+         "invalid_case", "/kernel/type"),
+        ({"vary": [{"path": "dx", "values": [0.01, 1e-7]}]}, "too_large", "/dx"),
+        ({"vary": [{"path": "dx", "values": list(range(1, 101))},
+                   {"path": "time.end", "values": list(range(1, 101))},
+                   {"path": "h", "values": [1, 2]}]}, "too_large", "/args/vary"),
+        ({"vary": [{"path": "time.end", "values": [0.1] * 13}]}, "busy", None),
+        ({"vary": [{"path": "dx", "values": [0.01, 0.02]}], "sweep": "../x"}, "bad_request",
+         "/args/sweep"),
+    ]
+    for args, code, path in bad:
+        a = {"case": case, "set": fixed}
+        a.update(args)
+        r = d.request("sweep", a)
+        e = r.get("error", {})
+        F.check(e.get("code") == code and e.get("path") == path,
+                f"refused: {code} at {path}", r)
+    F.check(len(d.ok("list")["jobs"]) == n0, "nothing was created by the refused sweeps")
+    r = d.request("export", {"sweep": "nosuch"})
+    F.check(r["error"]["code"] == "not_found", "export of an unknown sweep: not_found", r)
+    r = d.request("export", {"job": "alone", "sweep": "S"})
+    F.check(r["error"]["code"] == "bad_request", "export with job and sweep: bad_request", r)
+
+    # sphctl
+    rc, out, err = ctl("--json", "sweep", case_file, "--set", "dx=0.01", "--set",
+                       "time.end=0.01,0.02", "--id", "C")
+    F.check(rc == 0, "sphctl sweep", err)
+    if rc == 0:
+        r = json.loads(out)
+        F.check(r["sweep"] == "C" and r["count"] == 2 and
+                [j["params"] for j in r["jobs"]] == [{"time.end": 0.01}, {"time.end": 0.02}],
+                "sphctl sweep: two jobs with their params", r)
+        wait_done(["C-0", "C-1"])
+    rc, out, err = ctl("--json", "list", "--sweep", "C")
+    F.check(rc == 0 and [j["job"] for j in json.loads(out or "{}").get("jobs", [])] ==
+            ["C-0", "C-1"], "sphctl list --sweep", out + err)
+    rc, out, err = ctl("export", "--sweep", "C")
+    F.check(rc == 0 and out.splitlines()[0].startswith("job,state,time.end") and
+            len(out.splitlines()) == 3, "sphctl export --sweep: CSV", out + err)
+    rc, out, err = ctl("sweep", case_file, "--set", "dx=0.01")
+    F.check(rc == 64, "sphctl sweep without a varied --set: usage error", (rc, err))
+    F.check(d.shutdown() == 0, "sphd shuts down cleanly", d.log()[-2000:])
+finally:
+    d.close()
+F.done()
