@@ -10,6 +10,8 @@ pkgs=(gcc make cmake pkg-config libzmq3-dev libjansson-dev libhdf5-dev zlib1g-de
 pkgs+=(clang libomp-dev libclang-rt-dev)
 # the CURVE test captures loopback traffic
 pkgs+=(tcpdump)
+# the Slurm executor's test runs a one-node Slurm cluster (scripts/slurm-local.sh)
+pkgs+=(slurm-wlm munge)
 # the clang build of test.sh builds with hypre's AMG (-DSPH_HYPRE=ON: mps.preconditioner "amg")
 pkgs+=(libhypre-dev mpi-default-dev)
 missing=()

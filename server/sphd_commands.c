@@ -75,7 +75,12 @@ static const sphd_command commands[] = {
     {"ping", op_ping, {{0}}, 0, "liveness"},
     {"submit",
      op_submit,
-     {{"case", 'O', 1}, {"job", 's', 0}, {"start", 'b', 0}, {"set", 'A', 0}, {0}},
+     {{"case", 'O', 1},
+      {"job", 's', 0},
+      {"start", 'b', 0},
+      {"set", 'A', 0},
+      {"resources", 'O', 0},
+      {0}},
      CMD_MUTATES,
      "create a job from a case"},
     {"start",
@@ -107,6 +112,7 @@ static const sphd_command commands[] = {
       {"set", 'A', 0},
       {"sweep", 's', 0},
       {"start", 'b', 0},
+      {"resources", 'O', 0},
       {0}},
      CMD_MUTATES,
      "create one job per combination of values of some of a case's fields"},
@@ -389,6 +395,12 @@ static int op_hello(sphd_request *r, json_t **result, sphd_err *e)
         ops, "methods", methods, "limits", "max_msg_size", (json_int_t)d->opts.max_msg_size,
         "threads", d->opts.threads, "max_jobs", d->opts.max_jobs, "diag_rate", d->opts.diag_rate,
         "pid", (json_int_t)getpid(), "uptime", sphd_now() - d->started_at);
+    /* where jobs run: here (worker threads) and, with --executor slurm, on a Slurm cluster */
+    json_object_set_new(*result, "executors",
+                        d->opts.executor_slurm ? json_pack("[s, s]", "local", "slurm")
+                                               : json_pack("[s]", "local"));
+    if (d->opts.executor_slurm)
+        json_object_set_new(*result, "default_executor", json_string("slurm"));
     /* how the sockets are secured: "curve" (sphd --curve: authenticated and encrypted) */
     json_object_set_new(*result, "security", json_string(d->curve ? "curve" : "none"));
     /* what the physics options mean where a job's figures depend on them */
@@ -410,6 +422,20 @@ static int op_ping(sphd_request *r, json_t **result, sphd_err *e)
     return 0;
 }
 
+/* A job's `resources`: known fields, and the Slurm executor only where sphd has it. */
+static int check_resources(const sphd_daemon *d, const json_t *res, sphd_err *e)
+{
+    if (!res)
+        return 0;
+    if (sphd_resources_check(res, "/args/resources", e))
+        return -1;
+    const char *ex = json_string_value(json_object_get(res, "executor"));
+    if (ex && strcmp(ex, "slurm") == 0 && !d->opts.executor_slurm)
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/resources/executor",
+                            "this sphd has no Slurm executor: start it with --executor slurm");
+    return 0;
+}
+
 static int op_submit(sphd_request *r, json_t **result, sphd_err *e)
 {
     sphd_daemon *d = r->d;
@@ -424,6 +450,8 @@ static int op_submit(sphd_request *r, json_t **result, sphd_err *e)
                             "job id '%.64s' is not usable as a file name: use 1-%d letters, "
                             "digits, '.', '_' or '-', not starting with '.'",
                             id, SPHD_JOB_ID_MAX - 1);
+    if (check_resources(d, json_object_get(r->args, "resources"), e))
+        return -1;
     json_t *c = json_deep_copy(case_in);
     if (!c)
         return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
@@ -458,7 +486,7 @@ static int op_submit(sphd_request *r, json_t **result, sphd_err *e)
         json_object_set_new(*result, "created", json_false());
         return 0;
     }
-    j = sphd_job_submit(d, id, c, start, NULL, NULL, e);
+    j = sphd_job_submit(d, id, c, start, NULL, NULL, json_object_get(r->args, "resources"), e);
     json_decref(c);
     if (!j)
         return -1;
@@ -528,6 +556,22 @@ static int op_step(sphd_request *r, json_t **result, sphd_err *e)
     return reply_status(r, result);
 }
 
+/* A Slurm job whose runner has not said hello yet (pending in Slurm's queue, or starting). */
+static int waiting_in_slurm(const sphd_job *j)
+{
+    return j->worker == SPHD_WORKER_REMOTE && !j->runner_seen;
+}
+
+/* Cancels a job's Slurm job that has not started running: it is paused or stopped at once
+ * (a later resume submits a new one, from the checkpoint if the job ever ran). */
+static void cancel_remote(sphd_daemon *d, sphd_job *j, sphd_job_state to)
+{
+    sphd_slurm_cancel(j->slurm_id);
+    j->worker = -1;
+    j->stepping = 0;
+    sphd_job_set_state(d, j, to, NULL);
+}
+
 static int op_pause(sphd_request *r, json_t **result, sphd_err *e)
 {
     sphd_job *j = r->job;
@@ -539,11 +583,13 @@ static int op_pause(sphd_request *r, json_t **result, sphd_err *e)
     sphd_job_touch(j);
     if (j->state == SPHD_JOB_QUEUED) {
         sphd_job_set_state(r->d, j, SPHD_JOB_PAUSED, NULL);
+    } else if (j->state == SPHD_JOB_RUNNING && waiting_in_slurm(j)) {
+        cancel_remote(r->d, j, SPHD_JOB_PAUSED);
     } else if (j->state == SPHD_JOB_RUNNING) {
         if (!j->pause_requested) {
             sphd_wcmd cmd = {.kind = SPHD_W_PAUSE, .job = j};
-            if (sphd_worker_send(&r->d->workers[j->worker], &cmd) != 0)
-                return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's worker");
+            if (sphd_jobs_send(r->d, j, &cmd) != 0)
+                return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's runner");
             j->pause_requested = 1;
         }
         return defer_until_run_ends(r, e);
@@ -576,11 +622,13 @@ static int op_stop(sphd_request *r, json_t **result, sphd_err *e)
         return final_state_error(j, "stop", e);
     if (j->state == SPHD_JOB_QUEUED || j->state == SPHD_JOB_PAUSED) {
         sphd_job_set_state(r->d, j, SPHD_JOB_STOPPED, NULL);
+    } else if (j->state == SPHD_JOB_RUNNING && waiting_in_slurm(j)) {
+        cancel_remote(r->d, j, SPHD_JOB_STOPPED);
     } else if (j->state == SPHD_JOB_RUNNING) {
         if (!j->stop_requested) {
             sphd_wcmd cmd = {.kind = SPHD_W_STOP, .job = j};
-            if (sphd_worker_send(&r->d->workers[j->worker], &cmd) != 0)
-                return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's worker");
+            if (sphd_jobs_send(r->d, j, &cmd) != 0)
+                return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's runner");
             j->stop_requested = 1;
         }
         return defer_until_run_ends(r, e);
@@ -613,12 +661,22 @@ static int op_query(sphd_request *r, json_t **result, sphd_err *e)
         return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/fields",
                             "job %s is %s: its particles are gone (outputs are in %s)", j->id,
                             sphd_job_state_name(j->state), j->dir);
-    if (fields && !j->exec && j->worker < 0)
+    if (fields && !j->exec && j->worker == -1 && !j->slurm)
         return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/fields",
                             "job %s has not run yet: its particles are made when it first runs "
                             "(step it once)",
                             j->id);
-    if (fields && (j->worker >= 0 || d->files_started)) {
+    if (fields && waiting_in_slurm(j))
+        return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/fields",
+                            "job %s waits in Slurm's queue (Slurm job %s): its particles are made "
+                            "when its runner starts",
+                            j->id, j->slurm_id);
+    if (fields && j->worker == -1 && j->slurm)
+        return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/fields",
+                            "job %s runs on the Slurm executor and is not running: its particles "
+                            "are in its checkpoint (resume or step it, then ask)",
+                            j->id);
+    if (fields && (j->worker != -1 || d->files_started)) {
         /* the thread that may read the executor answers and encodes the reply: the job's
          * worker between two slices while it runs, else the files thread */
         json_t *s = sphd_job_status(j);
@@ -635,7 +693,7 @@ static int op_query(sphd_request *r, json_t **result, sphd_err *e)
             json_decref(names);
             return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
         }
-        if (j->worker < 0) {
+        if (j->worker == -1) {
             sphd_pending_free(p);
             sphd_fcmd cmd = {.kind = SPHD_F_PARTICLES,
                              .job = j,
@@ -655,7 +713,7 @@ static int op_query(sphd_request *r, json_t **result, sphd_err *e)
                          .token = p->token,
                          .status = status,
                          .id = id};
-        if (sphd_worker_send(&d->workers[j->worker], &cmd) != 0) {
+        if (sphd_jobs_send(d, j, &cmd) != 0) {
             json_decref(names);
             json_decref(status);
             json_decref(id);
@@ -822,6 +880,9 @@ static int op_sweep(sphd_request *r, json_t **result, sphd_err *e)
     sphd_daemon *d = r->d;
     json_t *sid = json_object_get(r->args, "sweep"), *start_j = json_object_get(r->args, "start");
     const int start = start_j ? json_is_true(start_j) : 1;
+    json_t *res = json_object_get(r->args, "resources");
+    if (check_resources(d, res, e))
+        return -1;
     json_t *params = NULL;
     json_t *cases =
         sphd_sweep_expand(json_object_get(r->args, "case"), json_object_get(r->args, "set"),
@@ -894,28 +955,50 @@ static int op_sweep(sphd_request *r, json_t **result, sphd_err *e)
     json_t *jobs = rc == 0 ? json_array() : NULL;
     if (rc == 0 && !jobs)
         rc = sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+    sphd_job **made = rc == 0 ? calloc(n, sizeof *made) : NULL;
+    size_t nmade = 0;
+    if (rc == 0 && !made)
+        rc = sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
     for (size_t i = 0; rc == 0 && i < n; i++) {
         char id[SPHD_JOB_ID_MAX + 32];
         snprintf(id, sizeof id, "%s-%zu", sweep, i);
         sphd_job *j = sphd_job_find(d, id);
         const int created = !j;
-        if (!j)
+        if (!j) {
             j = sphd_job_submit(d, id, json_array_get(cases, i), start, sweep,
-                                json_array_get(params, i), e);
-        if (!j) { /* too large (the memory estimate) or the disk: the jobs made so far stay */
+                                json_array_get(params, i), res, e);
+            if (j && j->slurm && start) { /* one Slurm array for them all, below */
+                j->held = 1;
+                made[nmade++] = j;
+            }
+        }
+        if (!j) { /* the disk: the jobs made so far stay */
             rc = -1;
             break;
         }
-        json_t *s = sphd_job_status(j);
-        if (s)
-            json_object_set_new(s, "created", json_boolean(created));
-        json_array_append_new(jobs, s);
+        json_array_append_new(jobs, json_boolean(created)); /* the status comes below */
     }
     json_decref(cases);
     json_decref(params);
+    if (nmade > 0) {
+        sphd_err ae;
+        if (sphd_jobs_start_array(d, made, nmade, sweep, &ae) != 0 && rc == 0) {
+            *e = ae;
+            rc = -1;
+        }
+    }
+    free(made);
     if (rc) {
         json_decref(jobs);
         return rc;
+    }
+    for (size_t i = 0; i < json_array_size(jobs); i++) {
+        char id[SPHD_JOB_ID_MAX + 32];
+        snprintf(id, sizeof id, "%s-%zu", sweep, i);
+        json_t *s = sphd_job_status(sphd_job_find(d, id));
+        if (s)
+            json_object_set(s, "created", json_array_get(jobs, i));
+        json_array_set_new(jobs, i, s ? s : json_null());
     }
     *result = json_pack("{s:s, s:I, s:o}", "sweep", sweep, "count", (json_int_t)n, "jobs", jobs);
     sphd_jobs_schedule(d);

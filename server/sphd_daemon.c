@@ -330,10 +330,50 @@ static void finish_shutdown_replies(sphd_daemon *d)
 }
 
 /* Pauses every running job (once), records the others. */
+/* --executor slurm: sbatch must run here, and the runners' ROUTER is bound; the address the
+ * nodes connect to defaults to this host's name and the bound port. Returns 0, or -3 (said). */
+static int open_runners(sphd_daemon *d)
+{
+    char why[512];
+    if (sphd_slurm_available(why, sizeof why) != 0) {
+        sphd_log("--executor slurm: %s", why);
+        return -3;
+    }
+    ssize_t n = readlink("/proc/self/exe", d->opts.exe, sizeof d->opts.exe - 1);
+    if (n <= 0) {
+        sphd_log("--executor slurm: cannot find this sphd's path: %s", strerror(errno));
+        return -3;
+    }
+    d->opts.exe[n] = '\0';
+    int one = 1, hwm = 100000;
+    d->runners = zmq_socket(d->ctx, ZMQ_ROUTER);
+    if (!d->runners || zmq_setsockopt(d->runners, ZMQ_ROUTER_HANDOVER, &one, sizeof one) != 0 ||
+        zmq_setsockopt(d->runners, ZMQ_RCVHWM, &hwm, sizeof hwm) != 0 ||
+        zmq_bind(d->runners, d->opts.runner_listen) != 0) {
+        sphd_log("--runner-listen %s: cannot bind: %s", d->opts.runner_listen, zmq_strerror(errno));
+        return -3;
+    }
+    if (!d->opts.runner_connect[0]) {
+        char last[SPH_ENDPOINT_MAX] = "", host[256] = "localhost";
+        size_t len = sizeof last;
+        zmq_getsockopt(d->runners, ZMQ_LAST_ENDPOINT, last, &len);
+        gethostname(host, sizeof host - 1);
+        const char *port = strrchr(last, ':');
+        snprintf(d->opts.runner_connect, sizeof d->opts.runner_connect, "tcp://%.200s%s", host,
+                 port ? port : ":7617");
+    }
+    /* TODO(issue 25): CURVE on the runners' socket (a key pair for the runners in the shared
+     * state directory, authorised by the daemon); today it is plain tcp */
+    sphd_log("Slurm executor: runners connect to %s", d->opts.runner_connect);
+    return 0;
+}
+
 static void begin_stopping(sphd_daemon *d)
 {
     for (sphd_job *j = d->jobs; j; j = j->next) {
-        if (j->state == SPHD_JOB_RUNNING && !j->pause_requested && !j->stop_requested) {
+        if (j->worker == SPHD_WORKER_REMOTE) {
+            sphd_job_record(d, j, 1); /* runs on in Slurm; found again after a restart */
+        } else if (j->state == SPHD_JOB_RUNNING && !j->pause_requested && !j->stop_requested) {
             sphd_wcmd cmd = {.kind = SPHD_W_PAUSE, .job = j};
             if (sphd_worker_send(&d->workers[j->worker], &cmd) == 0)
                 j->pause_requested = 1;
@@ -345,8 +385,9 @@ static void begin_stopping(sphd_daemon *d)
 
 static int loop(sphd_daemon *d)
 {
-    /* control, signals, each worker, the files thread, the ZAP handler (--curve) */
-    const int nitems = 3 + d->nworkers + (d->curve != NULL);
+    /* control, signals, each worker, the files thread, the ZAP handler (--curve), the runners
+     * (--executor slurm) */
+    const int nitems = 3 + d->nworkers + (d->curve != NULL) + (d->runners != NULL);
     zmq_pollitem_t *items = calloc((size_t)nitems, sizeof *items);
     if (!items)
         return -1;
@@ -360,6 +401,9 @@ static int loop(sphd_daemon *d)
     if (zap_item)
         *zap_item =
             (zmq_pollitem_t){.socket = sphd_curve_zap_socket(d->curve), .events = ZMQ_POLLIN};
+    zmq_pollitem_t *runners_item = d->runners ? &items[3 + d->nworkers + (d->curve != NULL)] : NULL;
+    if (runners_item)
+        *runners_item = (zmq_pollitem_t){.socket = d->runners, .events = ZMQ_POLLIN};
     int stop_begun = 0;
     for (;;) {
         if (d->stopping && !stop_begun) {
@@ -368,7 +412,7 @@ static int loop(sphd_daemon *d)
         }
         if (d->stopping && atomic_load(&d->busy) == 0)
             break;
-        int rc = zmq_poll(items, nitems, -1);
+        int rc = zmq_poll(items, nitems, d->runners ? 1000 : -1);
         if (rc < 0) {
             if (errno == EINTR)
                 continue;
@@ -398,6 +442,10 @@ static int loop(sphd_daemon *d)
         }
         if (zap_item && (zap_item->revents & ZMQ_POLLIN))
             sphd_curve_on_zap(d->curve);
+        if (runners_item && (runners_item->revents & ZMQ_POLLIN))
+            sphd_remote_on_message(d);
+        if (d->runners && !d->stopping)
+            sphd_remote_poll(d);
         if (items[0].revents & ZMQ_POLLIN) {
             /* a bounded batch, so the workers' events are never starved */
             for (int k = 0; k < 256; k++) {
@@ -497,6 +545,10 @@ int sphd_daemon_main(const sphd_opts *opts)
     int brc = bind_or_explain(d->router, d->opts.listen, "control");
     if (brc == 0)
         brc = bind_or_explain(d->pub, d->opts.publish, "stream");
+    if (brc == 0 && d->opts.executor_slurm && (brc = open_runners(d)) == -3) {
+        rc = SPHD_EX_UNAVAILABLE;
+        goto out;
+    }
     if (brc != 0) {
         rc = brc == -2 ? SPHD_EX_TEMPFAIL : SPHD_EX_UNAVAILABLE;
         goto out;
@@ -537,6 +589,8 @@ out:
     }
     if (d->pub)
         zmq_close(d->pub);
+    if (d->runners)
+        zmq_close(d->runners);
     sphd_curve_free(d->curve);
     /* our sockets' files go with us (we hold their locks, so they are ours) */
     for (int i = 0; i < 2; i++) {

@@ -41,6 +41,10 @@ typedef struct sphd_opts {
     int request_cpu;      /* the CPU of the loop and ZeroMQ threads, or SPHD_CPU_ANY, _AUTO */
     int worker_nice;      /* the solver threads' nice value above sphd's own */
     char curve_dir[SPHD_PATH_MAX]; /* --curve: server.key and clients/ ("": no CURVE) */
+    int executor_slurm;            /* --executor slurm: jobs go to Slurm unless they say local */
+    char runner_listen[SPH_ENDPOINT_MAX];  /* where runners connect (bind) */
+    char runner_connect[SPH_ENDPOINT_MAX]; /* the same, as the nodes reach it */
+    char exe[SPHD_PATH_MAX];               /* this sphd binary, for the batch scripts */
 } sphd_opts;
 
 typedef enum {
@@ -112,14 +116,24 @@ typedef struct sphd_job {
     double step_until; /* pending `step`: time to reach (INFINITY: none) */
     int stepping;      /* the current run ends paused (a `step`) */
     int pause_requested, stop_requested;
-    int readers;      /* requests the files thread serves on this job: not forgotten meanwhile */
-    int exec_readers; /* of which particle queries: its executor is not run nor freed meanwhile */
-    json_t *progress; /* latest executor progress (new ref) */
-    json_t *diag;     /* latest diag event body (new ref) */
-    json_t *result;   /* result event body, when done (new ref) */
-    double submitted; /* unix time */
-    double wall;      /* seconds spent running, finished runs */
-    double run_wall;  /* seconds into the current run */
+    int slurm;          /* runs on the Slurm executor */
+    json_t *resources;  /* the job's `resources` (new ref) or NULL */
+    char slurm_id[48];  /* its current (or last) Slurm job, "" before the first */
+    int held;           /* a sweep's job waiting for its array's sbatch */
+    int runner_seen;    /* the runner of the current Slurm job said hello */
+    int retries;        /* Slurm jobs resubmitted after one ended without a result */
+    double gone_since;  /* monotonic time Slurm first reported its job ended, or 0 */
+    double recorded_at; /* monotonic time job.json was last written (a remote job's seq) */
+    long run_max_steps; /* the current remote run's step target (0: none) */
+    double run_until;   /* ... its time target (INFINITY: none) */
+    int readers;        /* requests the files thread serves on this job: not forgotten meanwhile */
+    int exec_readers;   /* of which particle queries: its executor is not run nor freed meanwhile */
+    json_t *progress;   /* latest executor progress (new ref) */
+    json_t *diag;       /* latest diag event body (new ref) */
+    json_t *result;     /* result event body, when done (new ref) */
+    double submitted;   /* unix time */
+    double wall;        /* seconds spent running, finished runs */
+    double run_wall;    /* seconds into the current run */
     double steps_per_s, eta; /* from the worker, while running */
     sphd_pending *waiters;   /* replies due when the current run ends */
     char *query_text;        /* the encoded `query` result until the job changes (sphd_job_touch) */
@@ -170,6 +184,19 @@ typedef struct sphd_wev {
     long token; /* PARTICLES */
     char *text; /* PARTICLES: the encoded reply (malloc'ed), NULL when out of memory */
 } sphd_wev;
+
+/* The line between the loop and what runs a job (sphd_link.c): the messages above as structs
+ * over an inproc PAIR (a local worker, wire 0) or as frames over tcp (a runner, wire 1). */
+typedef struct sphd_link {
+    void *sock;
+    int wire;
+    sphd_job *job; /* a runner's own job (wire) */
+} sphd_link;
+
+#define SPHD_WORKER_REMOTE   (-2) /* sphd_job.worker: the job runs in a runner on the cluster */
+#define SPHD_SLURM_RETRIES   3   /* resubmissions of a job whose Slurm job ended without a result */
+#define SPHD_REMOTE_RECORD_S 2.0 /* a remote job's job.json (its seq) is written this often */
+#define SPHD_REMOTE_SEQ_GAP  100000 /* after a restart a remote job's seq goes on this far ahead */
 
 typedef struct sphd_worker {
     struct sphd_daemon *d;
@@ -235,6 +262,8 @@ typedef struct sphd_daemon {
     pthread_t files_thread;
     int files_started;
     sphd_pending *file_waits; /* results/fetch/export being read by the files thread */
+    void *runners;            /* ROUTER the runners on the cluster connect to, or NULL */
+    double next_slurm_poll;   /* monotonic time of the next squeue */
     int stopping;             /* shutting down: pause everything, then exit */
     double started_at;
     /* counters */
@@ -280,7 +309,15 @@ sphd_job *sphd_job_find(sphd_daemon *d, const char *id);
 /* Creates a job from a validated submit; NULL with e filled in. */
 /* sweep and params: a sweep's job (params taken as a new ref), else NULL. */
 sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int start,
-                          const char *sweep, json_t *params, sphd_err *e);
+                          const char *sweep, json_t *params, json_t *resources, sphd_err *e);
+/* Replies to the requests waiting for j's run to end (pause, stop, particle queries). */
+void sphd_jobs_answer_waiters(sphd_daemon *d, sphd_job *j);
+/* Sends cmd to whatever runs j (its worker, or its runner on the cluster): 0 or -1 (errno). */
+int sphd_jobs_send(sphd_daemon *d, sphd_job *j, sphd_wcmd *cmd);
+/* A sweep's held jobs to Slurm as one array job (task i is jobs[i]). 0, or -1 with e (the jobs
+ * failed with sbatch's message). */
+int sphd_jobs_start_array(sphd_daemon *d, sphd_job **jobs, size_t n, const char *sweep,
+                          sphd_err *e);
 json_t *sphd_job_status(const sphd_job *j);
 void sphd_job_set_state(sphd_daemon *d, sphd_job *j, sphd_job_state s, const char *reason);
 void sphd_job_record(sphd_daemon *d, sphd_job *j, int interrupted);
@@ -300,6 +337,15 @@ json_t *sphd_sweep_expand(const json_t *case_in, const json_t *sets, const json_
  * "csv"}: per job its id, state, parameters and result summary (scalars, dotted names). */
 json_t *sphd_sweep_table(sphd_daemon *d, const char *sweep, int csv, sphd_err *e);
 
+/* sphd_remote.c: jobs on the Slurm executor, for the loop. */
+/* Takes the runners' messages that have come. */
+void sphd_remote_on_message(sphd_daemon *d);
+/* Every few seconds: jobs whose Slurm job ended without a word continue, pause or fail. */
+void sphd_remote_poll(sphd_daemon *d);
+/* sphd --runner: one job on a cluster node (sphd_runner.c). Returns an exit code. */
+int sphd_runner_main(const char *endpoint, const char *dir, int threads, double ckpt_interval,
+                     int diag_rate);
+
 /* sphd_results.c: a job's result files (`results`, `fetch`, `export`); NULL with e set. */
 #define SPHD_FETCH_DEFAULT (1L << 20)
 #define SPHD_FETCH_MAX     (4L << 20)
@@ -314,6 +360,38 @@ json_t *sphd_results_fetch(const sphd_job *j, const char *file, long long offset
                            sphd_err *e);
 /* The diagnostics series as CSV: {"format":"csv","rows","csv"}; bad_state without diag.h5. */
 json_t *sphd_results_export_csv(const sphd_job *j, sphd_err *e);
+
+/* sphd_link.c */
+/* Sends one worker message (its body and text are taken). Returns 0 or -1. */
+int sphd_link_send(sphd_link *l, sphd_wev *ev);
+/* Receives one command: 1, 0 when there is none (without wait), -1 on error. */
+int sphd_link_recv(sphd_link *l, sphd_wcmd *cmd, int wait);
+/* The daemon's side of the wire: a command to the runner of job `runner` (its json taken), and
+ * a runner's message: 1 with *ev (ev->job NULL: the caller finds it by runner) or *hello set, 0
+ * when none is there, -1 for a message it cannot read. */
+int sphd_wire_send_cmd(void *router, const char *runner, sphd_wcmd *cmd);
+int sphd_wire_recv_wev(void *router, char *runner, size_t runner_len, sphd_wev *ev, json_t **hello);
+
+/* sphd_slurm.c: calls to Slurm's commands. */
+/* Runs argv[0] (found on PATH) with its stdout and stderr into out and err (NUL-terminated,
+ * truncated). Returns its exit status, or -1 (errno) when it could not start. */
+int sphd_slurm_call(char *const argv[], char *out, size_t outn, char *err, size_t errn);
+/* 0 when sbatch runs here, else -1 with why. */
+int sphd_slurm_available(char *why, size_t n);
+/* Checks a `resources` object (where: its JSON path). Returns 0 or -1 with e set. */
+int sphd_resources_check(const json_t *res, const char *where, sphd_err *e);
+/* sbatch SCRIPT with the job's resources (array: "0-N" or NULL); id gets Slurm's job id.
+ * Returns 0, or -1 with why (sbatch's own message). */
+int sphd_slurm_submit(const sphd_daemon *d, const char *script, const char *name,
+                      const char *out_pattern, const json_t *res, const char *array, char *id,
+                      size_t idn, char *why, size_t whyn);
+void sphd_slurm_cancel(const char *id);
+/* squeue's "ID STATE" lines for the comma-separated ids (malloc'ed), or NULL. */
+char *sphd_slurm_states(const char *ids);
+/* Writes the batch script that runs `sphd --runner` for a job (dir) or a sweep's array (dir
+ * NULL: STATE/jobs/SWEEP-$SLURM_ARRAY_TASK_ID) at path. Returns 0 or -1 with why. */
+int sphd_slurm_script(const sphd_daemon *d, const char *path, const char *dir, const char *sweep,
+                      char *why, size_t whyn);
 
 /* sphd_query.c: particle queries, answered by the thread that may read the executor (a running
  * job's worker, the files thread for a paused job), never by the loop. */
@@ -339,6 +417,9 @@ void sphd_files_stop(sphd_daemon *d);
 int sphd_workers_start(sphd_daemon *d);
 void sphd_workers_stop(sphd_daemon *d);
 int sphd_worker_send(sphd_worker *w, const sphd_wcmd *cmd);
+/* Runs a job until it ends, is paused or stopped, or reaches its step target, talking to the
+ * loop over l (a worker thread's PAIR, or a runner's tcp line to the daemon). */
+void sphd_run_job(sphd_worker *w, sphd_link *l, sphd_wcmd *cmd);
 /* 1 when this build's executor runs jobs of method m (hello's "methods"). */
 int sphd_method_available(sph_method m);
 

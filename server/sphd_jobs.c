@@ -65,6 +65,15 @@ json_t *sphd_job_status(const sphd_job *j)
         return NULL;
     if (j->state == SPHD_JOB_FAILED || j->reason[0])
         json_object_set_new(s, "reason", json_string(j->reason));
+    if (j->slurm) {
+        json_object_set_new(s, "executor", json_string("slurm"));
+        if (j->slurm_id[0])
+            json_object_set_new(s, "slurm_job", json_string(j->slurm_id));
+        if (j->retries)
+            json_object_set_new(s, "retries", json_integer(j->retries));
+    }
+    if (j->resources)
+        json_object_set(s, "resources", j->resources);
     if (j->sweep[0]) {
         json_object_set_new(s, "sweep", json_string(j->sweep));
         json_object_set(s, "params", j->params ? j->params : json_null());
@@ -147,6 +156,7 @@ static void job_free(sphd_job *j)
     sphd_exec_free(j->exec);
     json_decref(j->case_json);
     json_decref(j->params);
+    json_decref(j->resources);
     json_decref(j->progress);
     json_decref(j->diag);
     json_decref(j->result);
@@ -176,7 +186,7 @@ static void prune(sphd_daemon *d)
 }
 
 sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int start,
-                          const char *sweep, json_t *params, sphd_err *e)
+                          const char *sweep, json_t *params, json_t *resources, sphd_err *e)
 {
     if (d->njobs_active >= d->opts.max_jobs) {
         sphd_err_set(e, SPHD_E_BUSY, NULL,
@@ -249,6 +259,10 @@ sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int
         snprintf(j->sweep, sizeof j->sweep, "%s", sweep);
         j->params = json_incref(params);
     }
+    j->resources = json_incref(resources);
+    const char *ex = json_string_value(json_object_get(resources, "executor"));
+    j->slurm = ex ? strcmp(ex, "slurm") == 0 : d->opts.executor_slurm;
+    j->run_until = INFINITY;
     j->worker = -1;
     j->step_until = INFINITY;
     j->eta = NAN;
@@ -277,22 +291,120 @@ sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int
 
 static int runnable(const sphd_job *j)
 {
-    if (j->worker >= 0 || j->exec_readers > 0 || sphd_job_state_final(j->state))
+    if (j->worker != -1 || j->held || j->exec_readers > 0 || sphd_job_state_final(j->state))
         return 0;
     return j->state == SPHD_JOB_QUEUED ||
            (j->state == SPHD_JOB_PAUSED && (j->step_n > 0 || isfinite(j->step_until)));
+}
+
+/* The run's targets (a pending `step`), taken from the job. */
+static void take_targets(sphd_job *j, long *max_steps, double *until)
+{
+    *max_steps = 0;
+    *until = INFINITY;
+    j->stepping = 0;
+    if (j->step_n > 0 || isfinite(j->step_until)) {
+        *max_steps = j->step_n;
+        *until = j->step_until;
+        j->stepping = 1;
+    }
+    j->step_n = 0;
+    j->step_until = INFINITY;
+}
+
+static void remote_started(sphd_daemon *d, sphd_job *j)
+{
+    sphd_job_touch(j);
+    j->worker = SPHD_WORKER_REMOTE;
+    j->runner_seen = 0;
+    j->gone_since = 0;
+    j->started = 1;
+    j->run_wall = 0;
+    sphd_job_set_state(d, j, SPHD_JOB_RUNNING, NULL);
+    json_t *rec = json_pack("{s:f, s:s, s:s, s:I}", "t", sphd_now(), "state", "running",
+                            "slurm_job", j->slurm_id, "seq", (json_int_t)j->seq);
+    sph_error err;
+    if (rec && sphd_journal_append(j->dir, rec, &err) != 0)
+        sphd_log("job %s: %s", j->id, err.message);
+    json_decref(rec);
+    sphd_publish(d, j, "log",
+                 json_pack("{s:s, s:s}", "level", "info", "message",
+                           "submitted to Slurm: waiting for its runner"));
+}
+
+/* A job on the Slurm executor: its batch script and one sbatch. */
+static void start_remote(sphd_daemon *d, sphd_job *j)
+{
+    char script[SPHD_PATH_MAX + 32], out[SPHD_PATH_MAX + 32], why[400];
+    snprintf(script, sizeof script, "%s/slurm.sh", j->dir);
+    snprintf(out, sizeof out, "%s/slurm-%%j.out", j->dir);
+    take_targets(j, &j->run_max_steps, &j->run_until);
+    if (sphd_slurm_script(d, script, j->dir, NULL, why, sizeof why) != 0 ||
+        sphd_slurm_submit(d, script, j->id, out, j->resources, NULL, j->slurm_id,
+                          sizeof j->slurm_id, why, sizeof why) != 0) {
+        char reason[SPHD_REASON_MAX];
+        snprintf(reason, sizeof reason, "slurm: %s", why);
+        sphd_log("job %s: %s", j->id, reason);
+        sphd_job_set_state(d, j, SPHD_JOB_FAILED, reason);
+        return;
+    }
+    sphd_log("job %s: Slurm job %s", j->id, j->slurm_id);
+    remote_started(d, j);
+}
+
+int sphd_jobs_start_array(sphd_daemon *d, sphd_job **jobs, size_t n, const char *sweep, sphd_err *e)
+{
+    char script[SPHD_PATH_MAX + 128], out[SPHD_PATH_MAX + 128], why[400], array[32], id[24];
+    snprintf(script, sizeof script, "%s/sweeps", d->opts.state_dir);
+    sphd_mkdirs(script);
+    snprintf(script, sizeof script, "%s/sweeps/%s.sh", d->opts.state_dir, sweep);
+    snprintf(out, sizeof out, "%s/jobs/%s-%%a/slurm-%%A_%%a.out", d->opts.state_dir, sweep);
+    snprintf(array, sizeof array, "0-%zu", n - 1);
+    if (sphd_slurm_script(d, script, NULL, sweep, why, sizeof why) != 0 ||
+        sphd_slurm_submit(d, script, sweep, out, jobs[0]->resources, array, id, sizeof id, why,
+                          sizeof why) != 0) {
+        for (size_t i = 0; i < n; i++) {
+            jobs[i]->held = 0;
+            char reason[SPHD_REASON_MAX];
+            snprintf(reason, sizeof reason, "slurm: %s", why);
+            sphd_job_set_state(d, jobs[i], SPHD_JOB_FAILED, reason);
+        }
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/resources", "slurm: %s", why);
+    }
+    sphd_log("sweep %s: Slurm array job %s (%zu tasks)", sweep, id, n);
+    for (size_t i = 0; i < n; i++) {
+        sphd_job *j = jobs[i];
+        j->held = 0;
+        snprintf(j->slurm_id, sizeof j->slurm_id, "%.23s_%zu", id, i);
+        take_targets(j, &j->run_max_steps, &j->run_until);
+        remote_started(d, j);
+    }
+    return 0;
+}
+
+int sphd_jobs_send(sphd_daemon *d, sphd_job *j, sphd_wcmd *cmd)
+{
+    if (j->worker >= 0)
+        return sphd_worker_send(&d->workers[j->worker], cmd);
+    if (j->worker == SPHD_WORKER_REMOTE && j->runner_seen && d->runners)
+        return sphd_wire_send_cmd(d->runners, j->id, cmd);
+    errno = ENOTCONN;
+    return -1;
 }
 
 void sphd_jobs_schedule(sphd_daemon *d)
 {
     if (d->stopping)
         return;
+    for (sphd_job *j = d->jobs; j; j = j->next)
+        if (j->slurm && runnable(j))
+            start_remote(d, j);
     for (int i = 0; i < d->nworkers; i++) {
         sphd_worker *w = &d->workers[i];
         if (w->job)
             continue;
         sphd_job *j = d->jobs;
-        while (j && !runnable(j))
+        while (j && (j->slurm || !runnable(j)))
             j = j->next;
         if (!j)
             return;
@@ -320,7 +432,7 @@ void sphd_jobs_schedule(sphd_daemon *d)
     }
 }
 
-static void answer_waiters(sphd_daemon *d, sphd_job *j)
+void sphd_jobs_answer_waiters(sphd_daemon *d, sphd_job *j)
 {
     while (j->waiters) {
         sphd_pending *p = j->waiters;
@@ -358,6 +470,11 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
             write_json(j->dir, "result.json", ev->body);
         }
         sphd_publish(d, j, ev->type, ev->body);
+        if (!w && sphd_mono() - j->recorded_at > SPHD_REMOTE_RECORD_S) {
+            /* a remote job's seq on disk, now and then: a restarted sphd goes on past it */
+            j->recorded_at = sphd_mono();
+            sphd_job_record(d, j, 0);
+        }
         return;
     case SPHD_WEV_PROGRESS:
         sphd_job_touch(j);
@@ -380,13 +497,19 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
     case SPHD_WEV_END:
         break;
     }
-    /* The run ended: the worker gave the executor back (the one it created on a first run). */
+    /* The run ended: the worker gave the executor back (the one it created on a first run);
+     * a runner keeps none (it wrote a checkpoint if the job can go on). */
     sphd_job_touch(j);
-    if (!j->exec)
-        j->exec = ev->exec;
-    w->job = NULL;
+    if (w) {
+        if (!j->exec)
+            j->exec = ev->exec;
+        w->job = NULL;
+        atomic_fetch_sub(&d->busy, 1);
+    } else {
+        j->resume = 1;
+        j->runner_seen = 0;
+    }
     j->worker = -1;
-    atomic_fetch_sub(&d->busy, 1);
     j->wall += ev->wall;
     j->run_wall = 0;
     j->steps_per_s = 0;
@@ -424,7 +547,7 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
         break;
     }
     j->pause_requested = j->stop_requested = 0;
-    answer_waiters(d, j);
+    sphd_jobs_answer_waiters(d, j);
     sphd_log("job %s %s after %.3f s", j->id, sphd_job_state_name(j->state), ev->wall);
 }
 
@@ -511,6 +634,12 @@ static sphd_job *recover_one(sphd_daemon *d, const char *id)
     if (r.last && json_integer_value(json_object_get(r.last, "seq")) > j->seq)
         j->seq = (long)json_integer_value(json_object_get(r.last, "seq"));
     j->submitted = json_number_value(json_object_get(rec, "submitted"));
+    j->slurm = json_is_string(json_object_get(rec, "executor")) &&
+               strcmp(json_string_value(json_object_get(rec, "executor")), "slurm") == 0;
+    if (json_is_object(json_object_get(rec, "resources")))
+        j->resources = json_incref(json_object_get(rec, "resources"));
+    j->retries = (int)json_integer_value(json_object_get(rec, "retries"));
+    j->run_until = INFINITY;
     const char *sweep = json_string_value(json_object_get(rec, "sweep"));
     if (sweep && json_is_object(json_object_get(rec, "params"))) {
         snprintf(j->sweep, sizeof j->sweep, "%s", sweep);
@@ -533,7 +662,19 @@ static sphd_job *recover_one(sphd_daemon *d, const char *id)
     char prev[SPHD_PATH_MAX + 32];
     snprintf(prev, sizeof prev, "%s/checkpoint.prev", j->dir);
     const int has_ckpt = access(ck, F_OK) == 0 || access(prev, F_OK) == 0;
-    if (st < 0 || st == SPHD_JOB_RUNNING || st == SPHD_JOB_QUEUED) {
+    const char *sid = json_string_value(json_object_get(r.last, "slurm_job"));
+    if (!sid)
+        sid = json_string_value(json_object_get(rec, "slurm_job"));
+    if (j->slurm && sid && sid[0] && st == SPHD_JOB_RUNNING) {
+        /* its Slurm job may still run: its runner reconnects, or the poll finds it ended */
+        snprintf(j->slurm_id, sizeof j->slurm_id, "%s", sid);
+        /* its events since the last record were not written down: seq jumps past them (a gap,
+         * never a step back) */
+        j->seq += SPHD_REMOTE_SEQ_GAP + (long)(4 * SPHD_REMOTE_RECORD_S * d->opts.diag_rate);
+        j->state = SPHD_JOB_RUNNING;
+        j->worker = SPHD_WORKER_REMOTE;
+        j->resume = 1;
+    } else if (st < 0 || st == SPHD_JOB_RUNNING || st == SPHD_JOB_QUEUED) {
         j->state = SPHD_JOB_QUEUED;
         j->resume = has_ckpt;
     } else if (st == SPHD_JOB_PAUSED) {

@@ -61,6 +61,15 @@ static const char usage_text[] =
     "                     instead of 2.5 ms with the CPUs full); 0 gives the jobs the same\n"
     "                     priority as every other program\n"
     "\n"
+    "  --executor slurm   run jobs as Slurm batch jobs (a job's resources.executor \"local\"\n"
+    "                     keeps it here): each runs 'sphd --runner' on a node, in the job's\n"
+    "                     directory, which must be on storage the nodes share (--state-dir)\n"
+    "  --runner-listen EP where the runners connect (default tcp://*:7617)\n"
+    "  --runner-connect EP the same as the nodes reach it (default tcp://HOSTNAME:PORT)\n"
+    "\n"
+    "Runner mode (started by Slurm; not by hand):\n"
+    "  --runner EP --job-dir DIR  run the job in DIR for the daemon at EP\n"
+    "\n"
     "  -h, --help         this text\n"
     "  --version          print the version\n"
     "\n"
@@ -165,7 +174,12 @@ int main(int argc, char **argv)
         OPT_INSECURE,
         OPT_CURVE,
         OPT_REQCPU,
-        OPT_WNICE
+        OPT_WNICE,
+        OPT_EXECUTOR,
+        OPT_RLISTEN,
+        OPT_RCONNECT,
+        OPT_RUNNER,
+        OPT_JOBDIR
     };
     sph_core_init(); /* before any thread */
     static const struct option longopts[] = {
@@ -186,10 +200,16 @@ int main(int argc, char **argv)
         {"curve", required_argument, NULL, OPT_CURVE},
         {"request-cpu", required_argument, NULL, OPT_REQCPU},
         {"worker-nice", required_argument, NULL, OPT_WNICE},
+        {"executor", required_argument, NULL, OPT_EXECUTOR},
+        {"runner-listen", required_argument, NULL, OPT_RLISTEN},
+        {"runner-connect", required_argument, NULL, OPT_RCONNECT},
+        {"runner", required_argument, NULL, OPT_RUNNER},
+        {"job-dir", required_argument, NULL, OPT_JOBDIR},
         {"help", no_argument, NULL, 'h'},
         {"version", no_argument, NULL, OPT_VERSION},
         {NULL, 0, NULL, 0},
     };
+    const char *runner_ep = NULL, *job_dir = NULL;
     sphd_h5_init();
     sphd_run_opts run = {0};
     sphd_opts dopts = {.max_jobs = 64,
@@ -330,6 +350,32 @@ int main(int argc, char **argv)
             dopts.insecure = 1;
             daemon_only = 1;
             break;
+        case OPT_EXECUTOR:
+            if (strcmp(optarg, "slurm") != 0 && strcmp(optarg, "local") != 0) {
+                fprintf(stderr, "sphd: --executor is local or slurm, not '%s'\n", optarg);
+                return SPHD_EX_USAGE;
+            }
+            dopts.executor_slurm = strcmp(optarg, "slurm") == 0;
+            daemon_only = 1;
+            break;
+        case OPT_RLISTEN:
+        case OPT_RCONNECT: {
+            char *dst = opt == OPT_RLISTEN ? dopts.runner_listen : dopts.runner_connect;
+            if (strncmp(optarg, "tcp://", 6) != 0 || strlen(optarg) >= SPH_ENDPOINT_MAX) {
+                fprintf(stderr, "sphd: --runner-%s takes a tcp:// endpoint, not '%s'\n",
+                        opt == OPT_RLISTEN ? "listen" : "connect", optarg);
+                return SPHD_EX_USAGE;
+            }
+            snprintf(dst, SPH_ENDPOINT_MAX, "%s", optarg);
+            daemon_only = 1;
+            break;
+        }
+        case OPT_RUNNER:
+            runner_ep = optarg;
+            break;
+        case OPT_JOBDIR:
+            job_dir = optarg;
+            break;
         case 'h':
             fputs(usage_text, stdout);
             return SPHD_EX_OK;
@@ -344,6 +390,14 @@ int main(int argc, char **argv)
     if (optind < argc) {
         fprintf(stderr, "sphd: unexpected argument '%s'\nTry 'sphd --help'.\n", argv[optind]);
         return SPHD_EX_USAGE;
+    }
+    if (runner_ep || job_dir) {
+        if (!runner_ep || !job_dir) {
+            fputs("sphd: --runner and --job-dir go together\n", stderr);
+            return SPHD_EX_USAGE;
+        }
+        return sphd_runner_main(runner_ep, job_dir, dopts.threads, dopts.ckpt_interval,
+                                dopts.diag_rate ? dopts.diag_rate : 50);
     }
     if (run.case_file) {
         if (daemon_only) {
@@ -374,5 +428,7 @@ int main(int argc, char **argv)
         fputs("sphd: --listen and --publish must differ\n", stderr);
         return SPHD_EX_USAGE;
     }
+    if (!dopts.runner_listen[0])
+        snprintf(dopts.runner_listen, sizeof dopts.runner_listen, "tcp://*:7617");
     return sphd_daemon_main(&dopts);
 }

@@ -25,26 +25,24 @@
 
 typedef struct run_ctx {
     sphd_worker *w;
-    void *sock; /* worker side of the PAIR */
+    sphd_link *link; /* to the loop */
     sphd_job *job;
     double min_diag_gap; /* seconds */
     double last_diag;    /* monotonic time of the last diag sent */
     json_t *held_diag;   /* newest diag not sent (thinned), new ref */
 } run_ctx;
 
-static int send_wev(void *sock, const sphd_wev *ev)
+static int send_wev(sphd_link *l, sphd_wev *ev)
 {
-    return sphd_pair_send(sock, ev, sizeof *ev);
+    return sphd_link_send(l, ev); /* takes ev's body and text */
 }
 
 static void send_event(run_ctx *r, const char *type, json_t *body)
 {
     sphd_wev ev = {.kind = SPHD_WEV_EVENT, .job = r->job, .body = body};
     snprintf(ev.type, sizeof ev.type, "%s", type);
-    if (send_wev(r->sock, &ev) != 0) {
+    if (send_wev(r->link, &ev) != 0 && !r->link->wire)
         sphd_log("worker %d: cannot send an event: %s", r->w->index, zmq_strerror(errno));
-        json_decref(body);
-    }
 }
 
 /* sphd_emit_fn: diag events are thinned, the others pass. */
@@ -95,13 +93,12 @@ static void answer_particles(run_ctx *r, sphd_exec *x, sphd_wcmd *cmd)
     sphd_wev ev = {.kind = SPHD_WEV_PARTICLES, .job = r->job, .token = cmd->token};
     ev.text = sphd_particles_reply(x, r->job->c, cmd->fields, cmd->max, cmd->status, cmd->id);
     json_decref(cmd->fields);
-    if (send_wev(r->sock, &ev) != 0)
-        free(ev.text);
+    send_wev(r->link, &ev);
 }
 
 /* A particle query that came after the run ended: the client asks again (the loop then reads the
  * paused job's executor on the files thread). */
-static void answer_stale(void *sock, sphd_wcmd *cmd)
+static void answer_stale(sphd_link *sock, sphd_wcmd *cmd)
 {
     sphd_err e;
     sphd_err_set(&e, SPHD_E_BAD_STATE, NULL,
@@ -115,8 +112,7 @@ static void answer_stale(void *sock, sphd_wcmd *cmd)
     sphd_wev ev = {.kind = SPHD_WEV_PARTICLES, .job = cmd->job, .token = cmd->token};
     ev.text = reply ? json_dumps(reply, JSON_COMPACT) : NULL;
     json_decref(reply);
-    if (send_wev(sock, &ev) != 0)
-        free(ev.text);
+    send_wev(sock, &ev);
 }
 
 static void set_omp_threads(sphd_worker *w)
@@ -131,9 +127,9 @@ static void set_omp_threads(sphd_worker *w)
 }
 
 /* Runs a job until it ends, is paused or stopped, or reaches its step target. */
-static void run_job(sphd_worker *w, void *sock, sphd_wcmd *cmd)
+void sphd_run_job(sphd_worker *w, sphd_link *sock, sphd_wcmd *cmd)
 {
-    run_ctx r = {.w = w, .sock = sock, .job = cmd->job, .last_diag = -1e9};
+    run_ctx r = {.w = w, .link = sock, .job = cmd->job, .last_diag = -1e9};
     r.min_diag_gap = w->d->opts.diag_rate > 0 ? 1.0 / w->d->opts.diag_rate : 0;
     sphd_exec *x = cmd->exec;
     sphd_wev end = {.kind = SPHD_WEV_END, .job = cmd->job};
@@ -186,7 +182,7 @@ static void run_job(sphd_worker *w, void *sock, sphd_wcmd *cmd)
         /* Requests from the loop, between slices. */
         sphd_wcmd in;
         int n;
-        while (!ended && (n = zmq_recv(sock, &in, sizeof in, ZMQ_DONTWAIT)) == (int)sizeof in) {
+        while (!ended && (n = sphd_link_recv(sock, &in, 0)) == 1) {
             if (in.kind == SPHD_W_PAUSE) {
                 end.end = SPHD_END_PAUSED;
                 ended = 1;
@@ -246,8 +242,7 @@ static void run_job(sphd_worker *w, void *sock, sphd_wcmd *cmd)
                            .wall = wall,
                            .steps_per_s = rate,
                            .eta = eta};
-            if (send_wev(sock, &pe) != 0)
-                json_decref(p);
+            send_wev(sock, &pe);
             last_progress = s1;
         } else {
             json_decref(p);
@@ -266,10 +261,14 @@ static void run_job(sphd_worker *w, void *sock, sphd_wcmd *cmd)
     /* the final progress, whatever ended the run */
     json_t *fp = sphd_exec_progress(x);
     sphd_wev pe = {.kind = SPHD_WEV_PROGRESS, .job = cmd->job, .body = fp, .wall = end.wall};
-    if (fp && send_wev(sock, &pe) != 0)
-        json_decref(fp);
+    if (fp)
+        send_wev(sock, &pe);
+    if (sock->wire)
+        end.exec = NULL; /* a runner's executor ends with it */
     if (send_wev(sock, &end) != 0)
         sphd_log("worker %d: cannot report the end of a run: %s", w->index, zmq_strerror(errno));
+    if (sock->wire)
+        sphd_exec_free(x);
 }
 
 static void *worker_main(void *arg)
@@ -283,28 +282,26 @@ static void *worker_main(void *arg)
     if (sphd_sched_lower_self(w->d->opts.worker_nice) != 0)
         sphd_log("worker %d: cannot lower its priority: %s", w->index, strerror(errno));
     snprintf(ep, sizeof ep, "inproc://sphd-worker-%d", w->index);
-    void *sock = sphd_pair_open(w->d->ctx, ep, 0);
-    if (!sock)
+    void *pair = sphd_pair_open(w->d->ctx, ep, 0);
+    if (!pair)
         return NULL;
+    sphd_link link = {.sock = pair}, *sock = &link;
     for (;;) {
         sphd_wcmd cmd;
-        int n = zmq_recv(sock, &cmd, sizeof cmd, 0);
-        if (n < 0) {
-            if (errno == EINTR)
-                continue;
+        int n = sphd_link_recv(sock, &cmd, 1);
+        if (n < 0)
             break; /* ETERM: the context is going away */
-        }
-        if (n != (int)sizeof cmd)
+        if (n == 0)
             continue;
         if (cmd.kind == SPHD_W_QUIT)
             break;
         if (cmd.kind == SPHD_W_RUN)
-            run_job(w, sock, &cmd);
+            sphd_run_job(w, sock, &cmd);
         else if (cmd.kind == SPHD_W_PARTICLES)
             answer_stale(sock, &cmd); /* the run ended before it was read */
         /* stale PAUSE/STOP (the run ended first) are dropped */
     }
-    zmq_close(sock);
+    zmq_close(pair);
     return NULL;
 }
 

@@ -1,0 +1,187 @@
+/*
+ * Jobs on the Slurm executor, seen from the loop: the runners' messages (sphd_link.c's wire)
+ * handed to the job manager as a local worker's would be, and a look at Slurm's queue every
+ * few seconds for jobs whose Slurm job ended without a word from their runner (a node that
+ * failed, a time limit, scancel, a runner killed): those continue from their checkpoint in a
+ * new Slurm job, up to their retry limit, or are paused when someone cancelled them.
+ */
+#include "sphd.h"
+#include "sphd_daemon.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define POLL_EVERY_S 2.0
+#define GONE_GRACE_S 3.0 /* an ended Slurm job's last messages may still be on their way */
+
+static void say(sphd_daemon *d, sphd_job *j, const char *level, const char *fmt, const char *a,
+                const char *b)
+{
+    char msg[512];
+    snprintf(msg, sizeof msg, fmt, a, b);
+    sphd_log("job %s: %s", j->id, msg);
+    sphd_publish(d, j, "log", json_pack("{s:s, s:s}", "level", level, "message", msg));
+}
+
+static void on_hello(sphd_daemon *d, const char *runner, json_t *hello)
+{
+    sphd_job *j = sphd_job_find(d, runner);
+    const char *sid = json_string_value(json_object_get(hello, "slurm_job"));
+    if (!j || j->worker != SPHD_WORKER_REMOTE || j->state != SPHD_JOB_RUNNING) {
+        /* a runner of a job that was stopped, paused or forgotten meanwhile */
+        sphd_wcmd q = {.kind = SPHD_W_QUIT};
+        sphd_wire_send_cmd(d->runners, runner, &q);
+        return;
+    }
+    j->runner_seen = 1;
+    j->gone_since = 0;
+    sphd_wcmd run = {
+        .kind = SPHD_W_RUN, .job = j, .max_steps = j->run_max_steps, .until = j->run_until};
+    if (sphd_wire_send_cmd(d->runners, runner, &run) != 0) {
+        sphd_log("job %s: cannot reach its runner", j->id);
+        return;
+    }
+    say(d, j, "info", "running on %s (Slurm job %s)",
+        json_string_value(json_object_get(hello, "host")) ?: "?", sid && *sid ? sid : j->slurm_id);
+}
+
+void sphd_remote_on_message(sphd_daemon *d)
+{
+    for (int k = 0; k < 1000; k++) { /* then the other sockets get their turn */
+        char runner[SPHD_JOB_ID_MAX];
+        sphd_wev ev;
+        json_t *hello = NULL;
+        const int n = sphd_wire_recv_wev(d->runners, runner, sizeof runner, &ev, &hello);
+        if (n == 0)
+            return;
+        if (n < 0) {
+            sphd_log("a runner sent a message sphd cannot read; ignored");
+            continue;
+        }
+        if (hello) {
+            on_hello(d, runner, hello);
+            json_decref(hello);
+            continue;
+        }
+        sphd_job *j = sphd_job_find(d, runner);
+        if (!j || j->worker != SPHD_WORKER_REMOTE) {
+            json_decref(ev.body); /* a runner that outlived its run here */
+            free(ev.text);
+            continue;
+        }
+        if (!j->runner_seen) { /* sphd was restarted while the runner ran: it is back */
+            j->runner_seen = 1;
+            say(d, j, "info", "its runner (Slurm job %s) is back%s", j->slurm_id, "");
+        }
+        j->gone_since = 0;
+        ev.job = j;
+        sphd_jobs_on_worker(d, NULL, &ev);
+    }
+}
+
+/* Slurm's word on one of our jobs: 1 while it may still run, 0 ended (state in st). */
+static int still_there(const char *lines, const char *id, char *st, size_t n)
+{
+    snprintf(st, n, "gone from Slurm's queue");
+    const size_t len = strlen(id);
+    for (const char *p = lines; p && *p;) {
+        const char *nl = strchr(p, '\n');
+        if (strncmp(p, id, len) == 0 && p[len] == ' ') {
+            const char *s = p + len + 1;
+            const size_t sl = nl ? (size_t)(nl - s) : strlen(s);
+            snprintf(st, n, "%.*s", (int)sl, s);
+            return strncmp(s, "PENDING", 7) == 0 || strncmp(s, "RUNNING", 7) == 0 ||
+                   strncmp(s, "CONFIGURING", 11) == 0 || strncmp(s, "COMPLETING", 10) == 0 ||
+                   strncmp(s, "SUSPENDED", 9) == 0 || strncmp(s, "REQUEUED", 8) == 0 ||
+                   strncmp(s, "RESIZING", 8) == 0;
+        }
+        p = nl ? nl + 1 : NULL;
+    }
+    return 0;
+}
+
+void sphd_remote_poll(sphd_daemon *d)
+{
+    const double now = sphd_mono();
+    if (now < d->next_slurm_poll)
+        return;
+    d->next_slurm_poll = now + POLL_EVERY_S;
+    size_t len = 0, cap = 0;
+    char *ids = NULL;
+    for (sphd_job *j = d->jobs; j; j = j->next) {
+        if (j->worker != SPHD_WORKER_REMOTE || !j->slurm_id[0])
+            continue;
+        const size_t need = len + strlen(j->slurm_id) + 2;
+        if (need > cap) {
+            cap = need * 2;
+            char *n = realloc(ids, cap);
+            if (!n) {
+                free(ids);
+                return;
+            }
+            ids = n;
+        }
+        len += (size_t)sprintf(ids + len, "%s%s", len ? "," : "", j->slurm_id);
+    }
+    if (!ids)
+        return;
+    char *lines = sphd_slurm_states(ids);
+    free(ids);
+    if (!lines)
+        return; /* squeue failed (said in the log): ask again later */
+    for (sphd_job *j = d->jobs; j; j = j->next) {
+        if (j->worker != SPHD_WORKER_REMOTE || !j->slurm_id[0])
+            continue;
+        char st[64];
+        if (still_there(lines, j->slurm_id, st, sizeof st)) {
+            j->gone_since = 0;
+            continue;
+        }
+        if (j->gone_since == 0) {
+            j->gone_since = now;
+            continue;
+        }
+        if (now - j->gone_since < GONE_GRACE_S)
+            continue;
+        /* it ended and its runner said nothing */
+        char reason[SPHD_REASON_MAX], slurm_id[sizeof j->slurm_id];
+        snprintf(slurm_id, sizeof slurm_id, "%s", j->slurm_id);
+        j->worker = -1;
+        j->runner_seen = 0;
+        j->gone_since = 0;
+        j->resume = 1;
+        j->run_wall = 0;
+        sphd_job_touch(j);
+        const json_t *r = json_object_get(j->resources, "retries");
+        const int limit = r ? (int)json_integer_value(r) : SPHD_SLURM_RETRIES;
+        const int stop = j->stop_requested;
+        j->pause_requested = j->stop_requested = j->stepping = 0;
+        if (stop) {
+            sphd_job_set_state(d, j, SPHD_JOB_STOPPED, NULL);
+        } else if (strncmp(st, "CANCELLED", 9) == 0) {
+            snprintf(reason, sizeof reason,
+                     "Slurm job %s was cancelled (scancel): resume continues from the checkpoint",
+                     slurm_id);
+            say(d, j, "warning", "%s%s", reason, "");
+            sphd_job_set_state(d, j, SPHD_JOB_PAUSED, reason);
+        } else if (j->retries < limit) {
+            j->retries++;
+            snprintf(reason, sizeof reason,
+                     "Slurm job %s ended (%s) without a result: submitted again from the "
+                     "checkpoint (retry %d of %d)",
+                     slurm_id, st, j->retries, limit);
+            say(d, j, "warning", "%s%s", reason, "");
+            sphd_job_set_state(d, j, SPHD_JOB_QUEUED, reason);
+        } else {
+            snprintf(reason, sizeof reason,
+                     "Slurm job %s ended (%s) without a result, after %d retries", slurm_id, st,
+                     j->retries);
+            sphd_job_set_state(d, j, SPHD_JOB_FAILED, reason);
+        }
+        sphd_jobs_answer_waiters(d, j);
+    }
+    free(lines);
+    sphd_jobs_schedule(d);
+}

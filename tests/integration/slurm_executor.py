@@ -1,0 +1,319 @@
+#!/usr/bin/python3
+"""sphd's Slurm executor against a real Slurm: a one-node cluster on this machine
+(scripts/slurm-local.sh: Debian's slurm-wlm and munge, as root), started here and stopped at the
+end. Every job's result is compared with the same case run by the local executor (1 thread both):
+the result and the last snapshot bit for bit.
+
+- a sweep of 4 dam breaks goes as one Slurm array and runs to done;
+- watch (sphctl), query with fields while the runner runs, step N (a Slurm job that ends paused);
+- kill -9 of a runner: the job is submitted again and continues from its checkpoint;
+- scancel: the job is paused with the reason; resume continues it;
+- kill -9 of the daemon while two Slurm jobs run: after a restart both are found, their streams
+  come back and both finish;
+- bad input: an unknown resources key, a refused sbatch option, a partition Slurm refuses, a time
+  limit over the partition's, the Slurm executor on a daemon without it, sphd --executor slurm
+  without sbatch.
+
+Usage: slurm_executor.py SPHD SPHCTL SOURCE_DIR     (exit 77: skipped, not root or no Slurm)
+"""
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sphd_harness import Daemon, Failures  # noqa: E402
+
+sphd, sphctl, src = sys.argv[1], sys.argv[2], sys.argv[3]
+if os.geteuid() != 0 or not (shutil.which("slurmctld") or os.path.exists("/usr/sbin/slurmctld")):
+    print("slurm_executor: skipped (needs root and slurm-wlm + munge: scripts/setup.sh)")
+    sys.exit(77)
+import h5py  # noqa: E402
+import numpy as np  # noqa: E402
+
+F = Failures("slurm_executor")
+T0 = time.time()
+cluster = tempfile.mkdtemp(prefix="sphd-slurm-")
+port = 17000 + os.getpid() % 2000
+env = dict(os.environ, SLURM_CONF=os.path.join(cluster, "slurm.conf"),
+           SLURM_LOCAL_PORT=str(16817 + 2 * (os.getpid() % 400)))
+os.environ.update(SLURM_CONF=env["SLURM_CONF"])
+r = subprocess.run([os.path.join(src, "scripts", "slurm-local.sh"), "start", cluster], env=env,
+                   capture_output=True, text=True)
+if r.returncode != 0:
+    print("FAIL: the one-node Slurm cluster did not start:", r.stderr)
+    subprocess.run([os.path.join(src, "scripts", "slurm-local.sh"), "stop", cluster], env=env)
+    sys.exit(1)
+print(f"slurm_executor: a one-node Slurm cluster up in {time.time() - T0:.1f} s")
+case = json.load(open(os.path.join(src, "cases", "dambreak.json")))
+BASE = ["dx=0.01", "time.end=0.1", "output.every=0.05"]
+daemons = []
+
+
+def start(state=None, *extra):
+    d = Daemon(sphd, "--threads", "1", "--checkpoint-interval", "0.2", "--executor", "slurm",
+               "--runner-listen", f"tcp://127.0.0.1:{port}", *extra)
+    daemons.append(d)
+    return d
+
+
+def wait_states(d, jobs, states, timeout=180):
+    deadline = time.time() + timeout
+    st = {}
+    while time.time() < deadline:
+        st = {j["job"]: j for j in d.ok("list")["jobs"]}
+        if all(st.get(j, {}).get("state") in states for j in jobs):
+            return st
+        time.sleep(0.1)
+    raise AssertionError(f"{jobs} not {states} in {timeout} s: "
+                         f"{ {j: st.get(j, {}).get('state') for j in jobs} }")
+
+
+def last_snapshot(d, job):
+    jd = os.path.join(d.state, "jobs", job)
+    snaps = sorted(f for f in os.listdir(jd) if f.startswith("snap_"))
+    with h5py.File(os.path.join(jd, snaps[-1]), "r") as h:
+        return snaps[-1], {k: np.array(h[k]) for k in ("pos", "vel", "rho", "p")}
+
+
+def same_run(d, a, b):
+    """a's and b's results (less the wall times) and last snapshots, bit for bit."""
+    ra, rb = (json.load(open(os.path.join(d.state, "jobs", j, "result.json"))) for j in (a, b))
+    for r in (ra, rb):
+        r.pop("wall_time", None)
+    sa, fa = last_snapshot(d, a)
+    sb, fb = last_snapshot(d, b)
+    return ra == rb and sa == sb and all(np.array_equal(fa[k], fb[k]) for k in fa)
+
+
+def runner_pids(job):
+    out = subprocess.run(["pgrep", "-f", "--", f"--job-dir \\S*/{job}( |$)"], capture_output=True,
+                         text=True).stdout
+    return [int(p) for p in out.split()]
+
+
+try:
+    d = start()
+    h = d.ok("hello")
+    F.check("slurm" in h.get("executors", []), "hello lists the Slurm executor", h.get("executors"))
+
+    # -- a sweep of 4 as one array, against the local executor
+    t = time.time()
+    r = d.ok("sweep", {"case": case, "set": BASE, "sweep": "A",
+                       "vary": [{"path": "kernel.type", "values": ["wendland_c2", "cubic_spline"]},
+                                {"path": "physics.viscosity.alpha", "values": [0.05, 0.1]}]})
+    ids = [j["job"] for j in r["jobs"]]
+    arr = {j["slurm_job"].split("_")[0] for j in r["jobs"]}
+    F.check(len(arr) == 1 and [j["slurm_job"].split("_")[1] for j in r["jobs"]] ==
+            ["0", "1", "2", "3"], "the sweep is one Slurm array, task i is job A-i",
+            [j.get("slurm_job") for j in r["jobs"]])
+    locals_ = []
+    for j in r["jobs"]:
+        sets = BASE + [f"{k}={json.dumps(v)}" for k, v in j["params"].items()]
+        loc = d.ok("submit", {"case": case, "job": "L" + j["job"], "set": sets,
+                              "resources": {"executor": "local"}})
+        F.check("executor" not in loc, "resources.executor local keeps a job here", loc)
+        locals_.append("L" + j["job"])
+    st = wait_states(d, ids + locals_, ("done", "failed", "stopped"))
+    F.check(all(st[j]["state"] == "done" for j in ids), "the array's 4 jobs are done",
+            {j: (st[j]["state"], st[j].get("reason")) for j in ids})
+    print(f"slurm_executor: sweep of 4 as a Slurm array done in {time.time() - t:.1f} s")
+    for j in ids:
+        F.check(same_run(d, j, "L" + j), f"{j} (Slurm) is bit for bit L{j} (local)")
+    rows = d.ok("export", {"sweep": "A", "format": "json"})["rows"]
+    F.check(len(rows) == 4 and all(row.get("steps", 0) > 0 for row in rows),
+            "the sweep's table has the 4 results", rows[:1])
+
+    # -- submission to first diagnostic: Slurm against local
+    def first_diag(resources):
+        sub = d.subscribe(b"")
+        time.sleep(0.2)
+        t = time.time()
+        jid = d.ok("submit", {"case": case, "set": BASE, "resources": resources})["job"]
+        while True:
+            if not sub.poll(60000):
+                raise AssertionError("no diag within 60 s")
+            topic, body = sub.recv_multipart()
+            ev = json.loads(body)
+            if ev["job"] == jid and ev["type"] == "diag":
+                sub.close()
+                wait_states(d, [jid], ("done",))
+                return time.time() - t
+    loc_s = sorted(first_diag({"executor": "local"}) for _ in range(3))[1]
+    slu_s = sorted(first_diag({}) for _ in range(3))[1]
+    print(f"slurm_executor: submission to first diagnostic, median of 3: local {loc_s * 1e3:.0f} "
+          f"ms, Slurm {slu_s * 1e3:.0f} ms (overhead {(slu_s - loc_s) * 1e3:.0f} ms)")
+
+    # -- watch, query with fields, step
+    long_sets = ["dx=0.005", "time.end=0.6", "output.every=0.1"]
+    d.ok("submit", {"case": case, "job": "W", "set": long_sets})
+    envc = dict(os.environ, SPHD_ENDPOINT=d.control)
+    w = subprocess.Popen([sphctl, "--json", "watch", "W"], env=envc, stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 60
+    q = None
+    while time.time() < deadline:
+        st = d.ok("query", {"job": "W"})
+        if st["state"] == "running" and st["progress"]["steps"] > 0:
+            q = d.request("query", {"job": "W", "fields": ["pos", "rho"], "max": 50}, timeout=30)
+            if q.get("ok"):
+                break
+        time.sleep(0.1)
+    F.check(q and q.get("ok") and q["result"]["particles"]["count"] == 50,
+            "query with fields of a running Slurm job: its runner answers", str(q)[:300])
+    out, err = w.communicate(timeout=300)
+    evs = [json.loads(x) for x in out.splitlines() if x.strip()]
+    F.check(w.returncode == 0 and any(e.get("type") == "diag" for e in evs) and
+            evs[-1].get("type") in ("result", "state"), "sphctl watch follows a Slurm job to done",
+            (w.returncode, err[-300:]))
+    d.ok("submit", {"case": case, "job": "S", "set": BASE, "start": False})
+    d.ok("step", {"job": "S", "n": 25})
+    st = wait_states(d, ["S"], ("paused",))
+    deadline = time.time() + 60
+    while st["S"].get("pending_step") or st["S"]["progress"]["steps"] < 25:
+        if time.time() > deadline:
+            break
+        time.sleep(0.1)
+        st = wait_states(d, ["S"], ("paused",))
+    F.check(st["S"]["progress"]["steps"] == 25, "step 25 on the Slurm executor: 25 steps, paused",
+            st["S"]["progress"])
+    d.ok("resume", {"job": "S"})
+    d.ok("submit", {"case": case, "job": "LS", "set": BASE, "resources": {"executor": "local"}})
+    wait_states(d, ["S", "LS"], ("done",))
+    F.check(same_run(d, "S", "LS"), "stepped, paused (Slurm job ended) and resumed: bit for bit")
+
+    # -- kill -9 of a runner: submitted again, continues from the checkpoint
+    d.ok("submit", {"case": case, "job": "K", "set": long_sets})
+    deadline = time.time() + 60
+    while time.time() < deadline:
+        st = d.ok("query", {"job": "K"})
+        if st["progress"]["steps"] > 200 and os.path.exists(
+                os.path.join(d.state, "jobs", "K", "checkpoint")) and runner_pids("K"):
+            break
+        time.sleep(0.1)
+    first = st.get("slurm_job")
+    for p in runner_pids("K"):
+        os.kill(p, signal.SIGKILL)
+    st = None
+    deadline = time.time() + 60
+    while time.time() < deadline:
+        st = d.ok("query", {"job": "K"})
+        if st.get("slurm_job") != first and st.get("retries") == 1:
+            break
+        time.sleep(0.2)
+    F.check(st.get("retries") == 1 and st.get("slurm_job") != first,
+            "a runner killed: its job goes to a new Slurm job (retry 1)", st)
+    d.ok("submit", {"case": case, "job": "LK", "set": long_sets,
+                    "resources": {"executor": "local"}})
+    wait_states(d, ["K", "LK"], ("done",), timeout=300)
+    F.check(same_run(d, "K", "LK"), "the killed job's result is bit for bit the local one")
+
+    # -- scancel: paused with the reason, resume continues
+    d.ok("submit", {"case": case, "job": "C", "set": long_sets})
+    deadline = time.time() + 60
+    while time.time() < deadline:
+        st = d.ok("query", {"job": "C"})
+        if st["progress"]["steps"] > 100 and os.path.exists(
+                os.path.join(d.state, "jobs", "C", "checkpoint")):
+            break
+        time.sleep(0.1)
+    subprocess.run(["scancel", st["slurm_job"]], check=True)
+    st = wait_states(d, ["C"], ("paused",), timeout=60)["C"]
+    F.check("cancelled" in st.get("reason", ""), "scancel: the job is paused and says why", st)
+    d.ok("resume", {"job": "C"})
+    wait_states(d, ["C", "LK"], ("done",), timeout=300)
+    F.check(same_run(d, "C", "LK"), "cancelled and resumed: bit for bit the local run")
+
+    # -- kill -9 of the daemon while two Slurm jobs run
+    for j in ("D1", "D2"):
+        d.ok("submit", {"case": case, "job": j, "set": long_sets})
+    deadline = time.time() + 60
+    while time.time() < deadline:
+        st = {j["job"]: j for j in d.ok("list")["jobs"]}
+        if all(st[j]["progress"]["steps"] > 50 for j in ("D1", "D2")):
+            break
+        time.sleep(0.1)
+    seq0 = {j: st[j]["seq"] for j in ("D1", "D2")}
+    d.proc.send_signal(signal.SIGKILL)
+    d.proc.wait()
+    time.sleep(0.5)
+    state = d.state
+    d2 = Daemon(sphd, "--threads", "1", "--checkpoint-interval", "0.2", "--executor", "slurm",
+                "--runner-listen", f"tcp://127.0.0.1:{port}", "--state-dir", state)
+    d2.state = state
+    daemons.append(d2)
+    st = {j["job"]: j for j in d2.ok("list")["jobs"]}
+    F.check(all(st.get(j, {}).get("state") == "running" for j in ("D1", "D2")),
+            "after a restart both Slurm jobs are found, running",
+            {j: st.get(j, {}).get("state") for j in ("D1", "D2")})
+    sub = d2.subscribe(b"D1")
+    got = None
+    deadline = time.time() + 30
+    while time.time() < deadline and not got:
+        if sub.poll(1000):
+            ev = json.loads(sub.recv_multipart()[1])
+            if ev["type"] in ("diag", "log", "output", "result"):
+                got = ev
+    F.check(got is not None and got["seq"] > seq0["D1"],
+            "D1's stream comes back after the restart (seq goes on)", got)
+    st = wait_states(d2, ["D1", "D2"], ("done", "failed"), timeout=300)
+    F.check(all(st[j]["state"] == "done" for j in ("D1", "D2")), "both finish",
+            {j: (st[j]["state"], st[j].get("reason")) for j in ("D1", "D2")})
+    d2.ok("submit", {"case": case, "job": "LD", "set": long_sets,
+                     "resources": {"executor": "local"}})
+    wait_states(d2, ["LD"], ("done",), timeout=300)
+    F.check(same_run(d2, "D1", "LD") and same_run(d2, "D2", "LD"),
+            "both are bit for bit the local run")
+
+    # -- bad input
+    bad = [
+        ({"resources": {"threads": 1, "gpus": 2}}, "bad_request", "/args/resources/gpus"),
+        ({"resources": {"sbatch": ["--wrap=rm -rf /"]}}, "bad_request",
+         "/args/resources/sbatch/0"),
+        ({"resources": {"threads": 0}}, "bad_request", "/args/resources/threads"),
+    ]
+    for args, code, path in bad:
+        a = {"case": case, "set": BASE}
+        a.update(args)
+        r = d2.request("submit", a)
+        F.check(r.get("error", {}).get("code") == code and r["error"].get("path") == path,
+                f"refused: {code} at {path}", r)
+    for res, words in (({"partition": "nosuch"}, "Invalid partition"),
+                       ({"partition": "short", "time_limit": 5}, "time limit")):
+        jid = d2.ok("submit", {"case": case, "set": BASE, "resources": res})["job"]
+        st = wait_states(d2, [jid], ("failed",), timeout=30)[jid]
+        F.check(words in st.get("reason", ""), f"sbatch refuses {res}: failed with its message",
+                st.get("reason"))
+    plain = Daemon(sphd, "--threads", "1")
+    daemons.append(plain)
+    r = plain.request("submit", {"case": case, "resources": {"executor": "slurm"}})
+    F.check(r.get("error", {}).get("path") == "/args/resources/executor",
+            "the Slurm executor on a daemon without it: refused at /args/resources/executor", r)
+    tmp = tempfile.mkdtemp()
+    p = subprocess.run([sphd, "--executor", "slurm", "--listen", f"ipc://{tmp}/c", "--publish",
+                        f"ipc://{tmp}/s", "--state-dir", f"{tmp}/st", "--runner-listen",
+                        f"tcp://127.0.0.1:{port + 1}"], env=dict(os.environ, PATH="/nonexistent"),
+                       capture_output=True, text=True, timeout=30)
+    shutil.rmtree(tmp, ignore_errors=True)
+    F.check(p.returncode == 69 and "sbatch" in p.stderr,
+            "sphd --executor slurm without Slurm: exit 69, says sbatch is missing",
+            (p.returncode, p.stderr[-300:]))
+    for dd in daemons:
+        if dd.proc.poll() is None:
+            F.check(dd.shutdown() == 0, "sphd shuts down cleanly", dd.log()[-1500:])
+except Exception as e:  # noqa: BLE001
+    F.check(False, f"the test ran to its end ({type(e).__name__}: {e})")
+    for dd in daemons:
+        print(dd.log()[-3000:])
+finally:
+    for dd in daemons:
+        dd.close()
+    subprocess.run(["scancel", "--user=root"], capture_output=True)
+    subprocess.run([os.path.join(src, "scripts", "slurm-local.sh"), "stop", cluster], env=env)
+    shutil.rmtree(cluster, ignore_errors=True)
+print(f"slurm_executor: {time.time() - T0:.0f} s in all")
+F.done()
