@@ -15,10 +15,10 @@ static const char usage_text[] =
     "\n"
     "Commands:\n"
     "  ping                          is sphd there? (round-trip time)\n"
-    "  submit FILE [--id ID] [--set PATH=VALUE]... [--no-start] [--watch]\n"
+    "  submit FILE [--id ID] [--set PATH=VALUE]... [--resources JSON] [--no-start] [--watch]\n"
     "                                send a case file; prints the job id\n"
-    "  sweep FILE --set PATH=V1,V2,... [--set ...]... [--id SWEEP] [--no-start]\n"
-    "                                one job per combination of values; prints the jobs\n"
+    "  sweep FILE --set PATH=V1,V2,... [--set ...]... [--id SWEEP] [--resources JSON]\n"
+    "        [--no-start]            one job per combination of values; prints the jobs\n"
     "  status [JOB]                  one job's state and progress, or all jobs\n"
     "  list [--sweep SWEEP]          all jobs (a sweep's jobs together), or one sweep's\n"
     "  watch JOB                     follow a job to its end (progress line on a TTY, JSON\n"
@@ -214,6 +214,7 @@ typedef struct submit_opts {
     const char *id;
     int watch, nostart;
     json_t *sets;
+    json_t *resources;
 } submit_opts;
 
 static int submit_opt(void *ud, int o, const char *arg)
@@ -234,6 +235,8 @@ static int submit_opt(void *ud, int o, const char *arg)
     case 'w':
         so->watch = 1;
         break;
+    case 'r':
+        return sphctl_resources_opt("submit", arg, &so->resources);
     }
     return 0;
 }
@@ -241,26 +244,35 @@ static int submit_opt(void *ud, int o, const char *arg)
 static int cmd_submit(sphctl *c, int argc, char **argv)
 {
     static const char help[] =
-        "Usage: sphctl submit FILE [--id ID] [--set PATH=VALUE]... [--no-start] [--watch]\n"
+        "Usage: sphctl submit FILE [--id ID] [--set PATH=VALUE]... [--resources JSON]\n"
+        "                          [--no-start] [--watch]\n"
         "Sends the case in FILE to sphd and prints the job id.\n"
         "  --id ID           choose the job id (letters, digits, '.', '_', '-'): submitting\n"
         "                    the same case with the same id again returns the same job; a\n"
         "                    different case with that id is refused (conflict)\n"
         "  --set PATH=VALUE  override one field of the case by its dotted path (repeatable)\n"
+        "  --resources JSON  where and with what it runs, e.g. '{\"executor\": \"slurm\",\n"
+        "                    \"threads\": 4, \"time_limit\": 60, \"partition\": \"short\"}'\n"
+        "                    (PROTOCOL.md: executor, threads, time_limit, partition, account,\n"
+        "                    sbatch, retries)\n"
         "  --no-start        create the job paused; 'sphctl start JOB' or 'step' runs it\n"
         "  --watch           then follow it to its end like 'sphctl watch'\n"
         "Exit codes: 0 submitted (with --watch: the job is done), 1 refused or the job failed,\n"
         "65 invalid case, 66 no such file, 69 sphd unreachable, 75 busy.\n";
-    static const struct option lo[] = {
-        {"id", required_argument, NULL, 'i'}, {"set", required_argument, NULL, 's'},
-        {"no-start", no_argument, NULL, 'n'}, {"watch", no_argument, NULL, 'w'},
-        {"help", no_argument, NULL, 'h'},     {NULL, 0, NULL, 0}};
+    static const struct option lo[] = {{"id", required_argument, NULL, 'i'},
+                                       {"set", required_argument, NULL, 's'},
+                                       {"no-start", no_argument, NULL, 'n'},
+                                       {"watch", no_argument, NULL, 'w'},
+                                       {"resources", required_argument, NULL, 'r'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
     static const sphctl_argspec spec = {
         help, "h", lo, "bad option", 1, 1, "submit takes one case FILE"};
     submit_opts so = {.sets = json_array()};
     int rc = sphctl_args(&spec, argc, argv, submit_opt, &so);
     if (rc != SPHCTL_RUN) {
         json_decref(so.sets);
+        json_decref(so.resources);
         return rc;
     }
     c->file = argv[optind];
@@ -268,6 +280,7 @@ static int cmd_submit(sphctl *c, int argc, char **argv)
     sph_error err;
     if (sph_case_load(c->file, &root, &err)) {
         json_decref(so.sets);
+        json_decref(so.resources);
         fprintf(stderr, "sphctl: %s\n", err.message);
         return err.code == SPH_ERR_IO ? SPHCTL_EX_NOINPUT : SPHCTL_EX_DATAERR;
     }
@@ -279,6 +292,8 @@ static int cmd_submit(sphctl *c, int argc, char **argv)
     if (json_array_size(so.sets))
         json_object_set(args, "set", so.sets);
     json_decref(so.sets);
+    if (so.resources)
+        json_object_set_new(args, "resources", so.resources);
     /* --watch: listen before the job exists, so that a short one cannot end unseen */
     sphctl_stream st = {0};
     if (so.watch && (rc = sphctl_stream_open(c, so.id ? so.id : "", &st)) != 0) {
@@ -602,8 +617,9 @@ int main(int argc, char **argv)
         }
         argv[n++] = argv[i];
         /* the command's options that take a value: keep the value with them */
-        static const char *const with_value[] = {"--id",   "--set", "--until", "--fields", "--max",
-                                                 "--dest", "--out", "--sweep", "--format", NULL};
+        static const char *const with_value[] = {"--id",     "--set",       "--until", "--fields",
+                                                 "--max",    "--dest",      "--out",   "--sweep",
+                                                 "--format", "--resources", NULL};
         for (const char *const *w = with_value; *w; w++)
             if (strcmp(a, *w) == 0 && i + 1 < argc)
                 argv[n++] = argv[++i];

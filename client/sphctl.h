@@ -69,6 +69,10 @@ typedef struct sphctl_argspec {
 int sphctl_args(const sphctl_argspec *spec, int argc, char **argv,
                 int (*on_opt)(void *ud, int o, const char *arg), void *ud);
 
+/* --resources JSON (submit, sweep): *out gets the object (replacing what it held), or returns
+ * the usage error (64). */
+int sphctl_resources_opt(const char *cmd, const char *arg, json_t **out);
+
 /* An on_opt for sphctl_args: ud is an array of const char *, indexed by the option's val (from
  * 0), that gets the option's value ("" for an option without one). */
 int sphctl_store_opt(void *ud, int o, const char *arg);

@@ -14,6 +14,7 @@ typedef struct sweep_opts {
     json_t *sets;  /* fixed overrides: "PATH=VALUE" strings */
     json_t *vary;  /* [{"path": PATH, "values": [...]}] */
     json_t *paths; /* the varied paths, in the order given */
+    json_t *resources;
 } sweep_opts;
 
 /* One value of a --set list: JSON where it parses, else the text as a string. */
@@ -77,6 +78,8 @@ static int sweep_opt(void *ud, int o, const char *arg)
         json_array_append_new(so->vary, json_pack("{s:o, s:o}", "path", path, "values", vals));
         break;
     }
+    case 'r':
+        return sphctl_resources_opt("sweep", arg, &so->resources);
     case 'n':
         so->nostart = 1;
         break;
@@ -114,7 +117,7 @@ int sphctl_cmd_sweep(sphctl *c, int argc, char **argv)
 {
     static const char help[] =
         "Usage: sphctl sweep FILE --set PATH=V1,V2,... [--set PATH=VALUE]... [--id SWEEP]\n"
-        "                    [--no-start]\n"
+        "                    [--resources JSON] [--no-start]\n"
         "Sends the case in FILE with lists of values for some of its fields; sphd creates one\n"
         "job per combination (the last list varies fastest), ids SWEEP-0, SWEEP-1, ... Prints\n"
         "each job's id, parameters and state. 'sphctl list --sweep SWEEP' shows them, 'sphctl\n"
@@ -128,16 +131,17 @@ int sphctl_cmd_sweep(sphctl *c, int argc, char **argv)
         "                        NAME-sN, a new one each time): the same sweep with the same\n"
         "                        id again returns the same jobs, another one is refused\n"
         "                        (conflict)\n"
+        "  --resources JSON      as submit's, for every job; with the Slurm executor the jobs\n"
+        "                        go to Slurm as one job array\n"
         "  --no-start            create the jobs paused; 'sphctl start JOB' runs one\n"
         "With --json: sphd's result, {\"sweep\", \"count\", \"jobs\": [STATUS, ...]}, on one "
         "line.\n"
         "Exit codes: 0 created, 1 refused, 64 usage, 65 invalid case, 66 no such file, 69 sphd\n"
         "unreachable, 75 busy.\n";
-    static const struct option lo[] = {{"id", required_argument, NULL, 'i'},
-                                       {"set", required_argument, NULL, 's'},
-                                       {"no-start", no_argument, NULL, 'n'},
-                                       {"help", no_argument, NULL, 'h'},
-                                       {NULL, 0, NULL, 0}};
+    static const struct option lo[] = {
+        {"id", required_argument, NULL, 'i'}, {"set", required_argument, NULL, 's'},
+        {"no-start", no_argument, NULL, 'n'}, {"resources", required_argument, NULL, 'r'},
+        {"help", no_argument, NULL, 'h'},     {NULL, 0, NULL, 0}};
     static const sphctl_argspec spec = {
         help, "h", lo, "bad option", 1, 1, "sweep takes one case FILE"};
     sweep_opts so = {.sets = json_array(), .vary = json_array(), .paths = json_array()};
@@ -156,6 +160,7 @@ int sphctl_cmd_sweep(sphctl *c, int argc, char **argv)
         json_decref(so.sets);
         json_decref(so.vary);
         json_decref(so.paths);
+        json_decref(so.resources);
         return rc;
     }
     json_t *args = json_pack("{s:o, s:o}", "case", root, "vary", so.vary);
@@ -166,6 +171,8 @@ int sphctl_cmd_sweep(sphctl *c, int argc, char **argv)
         json_object_set_new(args, "sweep", json_string(so.id));
     if (so.nostart)
         json_object_set_new(args, "start", json_false());
+    if (so.resources) /* with the Slurm executor the jobs go as one job array */
+        json_object_set_new(args, "resources", so.resources);
     json_t *r;
     if ((rc = sphctl_request(c, "sweep", args, &r, NULL, 0)) == 0) {
         if (c->json)

@@ -124,3 +124,19 @@ const char *sphctl_fmt_params(const json_t *params, const json_t *order, char *b
     }
     return buf;
 }
+
+int sphctl_resources_opt(const char *cmd, const char *arg, json_t **out)
+{
+    json_error_t err;
+    json_t *r = json_loads(arg, 0, &err);
+    if (!json_is_object(r)) {
+        json_decref(r);
+        return sphctl_usage(cmd,
+                            "--resources takes a JSON object, e.g. '{\"executor\": \"slurm\", "
+                            "\"threads\": 4}', not '%s'",
+                            arg);
+    }
+    json_decref(*out);
+    *out = r;
+    return 0;
+}

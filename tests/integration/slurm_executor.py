@@ -128,6 +128,20 @@ try:
     F.check(len(rows) == 4 and all(row.get("steps", 0) > 0 for row in rows),
             "the sweep's table has the 4 results", rows[:1])
 
+    # -- sphctl sweep --resources: one array too
+    envc = dict(os.environ, SPHD_ENDPOINT=d.control)
+    p = subprocess.run([sphctl, "--json", "sweep", os.path.join(src, "cases", "dambreak.json"),
+                        "--set", "dx=0.01", "--set", "time.end=0.02,0.03", "--id", "B",
+                        "--resources", '{"partition": "debug", "threads": 1}'], env=envc,
+                       capture_output=True, text=True, timeout=60)
+    F.check(p.returncode == 0, "sphctl sweep --resources", p.stderr)
+    if p.returncode == 0:
+        jobs = json.loads(p.stdout)["jobs"]
+        F.check(len({j.get("slurm_job", "").split("_")[0] for j in jobs}) == 1 and
+                all(j.get("resources", {}).get("partition") == "debug" for j in jobs),
+                "sphctl sweep --resources: one array, the resources on each job", jobs[:1])
+        wait_states(d, ["B-0", "B-1"], ("done",))
+
     # -- submission to first diagnostic: Slurm against local
     def first_diag(resources):
         sub = d.subscribe(b"")
