@@ -45,6 +45,7 @@ typedef struct sphd_opts {
     char runner_listen[SPH_ENDPOINT_MAX];  /* where runners connect (bind) */
     char runner_connect[SPH_ENDPOINT_MAX]; /* the same, as the nodes reach it */
     char exe[SPHD_PATH_MAX];               /* this sphd binary, for the batch scripts */
+    double runner_wait;                    /* a runner waits this long for the daemon (s) */
 } sphd_opts;
 
 typedef enum {
@@ -344,7 +345,7 @@ void sphd_remote_on_message(sphd_daemon *d);
 void sphd_remote_poll(sphd_daemon *d);
 /* sphd --runner: one job on a cluster node (sphd_runner.c). Returns an exit code. */
 int sphd_runner_main(const char *endpoint, const char *dir, int threads, double ckpt_interval,
-                     int diag_rate);
+                     int diag_rate, double wait_s);
 
 /* sphd_results.c: a job's result files (`results`, `fetch`, `export`); NULL with e set. */
 #define SPHD_FETCH_DEFAULT (1L << 20)

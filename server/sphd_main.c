@@ -66,6 +66,8 @@ static const char usage_text[] =
     "                     directory, which must be on storage the nodes share (--state-dir)\n"
     "  --runner-listen EP where the runners connect (default tcp://*:7617)\n"
     "  --runner-connect EP the same as the nodes reach it (default tcp://HOSTNAME:PORT)\n"
+    "  --runner-wait S    a runner that hears nothing from the daemon for S seconds after\n"
+    "                     it starts gives up (default 120; the job is then submitted again)\n"
     "\n"
     "Runner mode (started by Slurm; not by hand):\n"
     "  --runner EP --job-dir DIR  run the job in DIR for the daemon at EP\n"
@@ -179,7 +181,8 @@ int main(int argc, char **argv)
         OPT_RLISTEN,
         OPT_RCONNECT,
         OPT_RUNNER,
-        OPT_JOBDIR
+        OPT_JOBDIR,
+        OPT_RWAIT
     };
     sph_core_init(); /* before any thread */
     static const struct option longopts[] = {
@@ -205,6 +208,7 @@ int main(int argc, char **argv)
         {"runner-connect", required_argument, NULL, OPT_RCONNECT},
         {"runner", required_argument, NULL, OPT_RUNNER},
         {"job-dir", required_argument, NULL, OPT_JOBDIR},
+        {"runner-wait", required_argument, NULL, OPT_RWAIT},
         {"help", no_argument, NULL, 'h'},
         {"version", no_argument, NULL, OPT_VERSION},
         {NULL, 0, NULL, 0},
@@ -376,6 +380,17 @@ int main(int argc, char **argv)
         case OPT_JOBDIR:
             job_dir = optarg;
             break;
+        case OPT_RWAIT: {
+            char *end;
+            double v = strtod(optarg, &end);
+            if (*end || !(v >= 1 && v <= 86400)) {
+                fprintf(stderr, "sphd: --runner-wait takes seconds from 1 to 86400, not '%s'\n",
+                        optarg);
+                return SPHD_EX_USAGE;
+            }
+            dopts.runner_wait = v;
+            break;
+        }
         case 'h':
             fputs(usage_text, stdout);
             return SPHD_EX_OK;
@@ -397,7 +412,8 @@ int main(int argc, char **argv)
             return SPHD_EX_USAGE;
         }
         return sphd_runner_main(runner_ep, job_dir, dopts.threads, dopts.ckpt_interval,
-                                dopts.diag_rate ? dopts.diag_rate : 50);
+                                dopts.diag_rate ? dopts.diag_rate : 50,
+                                dopts.runner_wait > 0 ? dopts.runner_wait : 120);
     }
     if (run.case_file) {
         if (daemon_only) {
@@ -428,6 +444,8 @@ int main(int argc, char **argv)
         fputs("sphd: --listen and --publish must differ\n", stderr);
         return SPHD_EX_USAGE;
     }
+    if (dopts.runner_wait <= 0)
+        dopts.runner_wait = 120;
     if (!dopts.runner_listen[0])
         snprintf(dopts.runner_listen, sizeof dopts.runner_listen, "tcp://*:7617");
     return sphd_daemon_main(&dopts);

@@ -81,6 +81,26 @@ void sphd_remote_on_message(sphd_daemon *d)
     }
 }
 
+/* The last line the Slurm job wrote to its output file (the runner's last words), or "". */
+static void last_words(const sphd_job *j, const char *slurm_id, char *out, size_t n)
+{
+    out[0] = '\0';
+    char path[SPHD_PATH_MAX + 96];
+    snprintf(path, sizeof path, "%s/slurm-%s.out", j->dir, slurm_id);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return;
+    char line[512];
+    while (fgets(line, sizeof line, f)) {
+        size_t k = strlen(line);
+        while (k > 0 && (line[k - 1] == '\n' || line[k - 1] == ' '))
+            line[--k] = '\0';
+        if (k > 0)
+            snprintf(out, n, "%s", line);
+    }
+    fclose(f);
+}
+
 /* Slurm's word on one of our jobs: 1 while it may still run, 0 ended (state in st). */
 static int still_there(const char *lines, const char *id, char *st, size_t n)
 {
@@ -146,8 +166,11 @@ void sphd_remote_poll(sphd_daemon *d)
         if (now - j->gone_since < GONE_GRACE_S)
             continue;
         /* it ended and its runner said nothing */
-        char reason[SPHD_REASON_MAX], slurm_id[sizeof j->slurm_id];
+        char reason[SPHD_REASON_MAX], slurm_id[sizeof j->slurm_id], words[200], said[256] = "";
         snprintf(slurm_id, sizeof slurm_id, "%s", j->slurm_id);
+        last_words(j, slurm_id, words, sizeof words);
+        if (words[0])
+            snprintf(said, sizeof said, "; its last output: %s", words);
         j->worker = -1;
         j->runner_seen = 0;
         j->gone_since = 0;
@@ -169,15 +192,15 @@ void sphd_remote_poll(sphd_daemon *d)
         } else if (j->retries < limit) {
             j->retries++;
             snprintf(reason, sizeof reason,
-                     "Slurm job %s ended (%s) without a result: submitted again from the "
+                     "Slurm job %s ended (%s) without a result%s: submitted again from the "
                      "checkpoint (retry %d of %d)",
-                     slurm_id, st, j->retries, limit);
+                     slurm_id, st, said, j->retries, limit);
             say(d, j, "warning", "%s%s", reason, "");
             sphd_job_set_state(d, j, SPHD_JOB_QUEUED, reason);
         } else {
             snprintf(reason, sizeof reason,
-                     "Slurm job %s ended (%s) without a result, after %d retries", slurm_id, st,
-                     j->retries);
+                     "Slurm job %s ended (%s) without a result%s (after %d %s)", slurm_id, st, said,
+                     j->retries, j->retries == 1 ? "retry" : "retries");
             sphd_job_set_state(d, j, SPHD_JOB_FAILED, reason);
         }
         sphd_jobs_answer_waiters(d, j);

@@ -22,10 +22,8 @@
 #include <unistd.h>
 #include <zmq.h>
 
-#define RUNNER_WAIT_S 120 /* for the daemon's first `run` */
-
 int sphd_runner_main(const char *endpoint, const char *dir, int threads, double ckpt_interval,
-                     int diag_rate)
+                     int diag_rate, double wait_s)
 {
     static sphd_job job; /* big (paths): not on the stack */
     static sphd_daemon d;
@@ -95,7 +93,7 @@ int sphd_runner_main(const char *endpoint, const char *dir, int threads, double 
     int timeout_ms = 1000, rc = SPHD_EX_UNAVAILABLE;
     zmq_setsockopt(sock, ZMQ_RCVTIMEO, &timeout_ms, sizeof timeout_ms);
     const double t0 = sphd_mono();
-    while (sphd_mono() - t0 < RUNNER_WAIT_S) {
+    while (sphd_mono() - t0 < wait_s) {
         sphd_wcmd cmd;
         int n = sphd_link_recv(&link, &cmd, 1);
         if (n < 0 && errno != EAGAIN)
@@ -122,8 +120,7 @@ int sphd_runner_main(const char *endpoint, const char *dir, int threads, double 
         break;
     }
     if (rc == SPHD_EX_UNAVAILABLE)
-        fprintf(stderr, "sphd --runner: no word from the daemon at %s in %d s\n", endpoint,
-                RUNNER_WAIT_S);
+        fprintf(stderr, "sphd --runner: no word from the daemon at %s in %g s\n", endpoint, wait_s);
     zmq_close(sock); /* lingers until the end has left */
     zmq_ctx_term(ctx);
     return rc;

@@ -341,9 +341,9 @@ int sphd_slurm_script(const sphd_daemon *d, const char *path, const char *dir, c
              "#!/bin/sh\n"
              "# Written by sphd: runs %s%s on the node and connects back to the daemon.\n"
              "exec '%s' --runner '%s' --job-dir %s --threads \"${SLURM_CPUS_PER_TASK:-1}\" "
-             "--diag-rate %d%s\n",
+             "--diag-rate %d --runner-wait %g%s\n",
              dir ? "the job in " : "the jobs of sweep ", dir ? dir : sweep, d->opts.exe,
-             d->opts.runner_connect, jobdir, d->opts.diag_rate, ckpt);
+             d->opts.runner_connect, jobdir, d->opts.diag_rate, d->opts.runner_wait, ckpt);
     if (sphd_write_atomic(path, text, strlen(text)) != 0 || chmod(path, 0755) != 0) {
         snprintf(why, whyn, "cannot write %s: %s", path, strerror(errno));
         return -1;

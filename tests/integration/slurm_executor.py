@@ -10,6 +10,7 @@ the result and the last snapshot bit for bit.
 - scancel: the job is paused with the reason; resume continues it;
 - kill -9 of the daemon while two Slurm jobs run: after a restart both are found, their streams
   come back and both finish;
+- a node that cannot reach the daemon: the job fails with the runner's last words;
 - bad input: an unknown resources key, a refused sbatch option, a partition Slurm refuses, a time
   limit over the partition's, the Slurm executor on a daemon without it, sphd --executor slurm
   without sbatch.
@@ -302,6 +303,17 @@ try:
         st = wait_states(d2, [jid], ("failed",), timeout=30)[jid]
         F.check(words in st.get("reason", ""), f"sbatch refuses {res}: failed with its message",
                 st.get("reason"))
+    # a node that cannot reach the daemon: the runner gives up, the job fails with its words
+    lost = Daemon(sphd, "--threads", "1", "--executor", "slurm", "--runner-listen",
+                  f"tcp://127.0.0.1:{port + 2}", "--runner-connect", "tcp://127.0.0.1:9",
+                  "--runner-wait", "2")
+    daemons.append(lost)
+    jid = lost.ok("submit", {"case": case, "set": BASE, "resources": {"retries": 0}})["job"]
+    st = wait_states(lost, [jid], ("failed",), timeout=60)[jid]
+    F.check("without a result" in st.get("reason", "") and
+            "no word from the daemon" in st.get("reason", ""),
+            "a runner that cannot reach the daemon: the job fails with the runner's words",
+            st.get("reason"))
     plain = Daemon(sphd, "--threads", "1")
     daemons.append(plain)
     r = plain.request("submit", {"case": case, "resources": {"executor": "slurm"}})
