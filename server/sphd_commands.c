@@ -566,7 +566,11 @@ static int waiting_in_slurm(const sphd_job *j)
  * (a later resume submits a new one, from the checkpoint if the job ever ran). */
 static void cancel_remote(sphd_daemon *d, sphd_job *j, sphd_job_state to)
 {
-    sphd_slurm_cancel(j->slurm_id);
+    if (j->slurm_id[0]) { /* else sbatch has not answered: its answer cancels it */
+        sphd_scmd cmd = {.kind = SPHD_S_CANCEL, .arg = strdup(j->slurm_id)};
+        if (cmd.arg)
+            sphd_slurm_send(d, &cmd);
+    }
     j->worker = -1;
     j->stepping = 0;
     sphd_job_set_state(d, j, to, NULL);

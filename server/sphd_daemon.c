@@ -386,8 +386,8 @@ static void begin_stopping(sphd_daemon *d)
 static int loop(sphd_daemon *d)
 {
     /* control, signals, each worker, the files thread, the ZAP handler (--curve), the runners
-     * (--executor slurm) */
-    const int nitems = 3 + d->nworkers + (d->curve != NULL) + (d->runners != NULL);
+     * and the Slurm thread (--executor slurm) */
+    const int nitems = 3 + d->nworkers + (d->curve != NULL) + 2 * (d->runners != NULL);
     zmq_pollitem_t *items = calloc((size_t)nitems, sizeof *items);
     if (!items)
         return -1;
@@ -402,8 +402,10 @@ static int loop(sphd_daemon *d)
         *zap_item =
             (zmq_pollitem_t){.socket = sphd_curve_zap_socket(d->curve), .events = ZMQ_POLLIN};
     zmq_pollitem_t *runners_item = d->runners ? &items[3 + d->nworkers + (d->curve != NULL)] : NULL;
-    if (runners_item)
+    if (runners_item) {
         *runners_item = (zmq_pollitem_t){.socket = d->runners, .events = ZMQ_POLLIN};
+        runners_item[1] = (zmq_pollitem_t){.socket = d->slurm, .events = ZMQ_POLLIN};
+    }
     int stop_begun = 0;
     for (;;) {
         if (d->stopping && !stop_begun) {
@@ -444,6 +446,8 @@ static int loop(sphd_daemon *d)
             sphd_curve_on_zap(d->curve);
         if (runners_item && (runners_item->revents & ZMQ_POLLIN))
             sphd_remote_on_message(d);
+        if (runners_item && (runners_item[1].revents & ZMQ_POLLIN))
+            sphd_remote_on_slurm(d);
         if (d->runners && !d->stopping)
             sphd_remote_poll(d);
         if (items[0].revents & ZMQ_POLLIN) {
@@ -553,7 +557,8 @@ int sphd_daemon_main(const sphd_opts *opts)
         rc = brc == -2 ? SPHD_EX_TEMPFAIL : SPHD_EX_UNAVAILABLE;
         goto out;
     }
-    if (sphd_workers_start(d) != 0 || sphd_files_start(d) != 0)
+    if (sphd_workers_start(d) != 0 || sphd_files_start(d) != 0 ||
+        (d->runners && sphd_slurm_start(d) != 0))
         goto out;
     /* the loop joins the ZeroMQ threads' CPU after the workers start, so that they and their
      * OpenMP threads keep every CPU (sphd_sched.c) */
@@ -579,6 +584,7 @@ int sphd_daemon_main(const sphd_opts *opts)
     sphd_log("stopped");
 out:
     sphd_files_stop(d); /* its last answers go out before the sockets close */
+    sphd_slurm_stop(d);
     if (d->workers)
         sphd_workers_stop(d);
     if (d->router) {

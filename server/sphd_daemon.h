@@ -264,8 +264,13 @@ typedef struct sphd_daemon {
     int files_started;
     sphd_pending *file_waits; /* results/fetch/export being read by the files thread */
     void *runners;            /* ROUTER the runners on the cluster connect to, or NULL */
-    double next_slurm_poll;   /* monotonic time of the next squeue */
-    int stopping;             /* shutting down: pause everything, then exit */
+    void *slurm;              /* PAIR to the Slurm thread (sphd_slurm.c) */
+    pthread_t slurm_thread;
+    int slurm_started;
+    int slurm_polling;           /* a squeue is out */
+    struct sphd_submit *submits; /* sbatch calls out: which jobs each is for */
+    double next_slurm_poll;      /* monotonic time of the next squeue */
+    int stopping;                /* shutting down: pause everything, then exit */
     double started_at;
     /* counters */
     long requests, errors;
@@ -311,6 +316,10 @@ sphd_job *sphd_job_find(sphd_daemon *d, const char *id);
 /* sweep and params: a sweep's job (params taken as a new ref), else NULL. */
 sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int start,
                           const char *sweep, json_t *params, json_t *resources, sphd_err *e);
+/* The Slurm thread's answer to an sbatch: the jobs it was for get their Slurm ids (or fail with
+ * sbatch's message; a job paused or stopped meanwhile has its new Slurm job cancelled). */
+struct sphd_sev;
+void sphd_jobs_on_submitted(sphd_daemon *d, const struct sphd_sev *ev);
 /* Replies to the requests waiting for j's run to end (pause, stop, particle queries). */
 void sphd_jobs_answer_waiters(sphd_daemon *d, sphd_job *j);
 /* Sends cmd to whatever runs j (its worker, or its runner on the cluster): 0 or -1 (errno). */
@@ -341,8 +350,11 @@ json_t *sphd_sweep_table(sphd_daemon *d, const char *sweep, int csv, sphd_err *e
 /* sphd_remote.c: jobs on the Slurm executor, for the loop. */
 /* Takes the runners' messages that have come. */
 void sphd_remote_on_message(sphd_daemon *d);
-/* Every few seconds: jobs whose Slurm job ended without a word continue, pause or fail. */
+/* Every few seconds: asks Slurm (on the Slurm thread) about the jobs out there. */
 void sphd_remote_poll(sphd_daemon *d);
+/* The Slurm thread's answers: sbatch's job ids; squeue's states (jobs whose Slurm job ended
+ * without a word continue from their checkpoint, pause or fail). */
+void sphd_remote_on_slurm(sphd_daemon *d);
 /* sphd --runner: one job on a cluster node (sphd_runner.c). Returns an exit code. */
 int sphd_runner_main(const char *endpoint, const char *dir, int threads, double ckpt_interval,
                      int diag_rate, double wait_s);
@@ -374,6 +386,30 @@ int sphd_wire_send_cmd(void *router, const char *runner, sphd_wcmd *cmd);
 int sphd_wire_recv_wev(void *router, char *runner, size_t runner_len, sphd_wev *ev, json_t **hello);
 
 /* sphd_slurm.c: calls to Slurm's commands. */
+typedef enum { SPHD_S_SUBMIT = 1, SPHD_S_CANCEL, SPHD_S_STATES, SPHD_S_QUIT } sphd_skind;
+/* Loop -> Slurm thread; the strings and res are the thread's (malloc'ed, a deep copy). */
+typedef struct sphd_scmd {
+    sphd_skind kind;
+    long token;
+    char *arg;                /* SUBMIT: the script; CANCEL: the Slurm id; STATES: the ids */
+    char *name, *out, *array; /* SUBMIT: job name, output pattern, array range or NULL */
+    json_t *res;              /* SUBMIT: the resources or NULL */
+} sphd_scmd;
+/* Slurm thread -> loop (no answer to CANCEL). */
+typedef struct sphd_sev {
+    int kind; /* sphd_skind */
+    long token;
+    int rc;        /* 0, or -1: why (SUBMIT) / lines NULL (STATES) */
+    char id[48];   /* SUBMIT: Slurm's job id */
+    char why[400]; /* SUBMIT: sbatch's message */
+    char *lines;   /* STATES: squeue's "ID STATE" lines (malloc'ed) */
+} sphd_sev;
+int sphd_slurm_start(sphd_daemon *d);
+/* Sends cmd (its strings taken); returns its token, or -1. */
+long sphd_slurm_send(sphd_daemon *d, sphd_scmd *cmd);
+/* 1 with an answer in *ev, 0 when none is there. */
+int sphd_slurm_recv(sphd_daemon *d, sphd_sev *ev);
+void sphd_slurm_stop(sphd_daemon *d);
 /* Runs argv[0] (found on PATH) with its stdout and stderr into out and err (NUL-terminated,
  * truncated). Returns its exit status, or -1 (errno) when it could not start. */
 int sphd_slurm_call(char *const argv[], char *out, size_t outn, char *err, size_t errn);

@@ -312,74 +312,161 @@ static void take_targets(sphd_job *j, long *max_steps, double *until)
     j->step_until = INFINITY;
 }
 
-static void remote_started(sphd_daemon *d, sphd_job *j)
+/* An sbatch out on the Slurm thread: the jobs it is for (task i of an array is jobs[i]). */
+typedef struct sphd_submit {
+    long token;
+    int array;
+    size_t n;
+    char (*ids)[SPHD_JOB_ID_MAX];
+    struct sphd_submit *next;
+} sphd_submit;
+
+/* The job waits for sbatch (on the Slurm thread), then for its runner: running from now on. */
+static void remote_submitting(sphd_daemon *d, sphd_job *j)
 {
     sphd_job_touch(j);
     j->worker = SPHD_WORKER_REMOTE;
+    j->slurm_id[0] = '\0';
     j->runner_seen = 0;
     j->gone_since = 0;
     j->started = 1;
     j->run_wall = 0;
+    take_targets(j, &j->run_max_steps, &j->run_until);
     sphd_job_set_state(d, j, SPHD_JOB_RUNNING, NULL);
-    json_t *rec = json_pack("{s:f, s:s, s:s, s:I}", "t", sphd_now(), "state", "running",
-                            "slurm_job", j->slurm_id, "seq", (json_int_t)j->seq);
-    sph_error err;
-    if (rec && sphd_journal_append(j->dir, rec, &err) != 0)
-        sphd_log("job %s: %s", j->id, err.message);
-    json_decref(rec);
-    sphd_publish(d, j, "log",
-                 json_pack("{s:s, s:s}", "level", "info", "message",
-                           "submitted to Slurm: waiting for its runner"));
 }
 
-/* A job on the Slurm executor: its batch script and one sbatch. */
+/* Sends the sbatch of a script for jobs (one, or a sweep's array of n); 0 or -1 with why. */
+static int send_submit(sphd_daemon *d, sphd_job **jobs, size_t n, int array, const char *script,
+                       const char *name, const char *out, char *why, size_t whyn)
+{
+    sphd_submit *s = calloc(1, sizeof *s);
+    char range[32];
+    snprintf(range, sizeof range, "0-%zu", n - 1);
+    sphd_scmd cmd = {.kind = SPHD_S_SUBMIT,
+                     .arg = strdup(script),
+                     .name = strdup(name),
+                     .out = strdup(out),
+                     .array = array ? strdup(range) : NULL,
+                     .res = jobs[0]->resources ? json_deep_copy(jobs[0]->resources) : NULL};
+    if (!s || !(s->ids = calloc(n, sizeof *s->ids)) || !cmd.arg || !cmd.name || !cmd.out ||
+        (array && !cmd.array)) {
+        if (s)
+            free(s->ids);
+        free(s);
+        free(cmd.arg);
+        free(cmd.name);
+        free(cmd.out);
+        free(cmd.array);
+        json_decref(cmd.res);
+        snprintf(why, whyn, "out of memory");
+        return -1;
+    }
+    if ((s->token = sphd_slurm_send(d, &cmd)) < 0) {
+        free(s->ids);
+        free(s);
+        snprintf(why, whyn, "the Slurm thread does not answer");
+        return -1;
+    }
+    s->array = array;
+    s->n = n;
+    for (size_t i = 0; i < n; i++)
+        snprintf(s->ids[i], sizeof s->ids[i], "%s", jobs[i]->id);
+    s->next = d->submits;
+    d->submits = s;
+    return 0;
+}
+
+static void fail_remote(sphd_daemon *d, sphd_job *j, const char *why)
+{
+    char reason[SPHD_REASON_MAX];
+    snprintf(reason, sizeof reason, "slurm: %.480s", why);
+    sphd_log("job %s: %s", j->id, reason);
+    j->worker = -1;
+    sphd_job_set_state(d, j, SPHD_JOB_FAILED, reason);
+    sphd_jobs_answer_waiters(d, j);
+}
+
+/* A job on the Slurm executor: its batch script, and its sbatch sent to the Slurm thread. */
 static void start_remote(sphd_daemon *d, sphd_job *j)
 {
     char script[SPHD_PATH_MAX + 32], out[SPHD_PATH_MAX + 32], why[400];
     snprintf(script, sizeof script, "%s/slurm.sh", j->dir);
     snprintf(out, sizeof out, "%s/slurm-%%j.out", j->dir);
-    take_targets(j, &j->run_max_steps, &j->run_until);
+    remote_submitting(d, j);
     if (sphd_slurm_script(d, script, j->dir, NULL, why, sizeof why) != 0 ||
-        sphd_slurm_submit(d, script, j->id, out, j->resources, NULL, j->slurm_id,
-                          sizeof j->slurm_id, why, sizeof why) != 0) {
-        char reason[SPHD_REASON_MAX];
-        snprintf(reason, sizeof reason, "slurm: %s", why);
-        sphd_log("job %s: %s", j->id, reason);
-        sphd_job_set_state(d, j, SPHD_JOB_FAILED, reason);
-        return;
-    }
-    sphd_log("job %s: Slurm job %s", j->id, j->slurm_id);
-    remote_started(d, j);
+        send_submit(d, &j, 1, 0, script, j->id, out, why, sizeof why) != 0)
+        fail_remote(d, j, why);
 }
 
 int sphd_jobs_start_array(sphd_daemon *d, sphd_job **jobs, size_t n, const char *sweep, sphd_err *e)
 {
-    char script[SPHD_PATH_MAX + 128], out[SPHD_PATH_MAX + 128], why[400], array[32], id[24];
+    char script[SPHD_PATH_MAX + 128], out[SPHD_PATH_MAX + 128], why[400];
     snprintf(script, sizeof script, "%s/sweeps", d->opts.state_dir);
     sphd_mkdirs(script);
     snprintf(script, sizeof script, "%s/sweeps/%s.sh", d->opts.state_dir, sweep);
     snprintf(out, sizeof out, "%s/jobs/%s-%%a/slurm-%%A_%%a.out", d->opts.state_dir, sweep);
-    snprintf(array, sizeof array, "0-%zu", n - 1);
-    if (sphd_slurm_script(d, script, NULL, sweep, why, sizeof why) != 0 ||
-        sphd_slurm_submit(d, script, sweep, out, jobs[0]->resources, array, id, sizeof id, why,
-                          sizeof why) != 0) {
-        for (size_t i = 0; i < n; i++) {
-            jobs[i]->held = 0;
-            char reason[SPHD_REASON_MAX];
-            snprintf(reason, sizeof reason, "slurm: %s", why);
-            sphd_job_set_state(d, jobs[i], SPHD_JOB_FAILED, reason);
-        }
-        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/resources", "slurm: %s", why);
-    }
-    sphd_log("sweep %s: Slurm array job %s (%zu tasks)", sweep, id, n);
     for (size_t i = 0; i < n; i++) {
-        sphd_job *j = jobs[i];
-        j->held = 0;
-        snprintf(j->slurm_id, sizeof j->slurm_id, "%.23s_%zu", id, i);
-        take_targets(j, &j->run_max_steps, &j->run_until);
-        remote_started(d, j);
+        jobs[i]->held = 0;
+        remote_submitting(d, jobs[i]);
+    }
+    if (sphd_slurm_script(d, script, NULL, sweep, why, sizeof why) != 0 ||
+        send_submit(d, jobs, n, 1, script, sweep, out, why, sizeof why) != 0) {
+        for (size_t i = 0; i < n; i++)
+            fail_remote(d, jobs[i], why);
+        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "slurm: %s", why);
     }
     return 0;
+}
+
+void sphd_jobs_on_submitted(sphd_daemon *d, const sphd_sev *ev)
+{
+    sphd_submit **pp = &d->submits;
+    while (*pp && (*pp)->token != ev->token)
+        pp = &(*pp)->next;
+    sphd_submit *s = *pp;
+    if (!s)
+        return;
+    *pp = s->next;
+    if (ev->rc == 0)
+        sphd_log("%s %s: Slurm %sjob %s", s->array ? "sweep of" : "job", s->ids[0],
+                 s->array ? "array " : "", ev->id);
+    for (size_t i = 0; i < s->n; i++) {
+        char sid[sizeof((sphd_job *)0)->slurm_id];
+        if (s->array)
+            snprintf(sid, sizeof sid, "%.23s_%zu", ev->id, i);
+        else
+            snprintf(sid, sizeof sid, "%s", ev->id);
+        sphd_job *j = sphd_job_find(d, s->ids[i]);
+        const int wanted =
+            j && j->worker == SPHD_WORKER_REMOTE && !j->slurm_id[0] && j->state == SPHD_JOB_RUNNING;
+        if (!wanted) { /* paused or stopped meanwhile: its Slurm job goes too */
+            if (ev->rc == 0) {
+                sphd_scmd c = {.kind = SPHD_S_CANCEL, .arg = strdup(sid)};
+                if (c.arg)
+                    sphd_slurm_send(d, &c);
+            }
+            continue;
+        }
+        if (ev->rc != 0) {
+            fail_remote(d, j, ev->why);
+            continue;
+        }
+        snprintf(j->slurm_id, sizeof j->slurm_id, "%s", sid);
+        sphd_job_touch(j);
+        json_t *rec = json_pack("{s:f, s:s, s:s, s:I}", "t", sphd_now(), "state", "running",
+                                "slurm_job", j->slurm_id, "seq", (json_int_t)j->seq);
+        sph_error err;
+        if (rec && sphd_journal_append(j->dir, rec, &err) != 0)
+            sphd_log("job %s: %s", j->id, err.message);
+        json_decref(rec);
+        sphd_job_record(d, j, 0);
+        char msg[128];
+        snprintf(msg, sizeof msg, "submitted to Slurm (job %s): waiting for its runner",
+                 j->slurm_id);
+        sphd_publish(d, j, "log", json_pack("{s:s, s:s}", "level", "info", "message", msg));
+    }
+    free(s->ids);
+    free(s);
 }
 
 int sphd_jobs_send(sphd_daemon *d, sphd_job *j, sphd_wcmd *cmd)
@@ -553,6 +640,12 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
 
 void sphd_jobs_free(sphd_daemon *d)
 {
+    while (d->submits) {
+        sphd_submit *s = d->submits;
+        d->submits = s->next;
+        free(s->ids);
+        free(s);
+    }
     while (d->jobs) {
         sphd_job *n = d->jobs->next;
         job_free(d->jobs);

@@ -125,7 +125,7 @@ static int still_there(const char *lines, const char *id, char *st, size_t n)
 void sphd_remote_poll(sphd_daemon *d)
 {
     const double now = sphd_mono();
-    if (now < d->next_slurm_poll)
+    if (now < d->next_slurm_poll || d->slurm_polling)
         return;
     d->next_slurm_poll = now + POLL_EVERY_S;
     size_t len = 0, cap = 0;
@@ -147,10 +147,15 @@ void sphd_remote_poll(sphd_daemon *d)
     }
     if (!ids)
         return;
-    char *lines = sphd_slurm_states(ids);
-    free(ids);
-    if (!lines)
-        return; /* squeue failed (said in the log): ask again later */
+    sphd_scmd cmd = {.kind = SPHD_S_STATES, .arg = ids};
+    if (sphd_slurm_send(d, &cmd) >= 0)
+        d->slurm_polling = 1;
+}
+
+/* squeue's answer: the jobs whose Slurm job ended without a word from their runner. */
+static void on_states(sphd_daemon *d, const char *lines)
+{
+    const double now = sphd_mono();
     for (sphd_job *j = d->jobs; j; j = j->next) {
         if (j->worker != SPHD_WORKER_REMOTE || !j->slurm_id[0])
             continue;
@@ -205,6 +210,21 @@ void sphd_remote_poll(sphd_daemon *d)
         }
         sphd_jobs_answer_waiters(d, j);
     }
-    free(lines);
     sphd_jobs_schedule(d);
+}
+
+void sphd_remote_on_slurm(sphd_daemon *d)
+{
+    sphd_sev ev;
+    while (sphd_slurm_recv(d, &ev)) {
+        if (ev.kind == SPHD_S_SUBMIT) {
+            sphd_jobs_on_submitted(d, &ev);
+            sphd_jobs_schedule(d);
+        } else if (ev.kind == SPHD_S_STATES) {
+            d->slurm_polling = 0;
+            if (ev.lines) /* else squeue failed (said in the log): asked again later */
+                on_states(d, ev.lines);
+            free(ev.lines);
+        }
+    }
 }

@@ -3,23 +3,26 @@
  * squeue, run as programs (Slurm's own command line is its stable interface), and the check of a
  * job's `resources`. Slurm places, queues and accounts; sphd only asks.
  *
- * TODO(issue 25): these calls run on the socket loop thread (tens of milliseconds each); move
- * them to a thread of their own like the files thread.
+ * The daemon makes these calls on a thread of its own (sphd_slurm_start): a slow or hung
+ * slurmctld never holds up the socket loop.
  */
 #include "sphd.h"
 #include "sphd_daemon.h"
 
 #include <errno.h>
 #include <fcntl.h>
+#include <pthread.h>
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <zmq.h>
 
 extern char **environ;
 
@@ -349,4 +352,121 @@ int sphd_slurm_script(const sphd_daemon *d, const char *path, const char *dir, c
         return -1;
     }
     return 0;
+}
+
+/* ---- the Slurm thread: sbatch, scancel and squeue off the socket loop ---- */
+
+#define SLURM_ENDPOINT "inproc://sphd-slurm"
+
+static void *slurm_main(void *arg)
+{
+    sphd_daemon *d = arg;
+    prctl(PR_SET_NAME, "sphd-slurm", 0, 0, 0);
+    void *sock = sphd_pair_open(d->ctx, SLURM_ENDPOINT, 0);
+    if (!sock)
+        return NULL;
+    for (;;) {
+        sphd_scmd cmd;
+        int n = zmq_recv(sock, &cmd, sizeof cmd, 0);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n != (int)sizeof cmd || cmd.kind == SPHD_S_QUIT) {
+            sphd_sev bye = {.kind = SPHD_S_QUIT, .token = -1};
+            sphd_pair_send(sock, &bye, sizeof bye);
+            break;
+        }
+        sphd_sev ev = {.kind = cmd.kind, .token = cmd.token};
+        if (cmd.kind == SPHD_S_SUBMIT)
+            ev.rc = sphd_slurm_submit(d, cmd.arg, cmd.name, cmd.out, cmd.res, cmd.array, ev.id,
+                                      sizeof ev.id, ev.why, sizeof ev.why);
+        else if (cmd.kind == SPHD_S_CANCEL)
+            sphd_slurm_cancel(cmd.arg);
+        else if (cmd.kind == SPHD_S_STATES)
+            ev.rc = (ev.lines = sphd_slurm_states(cmd.arg)) ? 0 : -1;
+        free(cmd.arg);
+        free(cmd.name);
+        free(cmd.out);
+        free(cmd.array);
+        json_decref(cmd.res);
+        if (cmd.kind != SPHD_S_CANCEL && sphd_pair_send(sock, &ev, sizeof ev) != 0)
+            free(ev.lines);
+    }
+    zmq_close(sock);
+    return NULL;
+}
+
+int sphd_slurm_start(sphd_daemon *d)
+{
+    d->slurm = sphd_pair_open(d->ctx, SLURM_ENDPOINT, 1);
+    if (!d->slurm)
+        return -1;
+    int rc = pthread_create(&d->slurm_thread, NULL, slurm_main, d);
+    if (rc != 0) {
+        sphd_log("cannot start the Slurm thread: %s", strerror(rc));
+        return -1;
+    }
+    d->slurm_started = 1;
+    return 0;
+}
+
+static void scmd_free(sphd_scmd *c)
+{
+    free(c->arg);
+    free(c->name);
+    free(c->out);
+    free(c->array);
+    json_decref(c->res);
+}
+
+long sphd_slurm_send(sphd_daemon *d, sphd_scmd *cmd)
+{
+    cmd->token = ++d->next_token;
+    if (!d->slurm_started || sphd_pair_send(d->slurm, cmd, sizeof *cmd) != 0) {
+        scmd_free(cmd);
+        return -1;
+    }
+    return cmd->token;
+}
+
+int sphd_slurm_recv(sphd_daemon *d, sphd_sev *ev)
+{
+    int n;
+    do
+        n = zmq_recv(d->slurm, ev, sizeof *ev, ZMQ_DONTWAIT);
+    while (n < 0 && errno == EINTR);
+    return n == (int)sizeof *ev;
+}
+
+void sphd_slurm_stop(sphd_daemon *d)
+{
+    if (d->slurm_started) {
+        sphd_scmd q = {.kind = SPHD_S_QUIT};
+        int wait_ms = 65000; /* a call in flight ends within its own 60 s bound */
+        zmq_setsockopt(d->slurm, ZMQ_RCVTIMEO, &wait_ms, sizeof wait_ms);
+        int joined = 0;
+        if (sphd_pair_send(d->slurm, &q, sizeof q) == 0) {
+            for (;;) {
+                sphd_sev ev;
+                int n = zmq_recv(d->slurm, &ev, sizeof ev, 0);
+                if (n < 0 && errno == EINTR)
+                    continue;
+                if (n != (int)sizeof ev)
+                    break;
+                free(ev.lines);
+                if (ev.token == -1) {
+                    joined = 1;
+                    break;
+                }
+            }
+        }
+        if (joined)
+            pthread_join(d->slurm_thread, NULL);
+        else
+            pthread_detach(d->slurm_thread);
+        d->slurm_started = 0;
+    }
+    if (d->slurm) {
+        zmq_close(d->slurm);
+        d->slurm = NULL;
+    }
 }

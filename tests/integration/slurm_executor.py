@@ -10,6 +10,7 @@ the result and the last snapshot bit for bit.
 - scancel: the job is paused with the reason; resume continues it;
 - kill -9 of the daemon while two Slurm jobs run: after a restart both are found, their streams
   come back and both finish;
+- a slow sbatch does not hold up the daemon (it runs on sphd's Slurm thread);
 - a node that cannot reach the daemon: the job fails with the runner's last words;
 - bad input: an unknown resources key, a refused sbatch option, a partition Slurm refuses, a time
   limit over the partition's, the Slurm executor on a daemon without it, sphd --executor slurm
@@ -74,6 +75,18 @@ def wait_states(d, jobs, states, timeout=180):
                          f"{ {j: st.get(j, {}).get('state') for j in jobs} }")
 
 
+def slurm_ids(d, jobs, timeout=30):
+    """The jobs' Slurm ids, once sbatch (on sphd's Slurm thread) has given them."""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        st = {j["job"]: j for j in d.ok("list")["jobs"]}
+        sj = [st[j].get("slurm_job", "") for j in jobs]
+        if all(sj):
+            return sj
+        time.sleep(0.05)
+    return sj
+
+
 def last_snapshot(d, job):
     jd = os.path.join(d.state, "jobs", job)
     snaps = sorted(f for f in os.listdir(jd) if f.startswith("snap_"))
@@ -108,10 +121,9 @@ try:
                        "vary": [{"path": "kernel.type", "values": ["wendland_c2", "cubic_spline"]},
                                 {"path": "physics.viscosity.alpha", "values": [0.05, 0.1]}]})
     ids = [j["job"] for j in r["jobs"]]
-    arr = {j["slurm_job"].split("_")[0] for j in r["jobs"]}
-    F.check(len(arr) == 1 and [j["slurm_job"].split("_")[1] for j in r["jobs"]] ==
-            ["0", "1", "2", "3"], "the sweep is one Slurm array, task i is job A-i",
-            [j.get("slurm_job") for j in r["jobs"]])
+    sj = slurm_ids(d, ids)
+    F.check(len({s.split("_")[0] for s in sj}) == 1 and [s.split("_")[-1] for s in sj] ==
+            ["0", "1", "2", "3"], "the sweep is one Slurm array, task i is job A-i", sj)
     locals_ = []
     for j in r["jobs"]:
         sets = BASE + [f"{k}={json.dumps(v)}" for k, v in j["params"].items()]
@@ -138,7 +150,8 @@ try:
     F.check(p.returncode == 0, "sphctl sweep --resources", p.stderr)
     if p.returncode == 0:
         jobs = json.loads(p.stdout)["jobs"]
-        F.check(len({j.get("slurm_job", "").split("_")[0] for j in jobs}) == 1 and
+        sj = slurm_ids(d, [j["job"] for j in jobs])
+        F.check(len({s.split("_")[0] for s in sj}) == 1 and
                 all(j.get("resources", {}).get("partition") == "debug" for j in jobs),
                 "sphctl sweep --resources: one array, the resources on each job", jobs[:1])
         wait_states(d, ["B-0", "B-1"], ("done",))
@@ -303,6 +316,32 @@ try:
         st = wait_states(d2, [jid], ("failed",), timeout=30)[jid]
         F.check(words in st.get("reason", ""), f"sbatch refuses {res}: failed with its message",
                 st.get("reason"))
+    # a slow sbatch (3 s) does not hold up the daemon: it runs on sphd's Slurm thread
+    slow = tempfile.mkdtemp()
+    with open(os.path.join(slow, "sbatch"), "w") as f:
+        f.write(f"#!/bin/sh\n[ \"$1\" = --version ] || sleep 3\nexec {shutil.which('sbatch')} \"$@\"\n")
+    os.chmod(os.path.join(slow, "sbatch"), 0o755)
+    old_path = os.environ["PATH"]
+    os.environ["PATH"] = slow + ":" + old_path
+    try:
+        sd = Daemon(sphd, "--threads", "1", "--executor", "slurm", "--runner-listen",
+                    f"tcp://127.0.0.1:{port + 3}")
+    finally:
+        os.environ["PATH"] = old_path
+    daemons.append(sd)
+    jid = sd.ok("submit", {"case": case, "set": BASE})["job"]
+    t = time.time()
+    pong = sd.request("ping")
+    ping_s = time.time() - t
+    st = sd.ok("query", {"job": jid})
+    F.check(pong.get("ok") and ping_s < 0.5 and st["state"] == "running" and
+            "slurm_job" not in st,
+            "a slow sbatch: ping answered at once while the job waits for sbatch",
+            (ping_s, st.get("state"), st.get("slurm_job")))
+    F.check(wait_states(sd, [jid], ("done",), timeout=60)[jid]["state"] == "done",
+            "and the job runs once sbatch answers")
+    shutil.rmtree(slow, ignore_errors=True)
+
     # a node that cannot reach the daemon: the runner gives up, the job fails with its words
     lost = Daemon(sphd, "--threads", "1", "--executor", "slurm", "--runner-listen",
                   f"tcp://127.0.0.1:{port + 2}", "--runner-connect", "tcp://127.0.0.1:9",
