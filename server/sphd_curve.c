@@ -1,5 +1,6 @@
 #include "sphd_curve.h"
 
+#include "sphd.h"
 #include "sphd_daemon.h"
 
 #include <dirent.h>
@@ -12,6 +13,7 @@
 
 #define ZAP_ENDPOINT "inproc://zeromq.zap.01"
 #define ZAP_DOMAIN   "sphd"
+#define ZAP_RUNNERS  "sphd-runners" /* the runners' socket: the runner key only */
 #define KEY_Z85_LEN  40
 #define KEY_FILE_MAX 256
 
@@ -28,6 +30,8 @@ struct sphd_curve {
     client_key *clients;
     int nclients;
     void *zap;
+    int has_runner;
+    client_key runner; /* the key pair of the runners (sphd_curve_runner_keys) */
 };
 
 /* Reads one Z85 key from a file: 40 characters, surrounding white space allowed. Returns 0, or
@@ -187,6 +191,56 @@ void *sphd_curve_zap_socket(const sphd_curve *cv)
     return cv->zap;
 }
 
+static int write_key(const char *path, const char *z85)
+{
+    char text[KEY_Z85_LEN + 2];
+    snprintf(text, sizeof text, "%s\n", z85);
+    return sphd_write_atomic(path, text, strlen(text)) != 0 || chmod(path, 0600) != 0 ? -1 : 0;
+}
+
+int sphd_curve_runner_keys(sphd_curve *cv, const char *dir)
+{
+    char path[SPHD_PATH_MAX + 32], z85[KEY_Z85_LEN + 1], secret[KEY_Z85_LEN + 1];
+    const char *why = NULL;
+    if (sphd_mkdirs(dir) != 0 || chmod(dir, 0700) != 0) {
+        sphd_log("CURVE: cannot make %s: %s", dir, strerror(errno));
+        return -1;
+    }
+    snprintf(path, sizeof path, "%s/runner.key", dir);
+    if (read_key_file(path, secret, cv->runner.key, &why) != 0) {
+        /* none yet (or damaged): a new pair; runners started before use the old one */
+        if (zmq_curve_keypair(z85, secret) != 0 || write_key(path, secret) != 0) {
+            sphd_log("CURVE: cannot write %s: %s", path, strerror(errno));
+            return -1;
+        }
+    }
+    if (zmq_curve_public(z85, secret) != 0 || !zmq_z85_decode(cv->runner.key, z85)) {
+        sphd_log("CURVE: %s: cannot derive its public key", path);
+        return -1;
+    }
+    memset(secret, 0, sizeof secret);
+    snprintf(cv->runner.z85, sizeof cv->runner.z85, "%s", z85);
+    snprintf(cv->runner.name, sizeof cv->runner.name, "runner");
+    snprintf(path, sizeof path, "%s/runner.pub", dir);
+    if (write_key(path, z85) != 0)
+        return -1;
+    snprintf(path, sizeof path, "%s/server.pub", dir);
+    if (write_key(path, cv->public_z85) != 0)
+        return -1;
+    cv->has_runner = 1;
+    return 0;
+}
+
+int sphd_curve_runners_server(const sphd_curve *cv, void *s)
+{
+    int one = 1;
+    if (zmq_setsockopt(s, ZMQ_CURVE_SERVER, &one, sizeof one) != 0 ||
+        zmq_setsockopt(s, ZMQ_CURVE_SECRETKEY, cv->secret, sizeof cv->secret) != 0 ||
+        zmq_setsockopt(s, ZMQ_ZAP_DOMAIN, ZAP_RUNNERS, strlen(ZAP_RUNNERS)) != 0)
+        return -1;
+    return 0;
+}
+
 int sphd_curve_server(const sphd_curve *cv, void *s)
 {
     int one = 1;
@@ -251,8 +305,18 @@ static void answer_one(sphd_curve *cv)
                  (const char *)zmq_msg_data(&part[3]));
         const char *mech = zmq_msg_data(&part[5]);
         size_t ml = zmq_msg_size(&part[5]);
+        const int runners_domain =
+            zmq_msg_size(&part[2]) == strlen(ZAP_RUNNERS) &&
+            memcmp(zmq_msg_data(&part[2]), ZAP_RUNNERS, strlen(ZAP_RUNNERS)) == 0;
         if (ml == 5 && memcmp(mech, "CURVE", 5) == 0 && n >= 7 && zmq_msg_size(&part[6]) == 32) {
-            const client_key *k = find_key(cv, zmq_msg_data(&part[6]));
+            /* the clients' keys open the control and stream sockets, the runners' key only
+             * the runners' socket */
+            const client_key *k =
+                runners_domain
+                    ? (cv->has_runner && memcmp(cv->runner.key, zmq_msg_data(&part[6]), 32) == 0
+                           ? &cv->runner
+                           : NULL)
+                    : find_key(cv, zmq_msg_data(&part[6]));
             if (k) {
                 status = "200", text = "OK";
                 snprintf(user, sizeof user, "%s", k->z85);

@@ -27,6 +27,14 @@ void *sphd_curve_zap_socket(const sphd_curve *cv);
 /* Makes s a CURVE server with the server's key and the ZAP domain. Returns 0 or -1 (errno). */
 int sphd_curve_server(const sphd_curve *cv, void *s);
 
+/* The runners' key pair (sphd --executor slurm): DIR/runner.key (secret), DIR/runner.pub and
+ * DIR/server.pub (this daemon's public key), made once in DIR (mode 700) on the shared state
+ * directory; the runner key then opens the runners' socket, and only that one. Returns 0 or -1
+ * (logged). */
+int sphd_curve_runner_keys(sphd_curve *cv, const char *dir);
+/* Makes s (the runners' ROUTER) a CURVE server that admits the runner key only. */
+int sphd_curve_runners_server(const sphd_curve *cv, void *s);
+
 /* Answers the ZAP requests that are waiting (the loop calls it when the socket is readable). */
 void sphd_curve_on_zap(sphd_curve *cv);
 

@@ -346,9 +346,14 @@ static int open_runners(sphd_daemon *d)
     }
     d->opts.exe[n] = '\0';
     int one = 1, hwm = 100000;
+    char keys[SPHD_PATH_MAX + 16];
+    snprintf(keys, sizeof keys, "%s/runner", d->opts.state_dir);
+    if (d->curve && sphd_curve_runner_keys(d->curve, keys) != 0)
+        return -3;
     d->runners = zmq_socket(d->ctx, ZMQ_ROUTER);
     if (!d->runners || zmq_setsockopt(d->runners, ZMQ_ROUTER_HANDOVER, &one, sizeof one) != 0 ||
         zmq_setsockopt(d->runners, ZMQ_RCVHWM, &hwm, sizeof hwm) != 0 ||
+        (d->curve && sphd_curve_runners_server(d->curve, d->runners) != 0) ||
         zmq_bind(d->runners, d->opts.runner_listen) != 0) {
         sphd_log("--runner-listen %s: cannot bind: %s", d->opts.runner_listen, zmq_strerror(errno));
         return -3;
@@ -362,9 +367,8 @@ static int open_runners(sphd_daemon *d)
         snprintf(d->opts.runner_connect, sizeof d->opts.runner_connect, "tcp://%.200s%s", host,
                  port ? port : ":7617");
     }
-    /* TODO(issue 25): CURVE on the runners' socket (a key pair for the runners in the shared
-     * state directory, authorised by the daemon); today it is plain tcp */
-    sphd_log("Slurm executor: runners connect to %s", d->opts.runner_connect);
+    sphd_log("Slurm executor: runners connect to %s%s", d->opts.runner_connect,
+             d->curve ? " with CURVE (the runner key pair in STATE/runner)" : "");
     return 0;
 }
 

@@ -356,8 +356,8 @@ void sphd_remote_poll(sphd_daemon *d);
  * without a word continue from their checkpoint, pause or fail). */
 void sphd_remote_on_slurm(sphd_daemon *d);
 /* sphd --runner: one job on a cluster node (sphd_runner.c). Returns an exit code. */
-int sphd_runner_main(const char *endpoint, const char *dir, int threads, double ckpt_interval,
-                     int diag_rate, double wait_s);
+int sphd_runner_main(const char *endpoint, const char *dir, const char *keys, int threads,
+                     double ckpt_interval, int diag_rate, double wait_s);
 
 /* sphd_results.c: a job's result files (`results`, `fetch`, `export`); NULL with e set. */
 #define SPHD_FETCH_DEFAULT (1L << 20)

@@ -66,11 +66,14 @@ static const char usage_text[] =
     "                     directory, which must be on storage the nodes share (--state-dir)\n"
     "  --runner-listen EP where the runners connect (default tcp://*:7617)\n"
     "  --runner-connect EP the same as the nodes reach it (default tcp://HOSTNAME:PORT)\n"
+    "                     (with --curve the runners use CURVE too: a key pair of theirs\n"
+    "                     that sphd keeps in STATE/runner)\n"
     "  --runner-wait S    a runner that hears nothing from the daemon for S seconds after\n"
     "                     it starts gives up (default 120; the job is then submitted again)\n"
     "\n"
     "Runner mode (started by Slurm; not by hand):\n"
     "  --runner EP --job-dir DIR  run the job in DIR for the daemon at EP\n"
+    "  --runner-keys DIR  CURVE with the key pair sphd keeps in DIR (STATE/runner)\n"
     "\n"
     "  -h, --help         this text\n"
     "  --version          print the version\n"
@@ -182,7 +185,8 @@ int main(int argc, char **argv)
         OPT_RCONNECT,
         OPT_RUNNER,
         OPT_JOBDIR,
-        OPT_RWAIT
+        OPT_RWAIT,
+        OPT_RKEYS
     };
     sph_core_init(); /* before any thread */
     static const struct option longopts[] = {
@@ -209,11 +213,12 @@ int main(int argc, char **argv)
         {"runner", required_argument, NULL, OPT_RUNNER},
         {"job-dir", required_argument, NULL, OPT_JOBDIR},
         {"runner-wait", required_argument, NULL, OPT_RWAIT},
+        {"runner-keys", required_argument, NULL, OPT_RKEYS},
         {"help", no_argument, NULL, 'h'},
         {"version", no_argument, NULL, OPT_VERSION},
         {NULL, 0, NULL, 0},
     };
-    const char *runner_ep = NULL, *job_dir = NULL;
+    const char *runner_ep = NULL, *job_dir = NULL, *runner_keys = NULL;
     sphd_h5_init();
     sphd_run_opts run = {0};
     sphd_opts dopts = {.max_jobs = 64,
@@ -380,6 +385,9 @@ int main(int argc, char **argv)
         case OPT_JOBDIR:
             job_dir = optarg;
             break;
+        case OPT_RKEYS:
+            runner_keys = optarg;
+            break;
         case OPT_RWAIT: {
             char *end;
             double v = strtod(optarg, &end);
@@ -411,7 +419,7 @@ int main(int argc, char **argv)
             fputs("sphd: --runner and --job-dir go together\n", stderr);
             return SPHD_EX_USAGE;
         }
-        return sphd_runner_main(runner_ep, job_dir, dopts.threads, dopts.ckpt_interval,
+        return sphd_runner_main(runner_ep, job_dir, runner_keys, dopts.threads, dopts.ckpt_interval,
                                 dopts.diag_rate ? dopts.diag_rate : 50,
                                 dopts.runner_wait > 0 ? dopts.runner_wait : 120);
     }
@@ -448,5 +456,9 @@ int main(int argc, char **argv)
         dopts.runner_wait = 120;
     if (!dopts.runner_listen[0])
         snprintf(dopts.runner_listen, sizeof dopts.runner_listen, "tcp://*:7617");
+    /* the runners' socket is a tcp endpoint like the others: CURVE or loopback or --insecure */
+    if (dopts.executor_slurm && check_endpoint(dopts.runner_listen, "--runner-listen",
+                                               dopts.insecure, dopts.curve_dir[0] != 0))
+        return SPHD_EX_USAGE;
     return sphd_daemon_main(&dopts);
 }

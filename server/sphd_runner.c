@@ -22,8 +22,48 @@
 #include <unistd.h>
 #include <zmq.h>
 
-int sphd_runner_main(const char *endpoint, const char *dir, int threads, double ckpt_interval,
-                     int diag_rate, double wait_s)
+/* One Z85 key (40 characters) from DIR/NAME into z85. Returns 0 or -1 (said on stderr). */
+static int read_key(const char *dir, const char *name, char z85[41])
+{
+    char path[SPHD_PATH_MAX + 32];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "r");
+    char buf[64] = "";
+    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+    if (f)
+        fclose(f);
+    while (n > 0 && (buf[n - 1] == '\n' || buf[n - 1] == ' ' || buf[n - 1] == '\r'))
+        n--;
+    buf[n] = '\0';
+    if (n != 40) {
+        fprintf(stderr, "sphd --runner: %s: %s\n", path,
+                f ? "not one Z85 key of 40 characters" : strerror(errno));
+        return -1;
+    }
+    memcpy(z85, buf, 41);
+    return 0;
+}
+
+/* CURVE on the runner's socket with the key pair sphd left in keys (STATE/runner). */
+static int curve_client(void *sock, const char *keys)
+{
+    char server[41], pub[41], secret[41];
+    if (read_key(keys, "server.pub", server) || read_key(keys, "runner.pub", pub) ||
+        read_key(keys, "runner.key", secret))
+        return -1;
+    int rc = zmq_setsockopt(sock, ZMQ_CURVE_SERVERKEY, server, 40) != 0 ||
+                     zmq_setsockopt(sock, ZMQ_CURVE_PUBLICKEY, pub, 40) != 0 ||
+                     zmq_setsockopt(sock, ZMQ_CURVE_SECRETKEY, secret, 40) != 0
+                 ? -1
+                 : 0;
+    memset(secret, 0, sizeof secret);
+    if (rc)
+        fprintf(stderr, "sphd --runner: cannot set the CURVE keys: %s\n", zmq_strerror(errno));
+    return rc;
+}
+
+int sphd_runner_main(const char *endpoint, const char *dir, const char *keys, int threads,
+                     double ckpt_interval, int diag_rate, double wait_s)
 {
     static sphd_job job; /* big (paths): not on the stack */
     static sphd_daemon d;
@@ -62,7 +102,7 @@ int sphd_runner_main(const char *endpoint, const char *dir, int threads, double 
     if (!sock || zmq_setsockopt(sock, ZMQ_ROUTING_ID, job.id, strlen(job.id)) != 0 ||
         zmq_setsockopt(sock, ZMQ_LINGER, &linger, sizeof linger) != 0 ||
         zmq_setsockopt(sock, ZMQ_SNDHWM, &hwm, sizeof hwm) != 0 ||
-        zmq_connect(sock, endpoint) != 0) {
+        (keys && curve_client(sock, keys) != 0) || zmq_connect(sock, endpoint) != 0) {
         fprintf(stderr, "sphd --runner: cannot connect to %s: %s\n", endpoint, zmq_strerror(errno));
         if (sock)
             zmq_close(sock);

@@ -331,12 +331,15 @@ int sphd_slurm_script(const sphd_daemon *d, const char *path, const char *dir, c
             snprintf(why, whyn, "'%s' holds a quote: not usable in a batch script", q[i]);
             return -1;
         }
-    char text[4 * SPHD_PATH_MAX + 1024], jobdir[2 * SPHD_PATH_MAX + 64];
+    char text[5 * SPHD_PATH_MAX + 1024], jobdir[2 * SPHD_PATH_MAX + 64];
     if (dir)
         snprintf(jobdir, sizeof jobdir, "'%s'", dir);
     else
         snprintf(jobdir, sizeof jobdir, "'%s/jobs/%s-'\"$SLURM_ARRAY_TASK_ID\"", d->opts.state_dir,
                  sweep);
+    char keys[SPHD_PATH_MAX + 32] = "";
+    if (d->curve)
+        snprintf(keys, sizeof keys, " --runner-keys '%s/runner'", d->opts.state_dir);
     char ckpt[64] = "";
     if (d->opts.ckpt_interval > 0)
         snprintf(ckpt, sizeof ckpt, " --checkpoint-interval %g", d->opts.ckpt_interval);
@@ -344,9 +347,9 @@ int sphd_slurm_script(const sphd_daemon *d, const char *path, const char *dir, c
              "#!/bin/sh\n"
              "# Written by sphd: runs %s%s on the node and connects back to the daemon.\n"
              "exec '%s' --runner '%s' --job-dir %s --threads \"${SLURM_CPUS_PER_TASK:-1}\" "
-             "--diag-rate %d --runner-wait %g%s\n",
+             "--diag-rate %d --runner-wait %g%s%s\n",
              dir ? "the job in " : "the jobs of sweep ", dir ? dir : sweep, d->opts.exe,
-             d->opts.runner_connect, jobdir, d->opts.diag_rate, d->opts.runner_wait, ckpt);
+             d->opts.runner_connect, jobdir, d->opts.diag_rate, d->opts.runner_wait, ckpt, keys);
     if (sphd_write_atomic(path, text, strlen(text)) != 0 || chmod(path, 0755) != 0) {
         snprintf(why, whyn, "cannot write %s: %s", path, strerror(errno));
         return -1;

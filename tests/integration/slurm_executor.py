@@ -10,6 +10,8 @@ the result and the last snapshot bit for bit.
 - scancel: the job is paused with the reason; resume continues it;
 - kill -9 of the daemon while two Slurm jobs run: after a restart both are found, their streams
   come back and both finish;
+- CURVE: the runners use their own key pair (kept by sphd in STATE/runner), which opens the
+  runners' socket only; a client's key does not;
 - a slow sbatch does not hold up the daemon (it runs on sphd's Slurm thread);
 - a node that cannot reach the daemon: the job fails with the runner's last words;
 - bad input: an unknown resources key, a refused sbatch option, a partition Slurm refuses, a time
@@ -353,6 +355,75 @@ try:
             "no word from the daemon" in st.get("reason", ""),
             "a runner that cannot reach the daemon: the job fails with the runner's words",
             st.get("reason"))
+    # CURVE: the runners use a key pair that sphd keeps in STATE/runner; a client key does not
+    # open the runners' socket
+    import zmq
+    ctmp = tempfile.mkdtemp(prefix="sphd-slurm-curve-")
+    os.makedirs(f"{ctmp}/srv/clients")
+    server_pub, server_sec = zmq.curve_keypair()
+    alice_pub, alice_sec = zmq.curve_keypair()
+    fd = os.open(f"{ctmp}/srv/server.key", os.O_WRONLY | os.O_CREAT, 0o600)
+    os.write(fd, server_sec + b"\n")
+    os.close(fd)
+    with open(f"{ctmp}/srv/clients/alice.pub", "wb") as fh:
+        fh.write(alice_pub + b"\n")
+    clog = open(f"{ctmp}/sphd.log", "w")
+    cport = port + 4
+    cproc = subprocess.Popen([sphd, "--curve", f"{ctmp}/srv", "--listen",
+                              f"tcp://127.0.0.1:{cport + 1}", "--publish",
+                              f"tcp://127.0.0.1:{cport + 2}", "--state-dir", f"{ctmp}/state",
+                              "--threads", "1", "--executor", "slurm", "--runner-listen",
+                              f"tcp://127.0.0.1:{cport}"], stderr=clog)
+    cctx = zmq.Context()
+    cs = cctx.socket(zmq.DEALER)
+    cs.setsockopt(zmq.LINGER, 0)
+    cs.curve_serverkey = server_pub
+    cs.curve_publickey, cs.curve_secretkey = alice_pub, alice_sec
+    cs.connect(f"tcp://127.0.0.1:{cport + 1}")
+
+    def creq(op, args):
+        cs.send(json.dumps({"v": 1, "id": op, "op": op, "args": args}).encode())
+        if not cs.poll(10000):
+            raise AssertionError(f"no reply to {op} over CURVE")
+        return json.loads(cs.recv())
+    try:
+        r = creq("submit", {"case": case, "job": "V", "set": BASE})
+        F.check(r.get("ok"), "CURVE: a job submitted", r)
+        deadline = time.time() + 60
+        st = {}
+        while time.time() < deadline:
+            st = creq("query", {"job": "V"}).get("result", {})
+            if st.get("state") in ("done", "failed"):
+                break
+            time.sleep(0.2)
+        F.check(st.get("state") == "done", "CURVE: its runner connects with the runner key and "
+                "the job is done", st.get("state"))
+        kd = f"{ctmp}/state/runner"
+        F.check(os.stat(kd).st_mode & 0o777 == 0o700 and
+                os.stat(f"{kd}/runner.key").st_mode & 0o777 == 0o600 and
+                "--runner-keys" in open(f"{ctmp}/state/jobs/V/slurm.sh").read(),
+                "CURVE: the runner key pair is private (700/600) and the script passes it")
+        intr = cctx.socket(zmq.DEALER)
+        intr.setsockopt(zmq.LINGER, 0)
+        intr.setsockopt(zmq.ROUTING_ID, b"V")
+        intr.curve_serverkey = server_pub
+        intr.curve_publickey, intr.curve_secretkey = alice_pub, alice_sec
+        intr.connect(f"tcp://127.0.0.1:{cport}")
+        intr.send_multipart([b"hello", b'{"job": "V"}'])
+        time.sleep(1.0)
+        intr.close()
+        clog.flush()
+        F.check("refused a client" in open(f"{ctmp}/sphd.log").read(),
+                "CURVE: a client key does not open the runners' socket")
+        creq("shutdown", {})
+        cproc.wait(timeout=30)
+    finally:
+        if cproc.poll() is None:
+            cproc.kill()
+            cproc.wait()
+        cctx.destroy(linger=0)
+        shutil.rmtree(ctmp, ignore_errors=True)
+
     plain = Daemon(sphd, "--threads", "1")
     daemons.append(plain)
     r = plain.request("submit", {"case": case, "resources": {"executor": "slurm"}})
