@@ -455,25 +455,9 @@ static int op_submit(sphd_request *r, json_t **result, sphd_err *e)
     json_t *c = json_deep_copy(case_in);
     if (!c)
         return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
-    size_t i;
-    json_t *s;
-    json_array_foreach(sets, i, s)
-    {
-        char path[48];
-        snprintf(path, sizeof path, "/args/set/%zu", i);
-        if (!json_is_string(s)) {
-            json_decref(c);
-            return sphd_err_set(e, SPHD_E_BAD_REQUEST, path,
-                                "each 'set' item is a string PATH=VALUE, not %s",
-                                sph_json_type_name(s));
-        }
-        sph_error se;
-        sph_error_clear(&se);
-        if (sph_json_apply_set(c, json_string_value(s), &se)) {
-            json_decref(c);
-            return sphd_err_set(e, SPHD_E_INVALID_CASE, se.path[0] ? se.path : path, "set: %s",
-                                se.message);
-        }
+    if (sphd_apply_sets(c, sets, e) != 0) {
+        json_decref(c);
+        return -1;
     }
     sphd_job *j = id ? sphd_job_find(d, id) : NULL;
     if (j) {

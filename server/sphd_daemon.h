@@ -338,6 +338,9 @@ void sphd_jobs_free(sphd_daemon *d);
 void sphd_jobs_recover(sphd_daemon *d);
 
 /* sphd_sweep.c: parameter sweeps. */
+/* Applies `set` ("PATH=VALUE" strings, as sphd --run --set) to the case c. 0, or -1 with e at
+ * /args/set/i (not a string) or the field's path (invalid_case). */
+int sphd_apply_sets(json_t *c, const json_t *sets, sphd_err *e);
 /* The cases of a sweep: case_in with `sets` ("PATH=VALUE" strings) applied, then one case per
  * combination of vary's lists ([{"path", "values"}], the last varying fastest). Returns the
  * array of cases and *params ({"path": value} per case), or NULL with e set. */

@@ -13,6 +13,27 @@
 #include <stdlib.h>
 #include <string.h>
 
+int sphd_apply_sets(json_t *c, const json_t *sets, sphd_err *e)
+{
+    size_t i;
+    json_t *s;
+    json_array_foreach((json_t *)sets, i, s)
+    {
+        char path[48];
+        snprintf(path, sizeof path, "/args/set/%zu", i);
+        if (!json_is_string(s))
+            return sphd_err_set(e, SPHD_E_BAD_REQUEST, path,
+                                "each 'set' item is a string PATH=VALUE, not %s",
+                                sph_json_type_name(s));
+        sph_error se;
+        sph_error_clear(&se);
+        if (sph_json_apply_set(c, json_string_value(s), &se))
+            return sphd_err_set(e, SPHD_E_INVALID_CASE, se.path[0] ? se.path : path, "set: %s",
+                                se.message);
+    }
+    return 0;
+}
+
 json_t *sphd_sweep_expand(const json_t *case_in, const json_t *sets, const json_t *vary,
                           json_t **params_out, sphd_err *e)
 {
@@ -58,25 +79,8 @@ json_t *sphd_sweep_expand(const json_t *case_in, const json_t *sets, const json_
     json_t *cases = json_array(), *params = json_array();
     if (!base || !cases || !params)
         goto oom;
-    size_t i;
-    json_t *s;
-    json_array_foreach(sets, i, s)
-    {
-        char path[48];
-        snprintf(path, sizeof path, "/args/set/%zu", i);
-        if (!json_is_string(s)) {
-            sphd_err_set(e, SPHD_E_BAD_REQUEST, path,
-                         "each 'set' item is a string PATH=VALUE, not %s", sph_json_type_name(s));
-            goto fail;
-        }
-        sph_error se;
-        sph_error_clear(&se);
-        if (sph_json_apply_set(base, json_string_value(s), &se)) {
-            sphd_err_set(e, SPHD_E_INVALID_CASE, se.path[0] ? se.path : path, "set: %s",
-                         se.message);
-            goto fail;
-        }
-    }
+    if (sphd_apply_sets(base, sets, e) != 0)
+        goto fail;
     for (size_t n = 0; n < count; n++) {
         json_t *c = json_deep_copy(base), *p = json_object();
         if (!c || !p) {
