@@ -702,9 +702,9 @@ static int op_query(sphd_request *r, json_t **result, sphd_err *e)
                          .status = status,
                          .id = id};
         if (sphd_jobs_send(d, j, &cmd) != 0) {
-            json_decref(names);
-            json_decref(status);
-            json_decref(id);
+            json_decref(cmd.fields); /* still ours (the wire send takes them only on success) */
+            json_decref(cmd.status);
+            json_decref(cmd.id);
             sphd_pending_free(p);
             return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's worker");
         }

@@ -376,7 +376,8 @@ static void begin_stopping(sphd_daemon *d)
 {
     for (sphd_job *j = d->jobs; j; j = j->next) {
         if (j->worker == SPHD_WORKER_REMOTE) {
-            sphd_job_record(d, j, 1); /* runs on in Slurm; found again after a restart */
+            sphd_job_record(d, j, 1);       /* runs on in Slurm; found again after a restart */
+            sphd_jobs_answer_waiters(d, j); /* pause/stop/queries: their status as it is */
         } else if (j->state == SPHD_JOB_RUNNING && !j->pause_requested && !j->stop_requested) {
             sphd_wcmd cmd = {.kind = SPHD_W_PAUSE, .job = j};
             if (sphd_worker_send(&d->workers[j->worker], &cmd) == 0)

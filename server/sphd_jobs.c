@@ -318,6 +318,7 @@ typedef struct sphd_submit {
     int array;
     size_t n;
     char (*ids)[SPHD_JOB_ID_MAX];
+    size_t *tasks; /* an array's task of each job (its index in the sweep) */
     struct sphd_submit *next;
 } sphd_submit;
 
@@ -335,23 +336,45 @@ static void remote_submitting(sphd_daemon *d, sphd_job *j)
     sphd_job_set_state(d, j, SPHD_JOB_RUNNING, NULL);
 }
 
-/* Sends the sbatch of a script for jobs (one, or a sweep's array of n); 0 or -1 with why. */
-static int send_submit(sphd_daemon *d, sphd_job **jobs, size_t n, int array, const char *script,
-                       const char *name, const char *out, char *why, size_t whyn)
+/* sbatch's --array for tasks (ascending): runs joined, "0-3,7,9-12". NULL when out of memory. */
+static char *array_spec(const size_t *tasks, size_t n)
 {
+    char *s = malloc(n * 44 + 1);
+    if (!s)
+        return NULL;
+    size_t len = 0;
+    for (size_t i = 0; i < n;) {
+        size_t k = i;
+        while (k + 1 < n && tasks[k + 1] == tasks[k] + 1)
+            k++;
+        len += (size_t)sprintf(s + len, len ? ",%zu" : "%zu", tasks[i]);
+        if (k > i)
+            len += (size_t)sprintf(s + len, "-%zu", tasks[k]);
+        i = k + 1;
+    }
+    return s;
+}
+
+/* Sends the sbatch of a script for jobs (one, or a sweep's array of n: task tasks[i] is
+ * jobs[i]); 0 or -1 with why. */
+static int send_submit(sphd_daemon *d, sphd_job **jobs, size_t n, const size_t *tasks,
+                       const char *script, const char *name, const char *out, char *why,
+                       size_t whyn)
+{
+    const int array = tasks != NULL;
     sphd_submit *s = calloc(1, sizeof *s);
-    char range[32];
-    snprintf(range, sizeof range, "0-%zu", n - 1);
     sphd_scmd cmd = {.kind = SPHD_S_SUBMIT,
                      .arg = strdup(script),
                      .name = strdup(name),
                      .out = strdup(out),
-                     .array = array ? strdup(range) : NULL,
+                     .array = array ? array_spec(tasks, n) : NULL,
                      .res = jobs[0]->resources ? json_deep_copy(jobs[0]->resources) : NULL};
-    if (!s || !(s->ids = calloc(n, sizeof *s->ids)) || !cmd.arg || !cmd.name || !cmd.out ||
-        (array && !cmd.array)) {
-        if (s)
+    if (!s || !(s->ids = calloc(n, sizeof *s->ids)) || !(s->tasks = calloc(n, sizeof *s->tasks)) ||
+        !cmd.arg || !cmd.name || !cmd.out || (array && !cmd.array)) {
+        if (s) {
             free(s->ids);
+            free(s->tasks);
+        }
         free(s);
         free(cmd.arg);
         free(cmd.name);
@@ -363,14 +386,17 @@ static int send_submit(sphd_daemon *d, sphd_job **jobs, size_t n, int array, con
     }
     if ((s->token = sphd_slurm_send(d, &cmd)) < 0) {
         free(s->ids);
+        free(s->tasks);
         free(s);
         snprintf(why, whyn, "the Slurm thread does not answer");
         return -1;
     }
     s->array = array;
     s->n = n;
-    for (size_t i = 0; i < n; i++)
+    for (size_t i = 0; i < n; i++) {
         snprintf(s->ids[i], sizeof s->ids[i], "%s", jobs[i]->id);
+        s->tasks[i] = array ? tasks[i] : 0;
+    }
     s->next = d->submits;
     d->submits = s;
     return 0;
@@ -394,7 +420,7 @@ static void start_remote(sphd_daemon *d, sphd_job *j)
     snprintf(out, sizeof out, "%s/slurm-%%j.out", j->dir);
     remote_submitting(d, j);
     if (sphd_slurm_script(d, script, j->dir, NULL, why, sizeof why) != 0 ||
-        send_submit(d, &j, 1, 0, script, j->id, out, why, sizeof why) != 0)
+        send_submit(d, &j, 1, NULL, script, j->id, out, why, sizeof why) != 0)
         fail_remote(d, j, why);
 }
 
@@ -405,12 +431,21 @@ int sphd_jobs_start_array(sphd_daemon *d, sphd_job **jobs, size_t n, const char 
     sphd_mkdirs(script);
     snprintf(script, sizeof script, "%s/sweeps/%s.sh", d->opts.state_dir, sweep);
     snprintf(out, sizeof out, "%s/jobs/%s-%%a/slurm-%%A_%%a.out", d->opts.state_dir, sweep);
+    /* the task of job SWEEP-K is K (the script runs the job of its task), ascending */
+    size_t *tasks = calloc(n, sizeof *tasks);
+    if (!tasks)
+        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+    const size_t pre = strlen(sweep) + 1;
     for (size_t i = 0; i < n; i++) {
         jobs[i]->held = 0;
         remote_submitting(d, jobs[i]);
+        tasks[i] = (size_t)strtoul(jobs[i]->id + pre, NULL, 10);
     }
-    if (sphd_slurm_script(d, script, NULL, sweep, why, sizeof why) != 0 ||
-        send_submit(d, jobs, n, 1, script, sweep, out, why, sizeof why) != 0) {
+    int rc = sphd_slurm_script(d, script, NULL, sweep, why, sizeof why);
+    if (rc == 0)
+        rc = send_submit(d, jobs, n, tasks, script, sweep, out, why, sizeof why);
+    free(tasks);
+    if (rc != 0) {
         for (size_t i = 0; i < n; i++)
             fail_remote(d, jobs[i], why);
         return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "slurm: %s", why);
@@ -433,12 +468,13 @@ void sphd_jobs_on_submitted(sphd_daemon *d, const sphd_sev *ev)
     for (size_t i = 0; i < s->n; i++) {
         char sid[sizeof((sphd_job *)0)->slurm_id];
         if (s->array)
-            snprintf(sid, sizeof sid, "%.23s_%zu", ev->id, i);
+            snprintf(sid, sizeof sid, "%.23s_%zu", ev->id, s->tasks[i]);
         else
             snprintf(sid, sizeof sid, "%s", ev->id);
         sphd_job *j = sphd_job_find(d, s->ids[i]);
-        const int wanted =
-            j && j->worker == SPHD_WORKER_REMOTE && !j->slurm_id[0] && j->state == SPHD_JOB_RUNNING;
+        /* (its runner may have said hello first and named the Slurm job already) */
+        const int wanted = j && j->worker == SPHD_WORKER_REMOTE && j->state == SPHD_JOB_RUNNING &&
+                           (!j->slurm_id[0] || strcmp(j->slurm_id, sid) == 0);
         if (!wanted) { /* paused or stopped meanwhile: its Slurm job goes too */
             if (ev->rc == 0) {
                 sphd_scmd c = {.kind = SPHD_S_CANCEL, .arg = strdup(sid)};
@@ -466,6 +502,7 @@ void sphd_jobs_on_submitted(sphd_daemon *d, const sphd_sev *ev)
         sphd_publish(d, j, "log", json_pack("{s:s, s:s}", "level", "info", "message", msg));
     }
     free(s->ids);
+    free(s->tasks);
     free(s);
 }
 
@@ -473,8 +510,11 @@ int sphd_jobs_send(sphd_daemon *d, sphd_job *j, sphd_wcmd *cmd)
 {
     if (j->worker >= 0)
         return sphd_worker_send(&d->workers[j->worker], cmd);
-    if (j->worker == SPHD_WORKER_REMOTE && j->runner_seen && d->runners)
-        return sphd_wire_send_cmd(d->runners, j->id, cmd);
+    if (j->worker == SPHD_WORKER_REMOTE && j->runner_seen && d->runners) {
+        char runner[SPHD_JOB_ID_MAX + 64];
+        snprintf(runner, sizeof runner, "%s@%s", j->id, j->slurm_id);
+        return sphd_wire_send_cmd(d->runners, runner, cmd);
+    }
     errno = ENOTCONN;
     return -1;
 }
@@ -644,6 +684,7 @@ void sphd_jobs_free(sphd_daemon *d)
         sphd_submit *s = d->submits;
         d->submits = s->next;
         free(s->ids);
+        free(s->tasks);
         free(s);
     }
     while (d->jobs) {

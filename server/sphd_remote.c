@@ -25,18 +25,57 @@ static void say(sphd_daemon *d, sphd_job *j, const char *level, const char *fmt,
     sphd_publish(d, j, "log", json_pack("{s:s, s:s}", "level", level, "message", msg));
 }
 
+/* A runner's routing id is JOB@SLURMJOB: its job, if that job runs in that Slurm job now (a
+ * job whose sbatch has not answered yet takes the Slurm job its runner names). */
+static sphd_job *runner_job(sphd_daemon *d, const char *runner, const char **sid)
+{
+    const char *at = strrchr(runner, '@');
+    if (!at)
+        return NULL;
+    char id[SPHD_JOB_ID_MAX];
+    snprintf(id, sizeof id, "%.*s", (int)(at - runner), runner);
+    *sid = at + 1;
+    sphd_job *j = sphd_job_find(d, id);
+    if (!j || j->worker != SPHD_WORKER_REMOTE || j->state != SPHD_JOB_RUNNING)
+        return NULL;
+    if (j->slurm_id[0] && strcmp(j->slurm_id, *sid) != 0)
+        return NULL;
+    if (!j->slurm_id[0])
+        snprintf(j->slurm_id, sizeof j->slurm_id, "%s", *sid);
+    return j;
+}
+
+/* A runner that has no job here (stopped, paused, forgotten, or a stray second run): it quits,
+ * and its Slurm job goes. */
+static void send_away(sphd_daemon *d, const char *runner, const char *sid)
+{
+    static char last[SPHD_JOB_ID_MAX + 64]; /* the loop thread's: one word per stray runner */
+    if (strcmp(last, runner) == 0)
+        return;
+    snprintf(last, sizeof last, "%s", runner);
+    sphd_wcmd q = {.kind = SPHD_W_QUIT};
+    sphd_wire_send_cmd(d->runners, runner, &q);
+    sphd_log("runner %s has no job to run here: told to quit", runner);
+    if (sid && *sid) {
+        sphd_scmd c = {.kind = SPHD_S_CANCEL, .arg = strdup(sid)};
+        if (c.arg)
+            sphd_slurm_send(d, &c);
+    }
+}
+
 static void on_hello(sphd_daemon *d, const char *runner, json_t *hello)
 {
-    sphd_job *j = sphd_job_find(d, runner);
-    const char *sid = json_string_value(json_object_get(hello, "slurm_job"));
-    if (!j || j->worker != SPHD_WORKER_REMOTE || j->state != SPHD_JOB_RUNNING) {
-        /* a runner of a job that was stopped, paused or forgotten meanwhile */
-        sphd_wcmd q = {.kind = SPHD_W_QUIT};
-        sphd_wire_send_cmd(d->runners, runner, &q);
+    const char *sid = "";
+    sphd_job *j = runner_job(d, runner, &sid);
+    if (!j) {
+        send_away(d, runner, sid);
         return;
     }
     j->runner_seen = 1;
     j->gone_since = 0;
+    /* a remote run always looks for a checkpoint first (Slurm may have requeued it after a
+     * node failure); the runner starts afresh when there is none */
+    j->resume = 1;
     sphd_wcmd run = {
         .kind = SPHD_W_RUN, .job = j, .max_steps = j->run_max_steps, .until = j->run_until};
     if (sphd_wire_send_cmd(d->runners, runner, &run) != 0) {
@@ -44,13 +83,13 @@ static void on_hello(sphd_daemon *d, const char *runner, json_t *hello)
         return;
     }
     say(d, j, "info", "running on %s (Slurm job %s)",
-        json_string_value(json_object_get(hello, "host")) ?: "?", sid && *sid ? sid : j->slurm_id);
+        json_string_value(json_object_get(hello, "host")) ?: "?", j->slurm_id);
 }
 
 void sphd_remote_on_message(sphd_daemon *d)
 {
     for (int k = 0; k < 1000; k++) { /* then the other sockets get their turn */
-        char runner[SPHD_JOB_ID_MAX];
+        char runner[SPHD_JOB_ID_MAX + 64];
         sphd_wev ev;
         json_t *hello = NULL;
         const int n = sphd_wire_recv_wev(d->runners, runner, sizeof runner, &ev, &hello);
@@ -65,10 +104,14 @@ void sphd_remote_on_message(sphd_daemon *d)
             json_decref(hello);
             continue;
         }
-        sphd_job *j = sphd_job_find(d, runner);
-        if (!j || j->worker != SPHD_WORKER_REMOTE) {
-            json_decref(ev.body); /* a runner that outlived its run here */
+        const char *sid = "";
+        sphd_job *j = runner_job(d, runner, &sid);
+        if (!j) { /* a runner that outlived its run here */
+            json_decref(ev.body);
             free(ev.text);
+            if (ev.kind == SPHD_WEV_END)
+                continue; /* it ends anyway */
+            send_away(d, runner, sid);
             continue;
         }
         if (!j->runner_seen) { /* sphd was restarted while the runner ran: it is back */
@@ -184,10 +227,18 @@ static void on_states(sphd_daemon *d, const char *lines)
         sphd_job_touch(j);
         const json_t *r = json_object_get(j->resources, "retries");
         const int limit = r ? (int)json_integer_value(r) : SPHD_SLURM_RETRIES;
-        const int stop = j->stop_requested;
+        const int stop = j->stop_requested, pause = j->pause_requested;
+        if (j->stepping) { /* the retry goes on to the same target (from the checkpoint) */
+            j->step_n = j->run_max_steps;
+            j->step_until = j->run_until;
+        }
         j->pause_requested = j->stop_requested = j->stepping = 0;
         if (stop) {
             sphd_job_set_state(d, j, SPHD_JOB_STOPPED, NULL);
+        } else if (pause) {
+            snprintf(reason, sizeof reason, "Slurm job %s ended (%s) while pausing%s", slurm_id, st,
+                     said);
+            sphd_job_set_state(d, j, SPHD_JOB_PAUSED, reason);
         } else if (strncmp(st, "CANCELLED", 9) == 0) {
             snprintf(reason, sizeof reason,
                      "Slurm job %s was cancelled (scancel): resume continues from the checkpoint",

@@ -96,10 +96,20 @@ int sphd_runner_main(const char *endpoint, const char *dir, const char *keys, in
     atomic_init(&d.busy, 0);
     sphd_worker w = {.d = &d, .index = 0};
 
+    /* the Slurm job, as sphd names it: ARRAY_TASK for a task of an array */
+    char slurm_job[48] = "";
+    const char *aj = getenv("SLURM_ARRAY_JOB_ID"), *at = getenv("SLURM_ARRAY_TASK_ID");
+    if (aj && at)
+        snprintf(slurm_job, sizeof slurm_job, "%.20s_%.20s", aj, at);
+    else if (getenv("SLURM_JOB_ID"))
+        snprintf(slurm_job, sizeof slurm_job, "%.40s", getenv("SLURM_JOB_ID"));
+    /* routing id JOB@SLURMJOB: two runs of one job (a stray one) are told apart */
+    char rid[SPHD_JOB_ID_MAX + 64];
+    snprintf(rid, sizeof rid, "%s@%s", job.id, slurm_job);
     void *ctx = zmq_ctx_new();
     void *sock = ctx ? zmq_socket(ctx, ZMQ_DEALER) : NULL;
     int linger = 30000, hwm = 100000;
-    if (!sock || zmq_setsockopt(sock, ZMQ_ROUTING_ID, job.id, strlen(job.id)) != 0 ||
+    if (!sock || zmq_setsockopt(sock, ZMQ_ROUTING_ID, rid, strlen(rid)) != 0 ||
         zmq_setsockopt(sock, ZMQ_LINGER, &linger, sizeof linger) != 0 ||
         zmq_setsockopt(sock, ZMQ_SNDHWM, &hwm, sizeof hwm) != 0 ||
         (keys && curve_client(sock, keys) != 0) || zmq_connect(sock, endpoint) != 0) {
@@ -112,10 +122,8 @@ int sphd_runner_main(const char *endpoint, const char *dir, const char *keys, in
     }
     char host[256] = "";
     gethostname(host, sizeof host - 1);
-    const char *slurm_job = getenv("SLURM_JOB_ID");
-    json_t *hello =
-        json_pack("{s:s, s:s, s:s, s:I}", "job", job.id, "slurm_job", slurm_job ? slurm_job : "",
-                  "host", host, "pid", (json_int_t)getpid());
+    json_t *hello = json_pack("{s:s, s:s, s:s, s:I}", "job", job.id, "slurm_job", slurm_job, "host",
+                              host, "pid", (json_int_t)getpid());
     char *text = hello ? json_dumps(hello, JSON_COMPACT) : NULL;
     json_decref(hello);
     if (!text || zmq_send(sock, "hello", 5, ZMQ_SNDMORE) < 0 ||

@@ -62,9 +62,10 @@ int sphd_slurm_call(char *const argv[], char *out, size_t outn, char *err, size_
     struct pollfd fds[2] = {{.fd = po[0], .events = POLLIN}, {.fd = pe[0], .events = POLLIN}};
     int open_fds = 2;
     while (open_fds > 0) {
-        if (poll(fds, 2, 60000) <= 0) {
-            if (errno == EINTR)
-                continue;
+        const int pr = poll(fds, 2, 60000);
+        if (pr < 0 && errno == EINTR)
+            continue;
+        if (pr <= 0) { /* a minute without a word: it hangs */
             kill(pid, SIGKILL);
             break;
         }
@@ -232,8 +233,16 @@ int sphd_slurm_submit(const sphd_daemon *d, const char *script, const char *name
     argv[n++] = "--parsable";
     snprintf(opt[o], sizeof opt[o], "--job-name=%s", name);
     argv[n++] = opt[o++];
-    snprintf(opt[o], sizeof opt[o], "--output=%s", out_pattern);
-    argv[n++] = opt[o++];
+    char *output = malloc(strlen(out_pattern) + 16);
+    char *arr = array ? malloc(strlen(array) + 16) : NULL;
+    if (!output || (array && !arr)) {
+        free(output);
+        free(arr);
+        snprintf(why, whyn, "out of memory");
+        return -1;
+    }
+    sprintf(output, "--output=%s", out_pattern);
+    argv[n++] = output;
     const json_t *th = json_object_get(res, "threads");
     snprintf(opt[o], sizeof opt[o], "--cpus-per-task=%lld",
              th ? (long long)json_integer_value(th) : 1LL);
@@ -253,9 +262,9 @@ int sphd_slurm_submit(const sphd_daemon *d, const char *script, const char *name
                  json_string_value(json_object_get(res, "account")));
         argv[n++] = opt[o++];
     }
-    if (array) {
-        snprintf(opt[o], sizeof opt[o], "--array=%s", array);
-        argv[n++] = opt[o++];
+    if (arr) {
+        sprintf(arr, "--array=%s", array);
+        argv[n++] = arr;
     }
     size_t i;
     json_t *s;
@@ -269,8 +278,11 @@ int sphd_slurm_submit(const sphd_daemon *d, const char *script, const char *name
     (void)d;
     char out[512], err[4096];
     int rc = sphd_slurm_call(argv, out, sizeof out, err, sizeof err);
+    const int call_errno = errno;
+    free(output);
+    free(arr);
     if (rc < 0) {
-        snprintf(why, whyn, "cannot run sbatch: %s", strerror(errno));
+        snprintf(why, whyn, "cannot run sbatch: %s", strerror(call_errno));
         return -1;
     }
     if (rc != 0) {
@@ -304,22 +316,56 @@ void sphd_slurm_cancel(const char *id)
 
 char *sphd_slurm_states(const char *ids)
 {
-    char *out = malloc(OUT_MAX), err[1024];
-    if (!out)
-        return NULL;
-    char *argv[] = {"squeue", "-h", "-t", "all", "-o", "%i %T", "-j", (char *)ids, NULL};
-    int rc = sphd_slurm_call(argv, out, OUT_MAX, err, sizeof err);
-    if (rc != 0) {
-        /* squeue refuses a list whose jobs all left the controller's memory: none is known */
-        if (rc > 0 && strstr(err, "Invalid job id")) {
-            out[0] = '\0';
-            return out;
+    /* a few hundred ids per call (one argument must stay short), the answers joined */
+    enum { PER_CALL = 400 };
+    size_t cap = OUT_MAX, len = 0;
+    char *all = malloc(cap), *out = malloc(OUT_MAX), *chunk = malloc(strlen(ids) + 1), err[1024];
+    if (!all || !out || !chunk)
+        goto fail;
+    all[0] = '\0';
+    for (const char *p = ids; *p;) {
+        const char *q = p;
+        for (int k = 0; *q && k < PER_CALL; k++) {
+            q += strcspn(q, ",");
+            if (*q && k + 1 < PER_CALL)
+                q++;
         }
-        sphd_log("squeue: %s", rc < 0 ? strerror(errno) : err);
-        free(out);
-        return NULL;
+        memcpy(chunk, p, (size_t)(q - p));
+        chunk[q - p] = '\0';
+        p = *q == ',' ? q + 1 : q;
+        /* -r: one line per array task, pending ones too; -t all: ended jobs that the controller
+         * still remembers */
+        char *argv[] = {"squeue", "-h", "-r", "-t", "all", "-o", "%i %T", "-j", chunk, NULL};
+        int rc = sphd_slurm_call(argv, out, OUT_MAX, err, sizeof err);
+        if (rc != 0) {
+            /* squeue refuses a list whose jobs all left the controller's memory: none known */
+            if (rc > 0 && strstr(err, "Invalid job id"))
+                continue;
+            sphd_log("squeue: %s", rc < 0 ? strerror(errno) : err);
+            goto fail;
+        }
+        const size_t k = strlen(out);
+        if (k + 1 >= OUT_MAX) { /* cut: the jobs past the cut would look gone */
+            sphd_log("squeue: more output than %d bytes for %d jobs", OUT_MAX, PER_CALL);
+            goto fail;
+        }
+        if (len + k + 1 > cap) {
+            char *n = realloc(all, cap = 2 * (len + k + 1));
+            if (!n)
+                goto fail;
+            all = n;
+        }
+        memcpy(all + len, out, k + 1);
+        len += k;
     }
-    return out;
+    free(out);
+    free(chunk);
+    return all;
+fail:
+    free(all);
+    free(out);
+    free(chunk);
+    return NULL;
 }
 
 int sphd_slurm_script(const sphd_daemon *d, const char *path, const char *dir, const char *sweep,
@@ -403,6 +449,8 @@ int sphd_slurm_start(sphd_daemon *d)
     d->slurm = sphd_pair_open(d->ctx, SLURM_ENDPOINT, 1);
     if (!d->slurm)
         return -1;
+    int hwm = 1000000; /* the loop never waits for the Slurm thread */
+    zmq_setsockopt(d->slurm, ZMQ_SNDHWM, &hwm, sizeof hwm);
     int rc = pthread_create(&d->slurm_thread, NULL, slurm_main, d);
     if (rc != 0) {
         sphd_log("cannot start the Slurm thread: %s", strerror(rc));
@@ -424,7 +472,15 @@ static void scmd_free(sphd_scmd *c)
 long sphd_slurm_send(sphd_daemon *d, sphd_scmd *cmd)
 {
     cmd->token = ++d->next_token;
-    if (!d->slurm_started || sphd_pair_send(d->slurm, cmd, sizeof *cmd) != 0) {
+    int rc;
+    do
+        rc = d->slurm_started ? zmq_send(d->slurm, cmd, sizeof *cmd, ZMQ_DONTWAIT) : -1;
+    while (rc < 0 && errno == EINTR);
+    if (rc < 0) {
+        sphd_log("the Slurm thread is %s: a %s is dropped", d->slurm_started ? "behind" : "gone",
+                 cmd->kind == SPHD_S_SUBMIT   ? "sbatch"
+                 : cmd->kind == SPHD_S_CANCEL ? "scancel"
+                                              : "squeue");
         scmd_free(cmd);
         return -1;
     }

@@ -186,7 +186,8 @@ void sphd_run_job(sphd_worker *w, sphd_link *sock, sphd_wcmd *cmd)
             if (in.kind == SPHD_W_PAUSE) {
                 end.end = SPHD_END_PAUSED;
                 ended = 1;
-            } else if (in.kind == SPHD_W_STOP) {
+            } else if (in.kind == SPHD_W_STOP || in.kind == SPHD_W_QUIT) {
+                /* QUIT while running: a runner the daemon does not want (a stray second run) */
                 end.end = SPHD_END_STOPPED;
                 ended = 1;
             } else if (in.kind == SPHD_W_PARTICLES) {

@@ -6,6 +6,7 @@ the result and the last snapshot bit for bit.
 
 - a sweep of 4 dam breaks goes as one Slurm array and runs to done;
 - watch (sphctl), query with fields while the runner runs, step N (a Slurm job that ends paused);
+- a stray second runner of a running job is told to quit (a job never runs twice);
 - kill -9 of a runner: the job is submitted again and continues from its checkpoint;
 - scancel: the job is paused with the reason; resume continues it;
 - kill -9 of the daemon while two Slurm jobs run: after a restart both are found, their streams
@@ -139,9 +140,23 @@ try:
     print(f"slurm_executor: sweep of 4 as a Slurm array done in {time.time() - t:.1f} s")
     for j in ids:
         F.check(same_run(d, j, "L" + j), f"{j} (Slurm) is bit for bit L{j} (local)")
+    # the same sweep with one more kernel: only its 2 new jobs go to Slurm, as tasks 4 and 5
+    r = d.ok("sweep", {"case": case, "set": BASE, "sweep": "A",
+                       "vary": [{"path": "kernel.type",
+                                 "values": ["wendland_c2", "cubic_spline", "gaussian"]},
+                                {"path": "physics.viscosity.alpha", "values": [0.05, 0.1]}]})
+    F.check([j["created"] for j in r["jobs"]] == [False] * 4 + [True] * 2,
+            "a sweep grown by a value: the 2 new jobs are made", [j["created"] for j in r["jobs"]])
+    sj = slurm_ids(d, ["A-4", "A-5"])
+    F.check([s.split("_")[-1] for s in sj] == ["4", "5"],
+            "the new jobs are tasks 4 and 5 of a new array (task K runs job A-K)", sj)
+    d.ok("submit", {"case": case, "job": "LA-5", "resources": {"executor": "local"},
+                    "set": BASE + ['kernel.type="gaussian"', "physics.viscosity.alpha=0.1"]})
+    wait_states(d, ["A-4", "A-5", "LA-5"], ("done",))
+    F.check(same_run(d, "A-5", "LA-5"), "A-5 (task 5) is bit for bit its local run")
     rows = d.ok("export", {"sweep": "A", "format": "json"})["rows"]
-    F.check(len(rows) == 4 and all(row.get("steps", 0) > 0 for row in rows),
-            "the sweep's table has the 4 results", rows[:1])
+    F.check(len(rows) == 6 and all(row.get("steps", 0) > 0 for row in rows),
+            "the sweep's table has the 6 results", rows[:1])
 
     # -- sphctl sweep --resources: one array too
     envc = dict(os.environ, SPHD_ENDPOINT=d.control)
@@ -195,6 +210,18 @@ try:
         time.sleep(0.1)
     F.check(q and q.get("ok") and q["result"]["particles"]["count"] == 50,
             "query with fields of a running Slurm job: its runner answers", str(q)[:300])
+    # a second runner of the same job (a stray run): told to quit, the job runs once
+    stray = subprocess.Popen([sphd, "--runner", f"tcp://127.0.0.1:{port}", "--job-dir",
+                              os.path.join(d.state, "jobs", "W"), "--runner-wait", "20"],
+                             env=dict(os.environ, SLURM_JOB_ID="424242"),
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        src_rc = stray.wait(timeout=15)
+    except subprocess.TimeoutExpired:
+        stray.kill()
+        src_rc = None
+    F.check(src_rc == 0 and "W@424242 has no job to run here" in d.log(),
+            "a stray second runner of a running job is told to quit", src_rc)
     out, err = w.communicate(timeout=300)
     evs = [json.loads(x) for x in out.splitlines() if x.strip()]
     F.check(w.returncode == 0 and any(e.get("type") == "diag" for e in evs) and
