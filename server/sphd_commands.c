@@ -649,7 +649,7 @@ static int op_query(sphd_request *r, json_t **result, sphd_err *e)
         return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/fields",
                             "job %s is %s: its particles are gone (outputs are in %s)", j->id,
                             sphd_job_state_name(j->state), j->dir);
-    if (fields && !j->exec && j->worker == -1 && !j->slurm)
+    if (fields && !j->exec && j->worker == -1 && !j->slurm && !j->resume)
         return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/fields",
                             "job %s has not run yet: its particles are made when it first runs "
                             "(step it once)",
@@ -659,7 +659,7 @@ static int op_query(sphd_request *r, json_t **result, sphd_err *e)
                             "job %s waits in Slurm's queue (Slurm job %s): its particles are made "
                             "when its runner starts",
                             j->id, j->slurm_id);
-    if (fields && j->worker == -1 && j->slurm)
+    if (fields && j->worker == -1 && j->slurm && !d->files_started)
         return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/fields",
                             "job %s runs on the Slurm executor and is not running: its particles "
                             "are in its checkpoint (resume or step it, then ask)",
@@ -685,7 +685,7 @@ static int op_query(sphd_request *r, json_t **result, sphd_err *e)
             sphd_pending_free(p);
             sphd_fcmd cmd = {.kind = SPHD_F_PARTICLES,
                              .job = j,
-                             .exec = j->exec,
+                             .exec = j->exec, /* NULL on the Slurm executor: the checkpoint */
                              .fields = names,
                              .status = status,
                              .id = id,

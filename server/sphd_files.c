@@ -7,7 +7,9 @@
  * What the thread reads of a job (its id, directory and case) never changes once the job
  * exists, and a job is not forgotten while the thread serves a request on it (job->readers).
  * A `query` with fields of a paused job reads its idle executor here too (job->exec_readers:
- * meanwhile the job is not run and its executor not freed), and the thread encodes the reply.
+ * meanwhile the job is not run and its executor not freed), or, for a job that has none here
+ * (on the Slurm executor, or taken up after a restart), its latest checkpoint; the thread
+ * encodes the reply.
  */
 #include "sphd_daemon.h"
 
@@ -35,6 +37,29 @@ json_t *sphd_files_do(const sphd_fcmd *cmd, sphd_err *e)
     }
 }
 
+/* The executor of a job from its latest checkpoint (read only here), or NULL. */
+static sphd_exec *checkpoint_exec(const sphd_fcmd *cmd)
+{
+    sph_error err;
+    sph_error_clear(&err);
+    int fell_back = 0;
+    return sphd_exec_resume(cmd->job->c, cmd->job->dir, &fell_back, &err);
+}
+
+static char *no_checkpoint_reply(sphd_fcmd *cmd)
+{
+    sphd_err e;
+    sphd_err_set(&e, SPHD_E_BAD_STATE, "/args/fields",
+                 "job %s has no checkpoint yet: its particles are made when it first runs",
+                 cmd->job->id);
+    json_t *reply = sphd_reply_new(cmd->id, NULL, &e);
+    json_decref(cmd->id);
+    json_decref(cmd->status);
+    char *text = reply ? json_dumps(reply, JSON_COMPACT) : NULL;
+    json_decref(reply);
+    return text;
+}
+
 static void *files_main(void *arg)
 {
     sphd_daemon *d = arg;
@@ -55,8 +80,14 @@ static void *files_main(void *arg)
         sphd_fev ev = {.token = cmd.token, .job = cmd.job};
         if (cmd.kind == SPHD_F_PARTICLES) {
             ev.exec_read = 1;
+            sphd_exec *x = cmd.exec;
+            if (!x) /* a paused job of the Slurm executor: its particles are in its checkpoint */
+                x = checkpoint_exec(&cmd);
             ev.text =
-                sphd_particles_reply(cmd.exec, cmd.job->c, cmd.fields, cmd.max, cmd.status, cmd.id);
+                x ? sphd_particles_reply(x, cmd.job->c, cmd.fields, cmd.max, cmd.status, cmd.id)
+                  : no_checkpoint_reply(&cmd);
+            if (x && x != cmd.exec)
+                sphd_exec_free(x);
             json_decref(cmd.fields);
             if (!ev.text)
                 sphd_err_set(&ev.err, SPHD_E_INTERNAL, NULL, "out of memory");

@@ -238,6 +238,9 @@ try:
         st = wait_states(d, ["S"], ("paused",))
     F.check(st["S"]["progress"]["steps"] == 25, "step 25 on the Slurm executor: 25 steps, paused",
             st["S"]["progress"])
+    q = d.request("query", {"job": "S", "fields": ["pos", "rho"], "max": 10}, timeout=30)
+    F.check(q.get("ok") and q["result"]["particles"]["count"] == 10,
+            "query with fields of a paused Slurm job: read from its checkpoint", str(q)[:300])
     d.ok("resume", {"job": "S"})
     d.ok("submit", {"case": case, "job": "LS", "set": BASE, "resources": {"executor": "local"}})
     wait_states(d, ["S", "LS"], ("done",))
