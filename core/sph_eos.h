@@ -6,11 +6,12 @@
 #define SPH_EOS_H
 
 #include "sph_config.h"
+#include "sph_hd.h"
 
 #include <math.h>
 
 /* Pressure [Pa] at density rho [kg/m^3]. */
-static inline double sph_eos_pressure(const sph_config *c, double rho)
+SPH_HD static inline double sph_eos_pressure(const sph_config *c, double rho)
 {
     if (c->eos == SPH_EOS_TAIT) {
         const double q = rho / c->rho0, q2 = q * q;
@@ -21,7 +22,7 @@ static inline double sph_eos_pressure(const sph_config *c, double rho)
 
 /* Density [kg/m^3] at pressure p [Pa]: the inverse of sph_eos_pressure(). Tait below the
  * pressure of zero density (p < -B) gives 0. */
-static inline double sph_eos_density(const sph_config *c, double p)
+SPH_HD static inline double sph_eos_density(const sph_config *c, double p)
 {
     if (c->eos == SPH_EOS_TAIT) {
         const double B = c->c0 * c->c0 * c->rho0 / 7.0; /* p = B ((rho/rho0)^7 - 1) */

@@ -5,7 +5,8 @@
 # then build with clang, with hypre's AMG preconditioner (-DSPH_HYPRE=ON: the default builds have
 # none), and run the unit tests; then the build types that are not built above
 # (scripts/build-matrix.sh), so that gcc and clang each build Release, RelWithDebInfo and Debug
-# without a warning; last, each fuzz target runs for 30 s (as many at once as there are cores)
+# without a warning; the CUDA code with nvcc when it is there (-DSPH_CUDA=ON: the shared physics
+# headers against the C build; scripts/test-gpu.sh runs the rest on a GPU); last, each fuzz target runs for 30 s (as many at once as there are cores)
 # from its seed corpus with a fixed random seed (SPH_FUZZ_SEED, default 1): about the same inputs
 # each run, so a find most likely fails the change that brought it, not a later one by chance.
 set -euo pipefail
@@ -29,6 +30,16 @@ stage "clang (Release, with hypre's AMG): build, unit tests"
 CC=clang cmake -S . -B build-clang -DCMAKE_BUILD_TYPE=Release -DSPH_WERROR=ON -DSPH_HYPRE=ON >/dev/null
 cmake --build build-clang -j"$(nproc)"
 ctest --test-dir build-clang --output-on-failure -j2 -L unit
+
+stage "CUDA (the GPU backend's code: nvcc, warnings as errors; the device half needs a GPU)"
+nvcc=$(command -v nvcc || echo /usr/local/cuda/bin/nvcc)
+if [ -x "$nvcc" ]; then
+  cmake -S . -B build-cuda -DSPH_CUDA=ON -DSPH_WERROR=ON -DCMAKE_CUDA_COMPILER="$nvcc" >/dev/null
+  cmake --build build-cuda -j"$(nproc)" --target test_gpu_physics
+  ctest --test-dir build-cuda --output-on-failure -L gpu
+else
+  echo "no nvcc (CUDA's toolkit): the CUDA build is skipped"
+fi
 
 stage "the other build types, warnings as errors"
 scripts/build-matrix.sh gcc:Release gcc:Debug clang:RelWithDebInfo clang:Debug

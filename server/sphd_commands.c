@@ -395,6 +395,9 @@ static int op_hello(sphd_request *r, json_t **result, sphd_err *e)
         ops, "methods", methods, "limits", "max_msg_size", (json_int_t)d->opts.max_msg_size,
         "threads", d->opts.threads, "max_jobs", d->opts.max_jobs, "diag_rate", d->opts.diag_rate,
         "pid", (json_int_t)getpid(), "uptime", sphd_now() - d->started_at);
+    /* the devices a case may name (/device): the CPU; GPUs once the GPU backend runs cases */
+    json_object_set_new(*result, "devices",
+                        json_pack("[{s:s, s:i}]", "device", "cpu", "threads", d->opts.threads));
     /* where jobs run: here (worker threads) and, with --executor slurm, on a Slurm cluster */
     json_object_set_new(*result, "executors",
                         d->opts.executor_slurm ? json_pack("[s, s]", "local", "slurm")

@@ -29,6 +29,7 @@
 #define SPH_KERNEL_H
 
 #include "sph_error.h"
+#include "sph_hd.h"
 
 #include <math.h>
 
@@ -97,7 +98,7 @@ void sph_kernel_sheu_coefficients(double *a, double *c, double *d, double *e);
  * Evaluation. sph_kernel_eval_t() returns W(r) and stores dW/dr in *dwdr, for 0 <= r; both are
  * zero for r >= support. `type` should be a compile-time constant in hot loops (see above).
  */
-static inline __attribute__((always_inline)) double
+SPH_HD static inline __attribute__((always_inline)) double
 sph_kernel_eval_t(sph_kernel_type type, const sph_kernel *k, double r, double *dwdr)
 {
     const double q = r * k->inv_h;
@@ -165,13 +166,13 @@ sph_kernel_eval_t(sph_kernel_type type, const sph_kernel *k, double r, double *d
 }
 
 /* Generic evaluation (switches on k->type): W(r), dW/dr, and both. */
-static inline double sph_kernel_w(const sph_kernel *k, double r)
+SPH_HD static inline double sph_kernel_w(const sph_kernel *k, double r)
 {
     double d;
     return sph_kernel_eval_t(k->type, k, r, &d);
 }
 
-static inline double sph_kernel_dwdr(const sph_kernel *k, double r)
+SPH_HD static inline double sph_kernel_dwdr(const sph_kernel *k, double r)
 {
     double d;
     (void)sph_kernel_eval_t(k->type, k, r, &d);
@@ -180,7 +181,7 @@ static inline double sph_kernel_dwdr(const sph_kernel *k, double r)
 
 /* Gradient with respect to the first particle's position: dW/dr * rvec / r, rvec = x_a - x_b
  * (k->dim components). Zero at r = 0. Returns W. */
-static inline double sph_kernel_grad(const sph_kernel *k, const double *rvec, double *grad)
+SPH_HD static inline double sph_kernel_grad(const sph_kernel *k, const double *rvec, double *grad)
 {
     double r2 = 0.0;
     for (int i = 0; i < k->dim; i++)

@@ -56,11 +56,11 @@ typedef struct sph_wcsph_pair_out {
  * stresses / rho of a and b (xx, xy, yy, and in 3D zz, xz, yz). delta: whether delta-SPH acts on
  * this pair. */
 SPH_HD static inline __attribute__((always_inline)) void
-sph_wcsph_pair(const int D, const unsigned F, const sph_wcsph_pair_const *restrict k,
-               const double *restrict d, double r2, double fw, const double *restrict dv,
+sph_wcsph_pair(const int D, const unsigned F, const sph_wcsph_pair_const *SPH_RESTRICT k,
+               const double *SPH_RESTRICT d, double r2, double fw, const double *SPH_RESTRICT dv,
                double rhoi, double rhoj, double pri, double prj, double vf,
-               const double *restrict ta, const double *restrict tb, int delta,
-               sph_wcsph_pair_out *restrict o)
+               const double *SPH_RESTRICT ta, const double *SPH_RESTRICT tb, int delta,
+               sph_wcsph_pair_out *SPH_RESTRICT o)
 {
     const double m = k->m;
     const double vr =
@@ -130,8 +130,8 @@ sph_wcsph_pair(const int D, const unsigned F, const sph_wcsph_pair_const *restri
  * components): Yang et al. eqs. (7)-(9), Smagorinsky's eddy viscosity nut = smag |S| sqrt 2
  * (smag = (Cs dx)^2), the isotropic part after Dalrymple & Rogers 2006 (blin = 2/3 CI dx^2). */
 SPH_HD static inline __attribute__((always_inline)) void
-sph_wcsph_sps_stress(const int D, const double *restrict g, double rho, double smag, double blin,
-                     double *restrict t)
+sph_wcsph_sps_stress(const int D, const double *SPH_RESTRICT g, double rho, double smag, double blin,
+                     double *SPH_RESTRICT t)
 {
     if (D == 3) {
         const double dudx = g[0], sxy = g[1], dvdy = g[2], dwdz = g[3], sxz = g[4], syz = g[5];
