@@ -194,7 +194,7 @@ try:
           f"ms, Slurm {slu_s * 1e3:.0f} ms (overhead {(slu_s - loc_s) * 1e3:.0f} ms)")
 
     # -- watch, query with fields, step
-    long_sets = ["dx=0.005", "time.end=0.6", "output.every=0.1"]
+    long_sets = ["dx=0.005", "time.end=0.45", "output.every=0.1"]
     d.ok("submit", {"case": case, "job": "W", "set": long_sets})
     envc = dict(os.environ, SPHD_ENDPOINT=d.control)
     w = subprocess.Popen([sphctl, "--json", "watch", "W"], env=envc, stdout=subprocess.PIPE,
