@@ -66,6 +66,9 @@ long sph_body_shape_points(const sph_body_spec *b, double dx, double *xy)
     const long L = b->layers > 0 ? b->layers : (long)1 << 30;
     if (b->shape == SPH_SHAPE_CIRCLE) {
         const double R = 0.5 * b->diameter;
+        /* a fuzzed state's dx or diameter that is not a positive number: rings that never end */
+        if (!(dx > 0.0) || !(R >= 0.0) || !isfinite(dx) || !isfinite(R))
+            return xy ? 0 : SPH_BODY_COUNT_CAP + 1;
         for (long k = 0; k < L; k++) {
             const double r = R - (k + 0.5) * dx;
             if (r < 0.5 * dx * (1.0 - SPH_BODY_EPS)) {
@@ -76,7 +79,12 @@ long sph_body_shape_points(const sph_body_spec *b, double dx, double *xy)
                 }
                 break;
             }
-            long m = lround(2.0 * M_PI * r / dx);
+            /* (a ring past the cap is not rounded to a long: lround overflows, and a circle of
+             * 1e20 dx counted 3 per ring took minutes) */
+            const double md = 2.0 * M_PI * r / dx;
+            if (!xy && !(md < (double)SPH_BODY_COUNT_CAP))
+                return SPH_BODY_COUNT_CAP + 1;
+            long m = lround(md);
             m = m < 3 ? 3 : m;
             if (!xy) { /* counted, not visited: a fuzzed state's absurd circle returns at once */
                 n += m;
