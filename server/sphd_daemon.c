@@ -443,10 +443,8 @@ static int loop(sphd_daemon *d)
         for (int i = 0; i < d->nworkers; i++)
             if (items[2 + i].revents & ZMQ_POLLIN)
                 handle_worker(d, &d->workers[i]);
-        if (files_item->revents & ZMQ_POLLIN) {
-            sphd_files_on_answer(d);
-            sphd_jobs_schedule(d); /* a job whose particles were being read may run now */
-        }
+        if (files_item->revents & ZMQ_POLLIN)
+            sphd_files_on_answer(d); /* a job whose particles were read may run: below */
         if (zap_item && (zap_item->revents & ZMQ_POLLIN))
             sphd_curve_on_zap(d->curve);
         if (runners_item && (runners_item->revents & ZMQ_POLLIN))
@@ -465,7 +463,7 @@ static int loop(sphd_daemon *d)
                 handle_request(d);
             }
         }
-        sphd_jobs_schedule(d);
+        sphd_jobs_schedule(d); /* once per turn, whatever freed a worker or queued a job */
     }
     free(items);
     return 0;

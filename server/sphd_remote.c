@@ -261,7 +261,6 @@ static void on_states(sphd_daemon *d, const char *lines)
         }
         sphd_jobs_answer_waiters(d, j);
     }
-    sphd_jobs_schedule(d);
 }
 
 void sphd_remote_on_slurm(sphd_daemon *d)
@@ -270,7 +269,6 @@ void sphd_remote_on_slurm(sphd_daemon *d)
     while (sphd_slurm_recv(d, &ev)) {
         if (ev.kind == SPHD_S_SUBMIT) {
             sphd_jobs_on_submitted(d, &ev);
-            sphd_jobs_schedule(d);
         } else if (ev.kind == SPHD_S_STATES) {
             d->slurm_polling = 0;
             if (ev.lines) /* else squeue failed (said in the log): asked again later */
