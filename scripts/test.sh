@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The README's test command: set up, build (warnings are errors here), run every test; then build
 # again with AddressSanitizer and UndefinedBehaviorSanitizer (optimised, -O2 -g: several times
-# faster than -O0 under ASan) and run the unit, command-line and integration tests under them
-# (but for the physics runs through the daemon, which take minutes there);
+# faster than -O0 under ASan) and run the unit, command-line, integration and regression tests
+# under them (but for the physics runs through the daemon, which take minutes there; the golden
+# 2D run there also checks that the pair loop with its options read at run time, as the sanitizer
+# builds compile it, gives the specialised loops' bits);
 # then build with clang, with hypre's AMG preconditioner (-DSPH_HYPRE=ON: the default builds have
 # none), and run the unit tests; then the CUDA code with nvcc where it is (-DSPH_CUDA=ON: the
 # shared physics headers against the C build; scripts/test-gpu.sh runs the rest on a GPU); then
@@ -26,7 +28,7 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPH_SANITIZE=ON -DS
 cmake --build build-asan -j"$(nproc)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0" \
-  ctest --test-dir build-asan --output-on-failure -j2 -L 'unit|cli|integration' \
+  ctest --test-dir build-asan --output-on-failure -j2 -L 'unit|cli|integration|regress' \
     -E 'integration_(mps|bodies)_daemon|integration_crash_resume'  # physics through the daemon:
     # 5 minutes under ASan; they run above, and their code under ASan in test_mps, test_body,
     # test_sim_checkpoint and integration_daemon_crash

@@ -55,6 +55,7 @@ typedef struct fctx {
     double support2;         /* support radius squared [m^2] */
     double tiny;             /* guards r = 0 [m] */
     double wall_visc; /* factor on the viscous terms of fluid-wall pairs (dynamic walls) [-] */
+    unsigned flags;   /* the SPH_WF_ options (read at run time only with SPH_STRIPS_RUNTIME) */
 } fctx;
 
 typedef struct acc {
@@ -238,12 +239,28 @@ typedef long (*strip_fn)(const fctx *c, int strip);
  * strips<D>_<TYPE>[flags], the flags' value naming the instantiation. The combinations
  * sph_sim_check refuses (laminar with monaghan: one viscosity; ghost walls with bodies:
  * sph_body_check; bodies in 3D) have none, their entry is NULL: in 2D 36 of the 64 per kernel,
- * in 3D 24. */
+ * in 3D 24.
+ * SPH_STRIPS_RUNTIME (the sanitizer and fuzz builds: CMakeLists.txt) keeps the tables but points
+ * every entry at one instantiation per kernel type and dimension that reads the options at run
+ * time: the same source and the same arithmetic (the options only pick branches), 10 functions
+ * instead of 300; with 300 the sanitizers' instrumentation took this file 6 minutes to compile. */
+#ifdef SPH_STRIPS_RUNTIME
+#define SPH_STRIP_FN(T, FL, D)
+#define SPH_STRIP_REF(T, FL, D) strip##D##_##T##_rt
+#define SPH_STRIP_RT(T, D)                                                                         \
+    static long strip##D##_##T##_rt(const fctx *c, int strip)                                      \
+    {                                                                                              \
+        return strip_generic(T, c->flags, D, c, strip);                                            \
+    }
+#else
 #define SPH_STRIP_FN(T, FL, D)                                                                     \
     static long strip##D##_##T##_##FL(const fctx *c, int strip)                                    \
     {                                                                                              \
         return strip_generic(T, FL, D, c, strip);                                                  \
     }
+#define SPH_STRIP_REF(T, FL, D) strip##D##_##T##_##FL
+#define SPH_STRIP_RT(T, D)
+#endif
 /* clang-format off */
 #define SPH_STRIP_COMMON(T, D) \
     SPH_STRIP_FN(T, 0, D) SPH_STRIP_FN(T, 1, D) SPH_STRIP_FN(T, 2, D) SPH_STRIP_FN(T, 3, D) \
@@ -252,16 +269,16 @@ typedef long (*strip_fn)(const fctx *c, int strip);
     SPH_STRIP_FN(T, 12, D) SPH_STRIP_FN(T, 13, D) SPH_STRIP_FN(T, 14, D) SPH_STRIP_FN(T, 15, D) \
     SPH_STRIP_FN(T, 16, D) SPH_STRIP_FN(T, 18, D) SPH_STRIP_FN(T, 20, D) SPH_STRIP_FN(T, 22, D) \
     SPH_STRIP_FN(T, 24, D) SPH_STRIP_FN(T, 26, D) SPH_STRIP_FN(T, 28, D) SPH_STRIP_FN(T, 30, D)
+#define SPH_STRIP_ROW(T, FL, D) [FL] = SPH_STRIP_REF(T, FL, D),
 #define SPH_STRIP_COMMON_ROWS(T, D) \
-        [0] = strip##D##_##T##_0, [1] = strip##D##_##T##_1, [2] = strip##D##_##T##_2, \
-        [3] = strip##D##_##T##_3, [4] = strip##D##_##T##_4, [5] = strip##D##_##T##_5, \
-        [6] = strip##D##_##T##_6, [7] = strip##D##_##T##_7, [8] = strip##D##_##T##_8, \
-        [9] = strip##D##_##T##_9, [10] = strip##D##_##T##_10, [11] = strip##D##_##T##_11, \
-        [12] = strip##D##_##T##_12, [13] = strip##D##_##T##_13, [14] = strip##D##_##T##_14, \
-        [15] = strip##D##_##T##_15, [16] = strip##D##_##T##_16, [18] = strip##D##_##T##_18, \
-        [20] = strip##D##_##T##_20, [22] = strip##D##_##T##_22, [24] = strip##D##_##T##_24, \
-        [26] = strip##D##_##T##_26, [28] = strip##D##_##T##_28, [30] = strip##D##_##T##_30,
+    SPH_STRIP_ROW(T, 0, D) SPH_STRIP_ROW(T, 1, D) SPH_STRIP_ROW(T, 2, D) SPH_STRIP_ROW(T, 3, D) \
+    SPH_STRIP_ROW(T, 4, D) SPH_STRIP_ROW(T, 5, D) SPH_STRIP_ROW(T, 6, D) SPH_STRIP_ROW(T, 7, D) \
+    SPH_STRIP_ROW(T, 8, D) SPH_STRIP_ROW(T, 9, D) SPH_STRIP_ROW(T, 10, D) SPH_STRIP_ROW(T, 11, D) \
+    SPH_STRIP_ROW(T, 12, D) SPH_STRIP_ROW(T, 13, D) SPH_STRIP_ROW(T, 14, D) SPH_STRIP_ROW(T, 15, D) \
+    SPH_STRIP_ROW(T, 16, D) SPH_STRIP_ROW(T, 18, D) SPH_STRIP_ROW(T, 20, D) SPH_STRIP_ROW(T, 22, D) \
+    SPH_STRIP_ROW(T, 24, D) SPH_STRIP_ROW(T, 26, D) SPH_STRIP_ROW(T, 28, D) SPH_STRIP_ROW(T, 30, D)
 #define SPH_STRIP_TABLE(T) \
+    SPH_STRIP_RT(T, 2) SPH_STRIP_RT(T, 3) \
     SPH_STRIP_COMMON(T, 2) \
     SPH_STRIP_FN(T, 32, 2) SPH_STRIP_FN(T, 33, 2) SPH_STRIP_FN(T, 34, 2) SPH_STRIP_FN(T, 35, 2) \
     SPH_STRIP_FN(T, 36, 2) SPH_STRIP_FN(T, 37, 2) SPH_STRIP_FN(T, 38, 2) SPH_STRIP_FN(T, 39, 2) \
@@ -269,10 +286,10 @@ typedef long (*strip_fn)(const fctx *c, int strip);
     SPH_STRIP_COMMON(T, 3) \
     static const strip_fn strips2_##T[F_COUNT] = { \
         SPH_STRIP_COMMON_ROWS(T, 2) \
-        [32] = strip2_##T##_32, [33] = strip2_##T##_33, [34] = strip2_##T##_34, \
-        [35] = strip2_##T##_35, [36] = strip2_##T##_36, [37] = strip2_##T##_37, \
-        [38] = strip2_##T##_38, [39] = strip2_##T##_39, [48] = strip2_##T##_48, \
-        [50] = strip2_##T##_50, [52] = strip2_##T##_52, [54] = strip2_##T##_54, \
+        SPH_STRIP_ROW(T, 32, 2) SPH_STRIP_ROW(T, 33, 2) SPH_STRIP_ROW(T, 34, 2) \
+        SPH_STRIP_ROW(T, 35, 2) SPH_STRIP_ROW(T, 36, 2) SPH_STRIP_ROW(T, 37, 2) \
+        SPH_STRIP_ROW(T, 38, 2) SPH_STRIP_ROW(T, 39, 2) SPH_STRIP_ROW(T, 48, 2) \
+        SPH_STRIP_ROW(T, 50, 2) SPH_STRIP_ROW(T, 52, 2) SPH_STRIP_ROW(T, 54, 2) \
     }; \
     static const strip_fn strips3_##T[F_COUNT] = { SPH_STRIP_COMMON_ROWS(T, 3) };
 /* clang-format on */
@@ -541,7 +558,8 @@ int sph_wcsph_forces(sph_sim *s)
                      .dcoef = 2.0 * cfg->delta_sph * s->h * cfg->c0 * s->mass},
               .support2 = s->kernel.support * s->kernel.support,
               .tiny = 1e-12 * s->h,
-              .wall_visc = cfg->wall_viscosity};
+              .wall_visc = cfg->wall_viscosity,
+              .flags = flags};
     for (int k = 0; k < s->bodies.n; k++)
         c.from_fluid[k] = (unsigned char)s->bodies.b[k].from_fluid;
     strip_fn fn = NULL;
