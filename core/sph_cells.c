@@ -75,24 +75,6 @@ int sph_cells_reserve(sph_cells *g, long n)
     return 0;
 }
 
-/* Particle i's cell (ncells for a lost particle, and for one outside the grid, which becomes
- * lost). The loops over the particles are written once per dimension (cell_keys2, cell_keys3),
- * the dimension a literal there: an OpenMP loop in a function that takes D outlines its body
- * before D is known, and tests D per particle. */
-static inline __attribute__((always_inline)) int cell_key(const int D, const sph_cells *g,
-                                                          sph_particles *P, long i)
-{
-    const double fx = (P->x[i] - g->x0) * g->inv_size, fy = (P->y[i] - g->y0) * g->inv_size;
-    const double fz = D == 3 ? (P->z[i] - g->z0) * g->inv_size : 1.0;
-    const int nx = g->nx, ny = g->ny, nz = g->nz;
-    /* the comparisons are false for NaN: a non-finite particle is lost, never indexed */
-    if (P->type[i] != SPH_LOST && fx >= 1.0 && fx < nx - 1.0 && fy >= 1.0 && fy < ny - 1.0 &&
-        (D == 2 || (fz >= 1.0 && fz < nz - 1.0)))
-        return D == 3 ? ((int)fx * ny + (int)fy) * nz + (int)fz : (int)fx * ny + (int)fy;
-    P->type[i] = SPH_LOST;
-    return (int)g->ncells;
-}
-
 /* Each particle's cell into g->key: cell_keys2 and cell_keys3 (D a literal there). The grid is
  * copied into each thread (firstprivate), so that its constants stay in registers: the store of
  * a lost particle's type, a char, may alias anything read through g. */
@@ -105,7 +87,7 @@ static inline __attribute__((always_inline)) int cell_key(const int D, const sph
         const sph_cells grid = *g;                                                                 \
         _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(grid) if (n >= SPH_OMP_MIN)") \
         for (long i = 0; i < n; i++)                                                               \
-            key[i] = cell_key(D, &grid, P, i);                                                     \
+            key[i] = sph_cells_key(D, &grid, P, i);                                                     \
     }
 /* clang-format on */
 SPH_CELL_KEYS(2)

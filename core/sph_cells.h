@@ -13,6 +13,7 @@
 #ifndef SPH_CELLS_H
 #define SPH_CELLS_H
 
+#include "sph_hd.h"
 #include "sph_particles.h"
 
 /* The most threads the sort uses. */
@@ -85,6 +86,23 @@ static inline void sph_cells_column3(const sph_cells *g, int cx, int cy, long *j
     const long cell = sph_cells_index(g, cx, cy, 0);
     *jb = g->start[cell - 1];
     *je = g->start[cell + 2];
+}
+
+/* Particle i's cell (ncells for a lost particle, and for one outside the grid, which becomes
+ * lost). Shared by the C sort (cell_keys2, cell_keys3 in sph_cells.c)
+ * and the GPU's (core/gpu/). */
+SPH_HD static inline __attribute__((always_inline)) int
+sph_cells_key(const int D, const sph_cells *g, sph_particles *P, long i)
+{
+    const double fx = (P->x[i] - g->x0) * g->inv_size, fy = (P->y[i] - g->y0) * g->inv_size;
+    const double fz = D == 3 ? (P->z[i] - g->z0) * g->inv_size : 1.0;
+    const int nx = g->nx, ny = g->ny, nz = g->nz;
+    /* the comparisons are false for NaN: a non-finite particle is lost, never indexed */
+    if (P->type[i] != SPH_LOST && fx >= 1.0 && fx < nx - 1.0 && fy >= 1.0 && fy < ny - 1.0 &&
+        (D == 2 || (fz >= 1.0 && fz < nz - 1.0)))
+        return D == 3 ? ((int)fx * ny + (int)fy) * nz + (int)fz : (int)fx * ny + (int)fy;
+    P->type[i] = SPH_LOST;
+    return (int)g->ncells;
 }
 
 /* Sorts P by cell. Particles of type SPH_LOST, or outside the grid (they become SPH_LOST), go

@@ -25,6 +25,7 @@
 #ifndef SPH_WALL_GHOST_H
 #define SPH_WALL_GHOST_H
 
+#include "sph_hd.h"
 #include "sph_config.h"
 #include "sph_error.h"
 
@@ -73,7 +74,7 @@ long sph_wall_ghost_build(const sph_wall_ghost *w, const sph_config *c, const sp
 
 /* Puts a particle that crossed a wall back: its position mirrored into the tank and its normal
  * velocity turned inwards. x and v have w->dim components. */
-static inline void sph_wall_ghost_reflect(const sph_wall_ghost *w, double *x, double *v)
+SPH_HD static inline void sph_wall_ghost_reflect(const sph_wall_ghost *w, double *x, double *v)
 {
     for (int k = 0; k < w->nwalls; k++) {
         const sph_ghost_plane *p = &w->wall[k];

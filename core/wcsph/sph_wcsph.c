@@ -21,6 +21,7 @@
 #include "sph_mdbc.h"
 #include "sph_shapes.h"
 #include "sph_wcsph_pair.h"
+#include "sph_wcsph_particle.h"
 
 #include <math.h>
 #include <omp.h>
@@ -50,6 +51,7 @@ typedef struct fctx {
     const double *t[6]; /* SPS: the stresses / rho, the same components */
     const int *start;
     int nx, ny, nz;
+    double x0, y0, z0, inv_size; /* the grid (a gather loop finds a particle's cell) */
     const sph_kernel *k;
     sph_wcsph_pair_const pc; /* the pair physics' constants */
     double support2;         /* support radius squared [m^2] */
@@ -63,106 +65,149 @@ typedef struct acc {
     long pairs;
 } acc;
 
-/* Interactions of particle i with particles [jb, je). */
+/* What a pair loop keeps of particle i while it visits its neighbours. */
+typedef struct pair_i {
+    double x[3], v[3], rho, pr, t[6];
+    unsigned char wall; /* the walls' type: SPH_BOUNDARY (dynamic) or SPH_GHOST */
+    int b;              /* i is a wall particle */
+    int o;              /* F_BODY: i's body, -1 when i is not a body particle */
+    int f;              /* i is fluid */
+} pair_i;
+
+SPH_HD static inline __attribute__((always_inline)) void
+pair_i_load(unsigned F, const int D, const fctx *SPH_RESTRICT c, long i, pair_i *SPH_RESTRICT q)
+{
+    q->x[0] = c->x[i];
+    q->x[1] = c->y[i];
+    q->x[2] = D == 3 ? c->z[i] : 0.0;
+    q->v[0] = c->vx[i];
+    q->v[1] = c->vy[i];
+    q->v[2] = D == 3 ? c->vz[i] : 0.0;
+    q->rho = c->rho[i];
+    q->pr = c->pr[i];
+    for (int k = 0; k < 6; k++)
+        q->t[k] = 0.0;
+    if (F & F_SPS)
+        for (int k = 0; k < (D == 3 ? 6 : 3); k++)
+            q->t[k] = c->t[k][i];
+    q->wall = (F & F_GHOST) ? SPH_GHOST : SPH_BOUNDARY;
+    q->b = c->type[i] == q->wall;
+    q->o = (F & F_BODY) && c->type[i] == SPH_BODY ? c->owner[c->id[i] - c->body0] : -1;
+    q->f = c->type[i] == SPH_FLUID;
+}
+
+/* Which sides of a pair take what: skip_i, skip_j (continuity, bodies that take their
+ * pressure from the fluid), delta (whether delta-SPH acts on the pair). */
+typedef struct pair_take {
+    int skip_i, skip_j, delta;
+} pair_take;
+
+/* The pair (i, j): 0 when j is out of reach or the pair does not interact (wall-wall, one
+ * rigid body), else 1 with what it adds in *o and who takes it in *tk. The one place that
+ * decides a pair's physics, for the symmetric loops here and the gather loops (a GPU's). */
+SPH_HD static inline __attribute__((always_inline)) int
+pair_of(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT c,
+        const pair_i *SPH_RESTRICT q, long j, sph_wcsph_pair_out *SPH_RESTRICT o,
+        pair_take *SPH_RESTRICT tk)
+{
+    double d[3];
+    d[0] = q->x[0] - c->x[j];
+    d[1] = q->x[1] - c->y[j];
+    if (D == 3)
+        d[2] = q->x[2] - c->z[j];
+    const double r2 = D == 3 ? d[0] * d[0] + d[1] * d[1] + d[2] * d[2] : d[0] * d[0] + d[1] * d[1];
+    if (r2 >= c->support2)
+        return 0;
+    const int bj = c->type[j] == q->wall;
+    if (q->b & bj) /* wall-wall pairs: nothing a fluid particle feels */
+        return 0;
+    if ((F & F_BODY) && q->o >= 0 && c->type[j] == SPH_BODY &&
+        c->owner[c->id[j] - c->body0] == q->o) /* one rigid body: no force within it */
+        return 0;
+    const double r = sqrt(r2);
+    double dwdr;
+    (void)sph_kernel_eval_t(T, c->k, r, &dwdr);
+    const double fw = dwdr / (r + c->tiny); /* grad_a W_ab = fw (x_a - x_b) */
+    double dv[3];
+    dv[0] = q->v[0] - c->vx[j];
+    dv[1] = q->v[1] - c->vy[j];
+    if (D == 3)
+        dv[2] = q->v[2] - c->vz[j];
+    double tj[6] = {0};
+    if (F & F_SPS)
+        for (int k = 0; k < (D == 3 ? 6 : 3); k++)
+            tj[k] = c->t[k][j];
+    /* the viscous terms between fluid and dynamic wall particles are scaled by the case's
+     * boundary.viscosity_factor (DualSPHysics' ViscoBoundFactor); ghosts are not walls here */
+    const double vf = (!(F & F_GHOST) && (q->b | bj)) ? c->wall_visc : 1.0;
+    /* delta-SPH on fluid and ghost pairs only (a ghost's density is the hydrostatic one
+     * behind the wall, dynamic particles' is not) */
+    tk->delta = (F & F_GHOST) || ((F & F_BODY) ? q->f && c->type[j] == SPH_FLUID : !(q->b | bj));
+    sph_wcsph_pair(D, F, &c->pc, d, r2, fw, dv, q->rho, c->rho[j], q->pr, c->pr[j], vf, q->t, tj,
+                   tk->delta, o);
+    /* continuity: the same for both particles, except that the particles of a body that takes
+     * its pressure from the fluid count only solid neighbours (walls, other bodies): their
+     * density is the contact's */
+    tk->skip_i = (F & F_BODY) && q->o >= 0 && c->from_fluid[q->o] && c->type[j] == SPH_FLUID;
+    tk->skip_j = (F & F_BODY) && q->f && c->type[j] == SPH_BODY &&
+                 c->from_fluid[c->owner[c->id[j] - c->body0]];
+    return 1;
+}
+
+/* i's side of a pair, into its sums. */
+SPH_HD static inline __attribute__((always_inline)) void
+take_i(unsigned F, const int D, const sph_wcsph_pair_out *SPH_RESTRICT o, const pair_take *tk,
+       acc *SPH_RESTRICT ai)
+{
+    ai->pairs++;
+    if (!tk->skip_i)
+        ai->drho += o->dd;
+    if (F & F_SPS)
+        for (int k = 0; k < (D == 3 ? 6 : 3); k++)
+            ai->g[k] += o->ga[k];
+    if ((F & F_DELTA) && tk->delta)
+        ai->drho += o->dwa;
+    ai->a[0] += o->f[0];
+    ai->a[1] += o->f[1];
+    if (D == 3)
+        ai->a[2] += o->f[2];
+}
+
+/* Interactions of particle i with particles [jb, je), both sides (the symmetric loop). */
 static inline __attribute__((always_inline)) void interact(sph_kernel_type T, unsigned F,
                                                            const int D, const fctx *restrict c,
                                                            long i, long jb, long je,
                                                            acc *restrict ai)
 {
-    const double *restrict x = c->x, *restrict y = c->y, *restrict z = c->z, *restrict vx = c->vx,
-                           *restrict vy = c->vy, *restrict vz = c->vz, *restrict rho = c->rho,
-                           *restrict pr = c->pr;
     double *restrict ax = c->ax, *restrict ay = c->ay, *restrict az = c->az,
                      *restrict drho = c->drho;
-    const double xi = x[i], yi = y[i], zi = D == 3 ? z[i] : 0.0, vxi = vx[i], vyi = vy[i],
-                 vzi = D == 3 ? vz[i] : 0.0, rhoi = rho[i], pri = pr[i];
-    const int ng = D == 3 ? 6 : 3; /* SPS tensor components */
-    double ti[6] = {0};
-    if (F & F_SPS)
-        for (int q = 0; q < ng; q++)
-            ti[q] = c->t[q][i];
-    /* the walls: dynamic boundary particles, or ghosts */
-    const unsigned char wall = (F & F_GHOST) ? SPH_GHOST : SPH_BOUNDARY;
-    const int bi = c->type[i] == wall;
-    /* F_BODY: the body of particle i (-1: not a body particle), and whether i is fluid */
-    const int oi = (F & F_BODY) && c->type[i] == SPH_BODY ? c->owner[c->id[i] - c->body0] : -1;
-    const int fi = c->type[i] == SPH_FLUID;
-    const double support2 = c->support2;
+    pair_i q;
+    pair_i_load(F, D, c, i, &q);
     /* a local copy of the constants: nothing the loop stores can alias it */
-    const sph_wcsph_pair_const pc = c->pc;
+    fctx cl = *c;
     for (long j = jb; j < je; j++) {
-        double d[3];
-        d[0] = xi - x[j];
-        d[1] = yi - y[j];
-        if (D == 3)
-            d[2] = zi - z[j];
-        const double r2 =
-            D == 3 ? d[0] * d[0] + d[1] * d[1] + d[2] * d[2] : d[0] * d[0] + d[1] * d[1];
-        if (r2 >= support2)
-            continue;
-        const int bj = c->type[j] == wall;
-        if (bi & bj) /* wall-wall pairs: nothing a fluid particle feels */
-            continue;
-        if ((F & F_BODY) && oi >= 0 && c->type[j] == SPH_BODY &&
-            c->owner[c->id[j] - c->body0] == oi) /* one rigid body: no force within it */
-            continue;
-        ai->pairs++;
-        const double r = sqrt(r2);
-        double dwdr;
-        (void)sph_kernel_eval_t(T, c->k, r, &dwdr);
-        const double fw = dwdr / (r + c->tiny); /* grad_a W_ab = fw (x_a - x_b) */
-        double dv[3];
-        dv[0] = vxi - vx[j];
-        dv[1] = vyi - vy[j];
-        if (D == 3)
-            dv[2] = vzi - vz[j];
-        double tj[6] = {0};
-        if (F & F_SPS)
-            for (int q = 0; q < ng; q++)
-                tj[q] = c->t[q][j];
-        /* the viscous terms between fluid and dynamic wall particles are scaled by the case's
-         * boundary.viscosity_factor (DualSPHysics' ViscoBoundFactor); ghosts are not walls here */
-        const double vf = (!(F & F_GHOST) && (bi | bj)) ? c->wall_visc : 1.0;
-        /* delta-SPH on fluid and ghost pairs only (a ghost's density is the hydrostatic one
-         * behind the wall, dynamic particles' is not) */
-        const int delta =
-            (F & F_GHOST) || ((F & F_BODY) ? fi && c->type[j] == SPH_FLUID : !(bi | bj));
         sph_wcsph_pair_out o;
-        sph_wcsph_pair(D, F, &pc, d, r2, fw, dv, rhoi, rho[j], pri, pr[j], vf, ti, tj, delta, &o);
-
-        /* continuity: the same for both particles, except that the particles of a body that
-         * takes its pressure from the fluid count only solid neighbours (walls, other bodies):
-         * their density is the contact's */
-        const int skip_i = (F & F_BODY) && oi >= 0 && c->from_fluid[oi] && c->type[j] == SPH_FLUID;
-        const int skip_j = (F & F_BODY) && fi && c->type[j] == SPH_BODY &&
-                           c->from_fluid[c->owner[c->id[j] - c->body0]];
-        if (!skip_i)
-            ai->drho += o.dd;
-        if (!skip_j)
+        pair_take tk;
+        if (!pair_of(T, F, D, &cl, &q, j, &o, &tk))
+            continue;
+        take_i(F, D, &o, &tk, ai);
+        if (!tk.skip_j)
             drho[j] += o.dd;
         if (F & F_SPS)
-            for (int q = 0; q < ng; q++) {
-                ai->g[q] += o.ga[q];
-                c->g[q][j] += o.gb[q];
-            }
-        if ((F & F_DELTA) && delta) {
-            ai->drho += o.dwa;
+            for (int k = 0; k < (D == 3 ? 6 : 3); k++)
+                c->g[k][j] += o.gb[k];
+        if ((F & F_DELTA) && tk.delta)
             drho[j] -= o.dwb;
-        }
-        ai->a[0] += o.f[0];
-        ai->a[1] += o.f[1];
         ax[j] -= o.f[0];
         ay[j] -= o.f[1];
-        if (D == 3) {
-            ai->a[2] += o.f[2];
+        if (D == 3)
             az[j] -= o.f[2];
-        }
     }
 }
 
 /* Adds particle i's sums. */
-static inline __attribute__((always_inline)) void add_acc(unsigned F, const int D, const fctx *c,
-                                                          long i, const acc *a)
+SPH_HD static inline __attribute__((always_inline)) void
+add_acc(unsigned F, const int D, const fctx *c, long i, const acc *a)
 {
     c->ax[i] += a->a[0];
     c->ay[i] += a->a[1];
@@ -172,6 +217,36 @@ static inline __attribute__((always_inline)) void add_acc(unsigned F, const int 
     if (F & F_SPS)
         for (int q = 0; q < (D == 3 ? 6 : 3); q++)
             c->g[q][i] += a->g[q];
+}
+
+/* The gather form (a GPU thread's, and the C reference of it): particle i against every
+ * neighbour in the 3 x 3 (x 3) cells around its own, i's side alone; no other particle's sums
+ * are written, so the particles can run in any order at once. Adds i's sums; returns its pairs. */
+SPH_HD static inline __attribute__((always_inline)) long
+gather_one(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT c, long i)
+{
+    pair_i q;
+    pair_i_load(F, D, c, i, &q);
+    const int cx = (int)((q.x[0] - c->x0) * c->inv_size);
+    const int cy = (int)((q.x[1] - c->y0) * c->inv_size);
+    const int cz = D == 3 ? (int)((q.x[2] - c->z0) * c->inv_size) : 0;
+    const int ny = c->ny, nz = D == 3 ? c->nz : 1;
+    acc a = {0};
+    for (int ox = -1; ox <= 1; ox++)
+        for (int oy = (D == 3 ? -1 : 0); oy <= (D == 3 ? 1 : 0); oy++) {
+            /* one contiguous range: the column of 3 cells along the fastest axis */
+            const long mid =
+                D == 3 ? ((long)(cx + ox) * ny + (cy + oy)) * nz + cz : (long)(cx + ox) * ny + cy;
+            const long jb = c->start[mid - 1], je = c->start[mid + 2];
+            for (long j = jb; j < je; j++) {
+                sph_wcsph_pair_out o;
+                pair_take tk;
+                if (j != i && pair_of(T, F, D, c, &q, j, &o, &tk))
+                    take_i(F, D, &o, &tk, &a);
+            }
+        }
+    add_acc(F, D, c, i, &a);
+    return a.pairs;
 }
 
 /* The pairs of strip `strip` (the cells with cx = 1 + 2 strip and 2 + 2 strip). Returns the
@@ -299,44 +374,32 @@ SPH_STRIP_TABLE(SPH_KERNEL_GAUSSIAN)
 SPH_STRIP_TABLE(SPH_KERNEL_DOUBLE_COSINE)
 SPH_STRIP_TABLE(SPH_KERNEL_WENDLAND_C2)
 SPH_STRIP_TABLE(SPH_KERNEL_RENORMALIZED_GAUSSIAN)
+/* The gather loop's instantiations (sph_wcsph_forces_gather): one per kernel type and dimension,
+ * the options read at run time (it is the reference of the GPU's loop, not a fast path). */
+typedef long (*gather_fn)(const fctx *c, long i);
+#define SPH_GATHER_FN(T)                                                                           \
+    static long gather2_##T(const fctx *c, long i)                                                 \
+    {                                                                                              \
+        return gather_one(T, c->flags, 2, c, i);                                                   \
+    }                                                                                              \
+    static long gather3_##T(const fctx *c, long i)                                                 \
+    {                                                                                              \
+        return gather_one(T, c->flags, 3, c, i);                                                   \
+    }
+SPH_GATHER_FN(SPH_KERNEL_CUBIC_SPLINE)
+SPH_GATHER_FN(SPH_KERNEL_GAUSSIAN)
+SPH_GATHER_FN(SPH_KERNEL_DOUBLE_COSINE)
+SPH_GATHER_FN(SPH_KERNEL_WENDLAND_C2)
+SPH_GATHER_FN(SPH_KERNEL_RENORMALIZED_GAUSSIAN)
+static const gather_fn gather2_SPH_KERNEL_KOSHIZUKA = NULL, gather3_SPH_KERNEL_KOSHIZUKA = NULL;
+static const gather_fn gather2_SPH_KERNEL_SHEU_QUARTIC = NULL,
+                       gather3_SPH_KERNEL_SHEU_QUARTIC = NULL;
+
 /* the MPS weight functions are refused for WCSPH (wcsph_check): no instantiations */
 static const strip_fn strips2_SPH_KERNEL_KOSHIZUKA[F_COUNT] = {0};
 static const strip_fn strips2_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
 static const strip_fn strips3_SPH_KERNEL_KOSHIZUKA[F_COUNT] = {0};
 static const strip_fn strips3_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
-
-/* Particle i before a force evaluation: EOS, p / rho^2, SPS stresses from the previous velocity
- * gradients; its accumulators zeroed. The loops over the particles here are written once per
- * dimension, the dimension a literal there (an OpenMP loop in a function that takes D outlines
- * its body before D is known, and tests D per particle). */
-static inline __attribute__((always_inline)) void
-prepare_one(const int D, const sph_config *cfg, sph_particles *P, double smag, double blin, long i)
-{
-    const double rho = P->rho[i];
-    const double p = sph_eos_pressure(cfg, rho);
-    P->p[i] = p;
-    P->pr[i] = p / (rho * rho);
-    P->ax[i] = 0.0;
-    P->ay[i] = 0.0;
-    if (D == 3)
-        P->az[i] = 0.0;
-    P->drho[i] = 0.0;
-    if (P->gxx) {
-        /* stored as R / rho as eq. (15) uses it; boundary particles carry none */
-        double *const gs[6] = {P->gxx, P->gxy, P->gyy, P->gzz, P->gxz, P->gyz};
-        double *const ts[6] = {P->txx, P->txy, P->tyy, P->tzz, P->txz, P->tyz};
-        const int ng = D == 3 ? 6 : 3;
-        double g[6] = {0}, t[6] = {0};
-        for (int q = 0; q < ng; q++)
-            g[q] = gs[q][i];
-        if (P->type[i] == SPH_FLUID)
-            sph_wcsph_sps_stress(D, g, rho, smag, blin, t);
-        for (int q = 0; q < ng; q++) {
-            ts[q][i] = t[q];
-            gs[q][i] = 0.0;
-        }
-    }
-}
 
 static void prepare(sph_sim *s)
 {
@@ -354,27 +417,6 @@ static void prepare(sph_sim *s)
         for (long i = 0; i < n; i++)
             prepare_one(2, cfg, P, smag, blin, i);
     }
-}
-
-/* Gravity on particle i if it is fluid (g: the gravity vector), else its acceleration zeroed;
- * returns its |a|^2 (0 for the others). */
-static inline __attribute__((always_inline)) double gravity_one(const int D, const double *g,
-                                                                sph_particles *P, long i)
-{
-    if (P->type[i] == SPH_FLUID) {
-        P->ax[i] += g[0];
-        P->ay[i] += g[1];
-        double a2 = P->ax[i] * P->ax[i] + P->ay[i] * P->ay[i];
-        if (D == 3) {
-            P->az[i] += g[2];
-            a2 += P->az[i] * P->az[i];
-        }
-        return a2;
-    }
-    P->ax[i] = P->ay[i] = 0.0;
-    if (D == 3)
-        P->az[i] = 0.0;
-    return 0.0;
 }
 
 /* Gravity on the fluid particles among the first n (the others' accelerations zeroed, those of
@@ -492,7 +534,7 @@ static int add_ghosts(sph_sim *s)
     }
 }
 
-int sph_wcsph_forces(sph_sim *s)
+static int forces(sph_sim *s, int gather)
 {
     const sph_config *cfg = &s->cfg;
     sph_particles *P = &s->P;
@@ -549,6 +591,10 @@ int sph_wcsph_forces(sph_sim *s)
               .nx = s->cells.nx,
               .ny = s->cells.ny,
               .nz = s->cells.nz,
+              .x0 = s->cells.x0,
+              .y0 = s->cells.y0,
+              .z0 = s->cells.z0,
+              .inv_size = s->cells.inv_size,
               .k = &s->kernel,
               .pc = {.m = s->mass,
                      .h = s->h,
@@ -571,10 +617,21 @@ int sph_wcsph_forces(sph_sim *s)
     const int nstrips = (s->cells.nx - 2 + 1) / 2;
     const long n = s->nactive;
     long pairs = 0;
-    for (int parity = 0; parity < 2; parity++) {
+    if (gather) {
+        gather_fn gf = NULL;
+#define SPH_PICK(T) gf = D == 3 ? gather3_##T : gather2_##T
+        SPH_KERNEL_DISPATCH(s->kernel.type, SPH_PICK);
+#undef SPH_PICK
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(+ : pairs) if (n >= SPH_OMP_MIN)
+        for (long i = 0; i < n; i++)
+            pairs += gf(&c, i);
+        pairs /= 2; /* each pair was visited from both sides */
+    } else {
+        for (int parity = 0; parity < 2; parity++) {
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : pairs) if (n >= SPH_OMP_MIN)
-        for (int st = parity; st < nstrips; st += 2)
-            pairs += fn(&c, st);
+            for (int st = parity; st < nstrips; st += 2)
+                pairs += fn(&c, st);
+        }
     }
 
     /* the bodies take the force and torque their particles received */
@@ -595,4 +652,14 @@ int sph_wcsph_forces(sph_sim *s)
     }
     s->timing.active = s->nactive;
     return 0;
+}
+
+int sph_wcsph_forces(sph_sim *s)
+{
+    return forces(s, 0);
+}
+
+int sph_wcsph_forces_gather(sph_sim *s)
+{
+    return forces(s, 1);
 }

@@ -14,6 +14,11 @@
  * ghosts (or for a kernel without a pair loop, the MPS weights, which wcsph_check refuses). */
 int sph_wcsph_forces(sph_sim *s);
 
+/* The same forces by the gather loop: each particle against every neighbour, its own side alone
+ * (the GPU's scheduling; the sums run in another order, so the results agree to rounding, not
+ * bit for bit). The C reference of the GPU kernels, for tests/unit/test_wcsph_gather.c. */
+int sph_wcsph_forces_gather(sph_sim *s);
+
 /* sph_wcsph_step.c: the method's row of the table. */
 extern const sph_method_ops sph_wcsph_ops;
 

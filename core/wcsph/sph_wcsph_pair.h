@@ -130,8 +130,8 @@ sph_wcsph_pair(const int D, const unsigned F, const sph_wcsph_pair_const *SPH_RE
  * components): Yang et al. eqs. (7)-(9), Smagorinsky's eddy viscosity nut = smag |S| sqrt 2
  * (smag = (Cs dx)^2), the isotropic part after Dalrymple & Rogers 2006 (blin = 2/3 CI dx^2). */
 SPH_HD static inline __attribute__((always_inline)) void
-sph_wcsph_sps_stress(const int D, const double *SPH_RESTRICT g, double rho, double smag, double blin,
-                     double *SPH_RESTRICT t)
+sph_wcsph_sps_stress(const int D, const double *SPH_RESTRICT g, double rho, double smag,
+                     double blin, double *SPH_RESTRICT t)
 {
     if (D == 3) {
         const double dudx = g[0], sxy = g[1], dvdy = g[2], dwdz = g[3], sxz = g[4], syz = g[5];

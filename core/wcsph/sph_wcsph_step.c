@@ -20,6 +20,7 @@
  * tank (sph_wall_ghost_reflect).
  */
 #include "sph_wcsph.h"
+#include "sph_wcsph_particle.h"
 
 #include <math.h>
 #include <omp.h>
@@ -65,17 +66,6 @@ static long first_bad(const sph_particles *P, long n)
     return -1;
 }
 
-/* What the predictor and the corrector read of a sim: copied into each thread (firstprivate), so
- * that the loops hold it in registers (a store to a particle's type, a char, may alias anything
- * the loop would otherwise reload from memory). */
-typedef struct step_ctx {
-    sph_particles *P;
-    const sph_wall_ghost *ghost;
-    double lo[3], hi[3]; /* the domain */
-    double rho0;
-    int ghosts; /* free-slip ghost walls */
-} step_ctx;
-
 static step_ctx step_ctx_of(sph_sim *s)
 {
     const sph_config *c = &s->cfg;
@@ -88,51 +78,6 @@ static step_ctx step_ctx_of(sph_sim *s)
         k.hi[d] = c->domain.max[d];
     }
     return k;
-}
-
-/* The predictor of particle i: fluid moved (or lost when it leaves the domain; with ghost walls,
- * reflected back first), the density advanced. Returns 1 when its new position is not finite.
- * Written per component (z under D == 3) as the 2D loop was: a loop over arrays of component
- * pointers made the 2D integration 55% slower. The loops over the particles are written once per
- * dimension (predict2, predict3), the dimension a literal there: an OpenMP loop in a function
- * that takes D outlines its body before D is known, and tests D per particle. */
-static inline __attribute__((always_inline)) long predict_one(const int D, const step_ctx *k,
-                                                              double dt, long i)
-{
-    sph_particles *P = k->P;
-    long bad = 0;
-    if (P->type[i] == SPH_FLUID) {
-        const double ax = P->ax0[i], ay = P->ay0[i], az = D == 3 ? P->az0[i] : 0.0;
-        double x[3] = {P->x[i] + dt * (P->vx[i] + 0.5 * dt * ax),
-                       P->y[i] + dt * (P->vy[i] + 0.5 * dt * ay), 0.0};
-        double v[3] = {P->vx[i] + dt * ax, P->vy[i] + dt * ay, 0.0};
-        if (D == 3) {
-            x[2] = P->z[i] + dt * (P->vz[i] + 0.5 * dt * az);
-            v[2] = P->vz[i] + dt * az;
-        }
-        bad = !isfinite(x[0]) || !isfinite(x[1]) || (D == 3 && !isfinite(x[2]));
-        if (k->ghosts) /* a particle that crossed a free-slip wall comes back, before the domain
-                          check: a tank may fill the domain */
-            sph_wall_ghost_reflect(k->ghost, x, v);
-        if (x[0] >= k->lo[0] && x[0] <= k->hi[0] && x[1] >= k->lo[1] && x[1] <= k->hi[1] &&
-            (D == 2 || (x[2] >= k->lo[2] && x[2] <= k->hi[2]))) {
-            P->x[i] = x[0];
-            P->y[i] = x[1];
-            P->vx[i] = v[0];
-            P->vy[i] = v[1];
-            if (D == 3) {
-                P->z[i] = x[2];
-                P->vz[i] = v[2];
-            }
-        } else {
-            P->type[i] = SPH_LOST; /* frozen where it left */
-            P->vx[i] = P->vy[i] = 0.0;
-            if (D == 3)
-                P->vz[i] = 0.0;
-        }
-    }
-    P->rho[i] += dt * P->drho0[i];
-    return bad;
 }
 
 /* The predictor over the first n particles, predict2 and predict3 (D a literal there); returns
@@ -151,39 +96,6 @@ static inline __attribute__((always_inline)) long predict_one(const int D, const
 /* clang-format on */
 SPH_PREDICT_LOOP(2)
 SPH_PREDICT_LOOP(3)
-
-/* The corrector of particle i: a fluid particle's velocity, every density (walls never below
- * rho0); its speed squared and density into the running maxima and minimum. Returns 1 when one
- * is not finite. */
-static inline __attribute__((always_inline)) long correct_one(const int D, const step_ctx *k,
-                                                              double dt, long i, double *vmax2,
-                                                              double *rlo, double *rhi)
-{
-    sph_particles *P = k->P;
-    long bad = 0;
-    double rho = P->rho[i] + 0.5 * dt * (P->drho[i] - P->drho0[i]);
-    if (P->type[i] == SPH_FLUID) {
-        const double vx = P->vx[i] + 0.5 * dt * (P->ax[i] - P->ax0[i]);
-        const double vy = P->vy[i] + 0.5 * dt * (P->ay[i] - P->ay0[i]);
-        P->vx[i] = vx;
-        P->vy[i] = vy;
-        double v2 = vx * vx + vy * vy;
-        if (D == 3) {
-            const double vz = P->vz[i] + 0.5 * dt * (P->az[i] - P->az0[i]);
-            P->vz[i] = vz;
-            v2 += vz * vz;
-        }
-        *vmax2 = v2 > *vmax2 ? v2 : *vmax2;
-        bad += !isfinite(v2);
-    } else if (rho < k->rho0) {
-        rho = k->rho0; /* walls do not pull fluid in (as DualSPHysics does) */
-    }
-    P->rho[i] = rho;
-    bad += !isfinite(rho);
-    *rlo = rho < *rlo ? rho : *rlo;
-    *rhi = rho > *rhi ? rho : *rhi;
-    return bad;
-}
 
 /* The corrector over the first n particles, correct2 and correct3 (D a literal there): the largest
  * fluid speed squared, the density range and the non-finite count out. */
