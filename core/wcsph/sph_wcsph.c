@@ -183,12 +183,10 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
                      *restrict drho = c->drho;
     pair_i q;
     pair_i_load(F, D, c, i, &q);
-    /* a local copy of the constants: nothing the loop stores can alias it */
-    fctx cl = *c;
     for (long j = jb; j < je; j++) {
         sph_wcsph_pair_out o;
         pair_take tk;
-        if (!pair_of(T, F, D, &cl, &q, j, &o, &tk))
+        if (!pair_of(T, F, D, c, &q, j, &o, &tk))
             continue;
         take_i(F, D, &o, &tk, ai);
         if (!tk.skip_j)
@@ -252,8 +250,10 @@ gather_one(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT 
 /* The pairs of strip `strip` (the cells with cx = 1 + 2 strip and 2 + 2 strip). Returns the
  * pair count. */
 static inline __attribute__((always_inline)) long
-strip_generic(sph_kernel_type T, unsigned F, const int D, const fctx *c, int strip)
+strip_generic(sph_kernel_type T, unsigned F, const int D, const fctx *cp, int strip)
 {
+    /* a local copy of the constants: nothing the loops store can alias it */
+    const fctx cl = *cp, *const c = &cl;
     const int ny = c->ny, nz = c->nz;
     const int *start = c->start;
     const int cx0 = 1 + 2 * strip, cx1 = cx0 + 2 < c->nx - 1 ? cx0 + 2 : c->nx - 1;
