@@ -20,6 +20,7 @@
 #include "sph_wcsph.h"
 #include "sph_mdbc.h"
 #include "sph_shapes.h"
+#include "sph_wcsph_loop.h"
 #include "sph_wcsph_pair.h"
 #include "sph_wcsph_particle.h"
 
@@ -27,151 +28,8 @@
 #include <omp.h>
 #include <string.h>
 
-#define F_LAMINAR  SPH_WF_LAMINAR
-#define F_SPS      SPH_WF_SPS
-#define F_DELTA    SPH_WF_DELTA
-#define F_GHOST    SPH_WF_GHOST
-#define F_MONAGHAN SPH_WF_MONAGHAN
-#define F_BODY     SPH_WF_BODY
-#define F_COUNT    SPH_WF_COUNT
-
 #define SPH_SPS_CS 0.12   /* Smagorinsky constant, Yang et al. after Lo & Shao */
 #define SPH_SPS_CI 0.0066 /* isotropic part, Dalrymple & Rogers 2006 */
-
-typedef struct fctx {
-    const double *x, *y, *z, *vx, *vy, *vz, *rho, *pr;
-    const unsigned char *type;
-    const int *id;    /* creation index (F_BODY: which body a body particle belongs to) */
-    const int *owner; /* F_BODY: body of body particle id, at owner[id - body0] */
-    unsigned char from_fluid[SPH_CONFIG_MAX_BODIES]; /* F_BODY: the body's pressure from the
-                                                        fluid: its continuity skips fluid pairs */
-    long body0;                                      /* F_BODY: id of the first body particle */
-    double *ax, *ay, *az, *drho;
-    double *g[6];       /* SPS: the velocity gradients xx, xy, yy, zz, xz, yz (3D: all six) */
-    const double *t[6]; /* SPS: the stresses / rho, the same components */
-    const int *start;
-    int nx, ny, nz;
-    double x0, y0, z0, inv_size; /* the grid (a gather loop finds a particle's cell) */
-    const sph_kernel *k;
-    sph_wcsph_pair_const pc; /* the pair physics' constants */
-    double support2;         /* support radius squared [m^2] */
-    double tiny;             /* guards r = 0 [m] */
-    double wall_visc; /* factor on the viscous terms of fluid-wall pairs (dynamic walls) [-] */
-    unsigned flags;   /* the SPH_WF_ options (read at run time only with SPH_STRIPS_RUNTIME) */
-} fctx;
-
-typedef struct acc {
-    double a[3], drho, g[6];
-    long pairs;
-} acc;
-
-/* What a pair loop keeps of particle i while it visits its neighbours. */
-typedef struct pair_i {
-    double x[3], v[3], rho, pr, t[6];
-    unsigned char wall; /* the walls' type: SPH_BOUNDARY (dynamic) or SPH_GHOST */
-    int b;              /* i is a wall particle */
-    int o;              /* F_BODY: i's body, -1 when i is not a body particle */
-    int f;              /* i is fluid */
-} pair_i;
-
-SPH_HD static inline __attribute__((always_inline)) void
-pair_i_load(unsigned F, const int D, const fctx *SPH_RESTRICT c, long i, pair_i *SPH_RESTRICT q)
-{
-    q->x[0] = c->x[i];
-    q->x[1] = c->y[i];
-    q->x[2] = D == 3 ? c->z[i] : 0.0;
-    q->v[0] = c->vx[i];
-    q->v[1] = c->vy[i];
-    q->v[2] = D == 3 ? c->vz[i] : 0.0;
-    q->rho = c->rho[i];
-    q->pr = c->pr[i];
-    for (int k = 0; k < 6; k++)
-        q->t[k] = 0.0;
-    if (F & F_SPS)
-        for (int k = 0; k < (D == 3 ? 6 : 3); k++)
-            q->t[k] = c->t[k][i];
-    q->wall = (F & F_GHOST) ? SPH_GHOST : SPH_BOUNDARY;
-    q->b = c->type[i] == q->wall;
-    q->o = (F & F_BODY) && c->type[i] == SPH_BODY ? c->owner[c->id[i] - c->body0] : -1;
-    q->f = c->type[i] == SPH_FLUID;
-}
-
-/* Which sides of a pair take what: skip_i, skip_j (continuity, bodies that take their
- * pressure from the fluid), delta (whether delta-SPH acts on the pair). */
-typedef struct pair_take {
-    int skip_i, skip_j, delta;
-} pair_take;
-
-/* The pair (i, j): 0 when j is out of reach or the pair does not interact (wall-wall, one
- * rigid body), else 1 with what it adds in *o and who takes it in *tk. The one place that
- * decides a pair's physics, for the symmetric loops here and the gather loops (a GPU's). */
-SPH_HD static inline __attribute__((always_inline)) int
-pair_of(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT c,
-        const pair_i *SPH_RESTRICT q, long j, sph_wcsph_pair_out *SPH_RESTRICT o,
-        pair_take *SPH_RESTRICT tk)
-{
-    double d[3];
-    d[0] = q->x[0] - c->x[j];
-    d[1] = q->x[1] - c->y[j];
-    if (D == 3)
-        d[2] = q->x[2] - c->z[j];
-    const double r2 = D == 3 ? d[0] * d[0] + d[1] * d[1] + d[2] * d[2] : d[0] * d[0] + d[1] * d[1];
-    if (r2 >= c->support2)
-        return 0;
-    const int bj = c->type[j] == q->wall;
-    if (q->b & bj) /* wall-wall pairs: nothing a fluid particle feels */
-        return 0;
-    if ((F & F_BODY) && q->o >= 0 && c->type[j] == SPH_BODY &&
-        c->owner[c->id[j] - c->body0] == q->o) /* one rigid body: no force within it */
-        return 0;
-    const double r = sqrt(r2);
-    double dwdr;
-    (void)sph_kernel_eval_t(T, c->k, r, &dwdr);
-    const double fw = dwdr / (r + c->tiny); /* grad_a W_ab = fw (x_a - x_b) */
-    double dv[3];
-    dv[0] = q->v[0] - c->vx[j];
-    dv[1] = q->v[1] - c->vy[j];
-    if (D == 3)
-        dv[2] = q->v[2] - c->vz[j];
-    double tj[6] = {0};
-    if (F & F_SPS)
-        for (int k = 0; k < (D == 3 ? 6 : 3); k++)
-            tj[k] = c->t[k][j];
-    /* the viscous terms between fluid and dynamic wall particles are scaled by the case's
-     * boundary.viscosity_factor (DualSPHysics' ViscoBoundFactor); ghosts are not walls here */
-    const double vf = (!(F & F_GHOST) && (q->b | bj)) ? c->wall_visc : 1.0;
-    /* delta-SPH on fluid and ghost pairs only (a ghost's density is the hydrostatic one
-     * behind the wall, dynamic particles' is not) */
-    tk->delta = (F & F_GHOST) || ((F & F_BODY) ? q->f && c->type[j] == SPH_FLUID : !(q->b | bj));
-    sph_wcsph_pair(D, F, &c->pc, d, r2, fw, dv, q->rho, c->rho[j], q->pr, c->pr[j], vf, q->t, tj,
-                   tk->delta, o);
-    /* continuity: the same for both particles, except that the particles of a body that takes
-     * its pressure from the fluid count only solid neighbours (walls, other bodies): their
-     * density is the contact's */
-    tk->skip_i = (F & F_BODY) && q->o >= 0 && c->from_fluid[q->o] && c->type[j] == SPH_FLUID;
-    tk->skip_j = (F & F_BODY) && q->f && c->type[j] == SPH_BODY &&
-                 c->from_fluid[c->owner[c->id[j] - c->body0]];
-    return 1;
-}
-
-/* i's side of a pair, into its sums. */
-SPH_HD static inline __attribute__((always_inline)) void
-take_i(unsigned F, const int D, const sph_wcsph_pair_out *SPH_RESTRICT o, const pair_take *tk,
-       acc *SPH_RESTRICT ai)
-{
-    ai->pairs++;
-    if (!tk->skip_i)
-        ai->drho += o->dd;
-    if (F & F_SPS)
-        for (int k = 0; k < (D == 3 ? 6 : 3); k++)
-            ai->g[k] += o->ga[k];
-    if ((F & F_DELTA) && tk->delta)
-        ai->drho += o->dwa;
-    ai->a[0] += o->f[0];
-    ai->a[1] += o->f[1];
-    if (D == 3)
-        ai->a[2] += o->f[2];
-}
 
 /* Interactions of particle i with particles [jb, je), both sides (the symmetric loop). */
 static inline __attribute__((always_inline)) void interact(sph_kernel_type T, unsigned F,
@@ -201,50 +59,6 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
         if (D == 3)
             az[j] -= o.f[2];
     }
-}
-
-/* Adds particle i's sums. */
-SPH_HD static inline __attribute__((always_inline)) void
-add_acc(unsigned F, const int D, const fctx *c, long i, const acc *a)
-{
-    c->ax[i] += a->a[0];
-    c->ay[i] += a->a[1];
-    if (D == 3)
-        c->az[i] += a->a[2];
-    c->drho[i] += a->drho;
-    if (F & F_SPS)
-        for (int q = 0; q < (D == 3 ? 6 : 3); q++)
-            c->g[q][i] += a->g[q];
-}
-
-/* The gather form (a GPU thread's, and the C reference of it): particle i against every
- * neighbour in the 3 x 3 (x 3) cells around its own, i's side alone; no other particle's sums
- * are written, so the particles can run in any order at once. Adds i's sums; returns its pairs. */
-SPH_HD static inline __attribute__((always_inline)) long
-gather_one(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT c, long i)
-{
-    pair_i q;
-    pair_i_load(F, D, c, i, &q);
-    const int cx = (int)((q.x[0] - c->x0) * c->inv_size);
-    const int cy = (int)((q.x[1] - c->y0) * c->inv_size);
-    const int cz = D == 3 ? (int)((q.x[2] - c->z0) * c->inv_size) : 0;
-    const int ny = c->ny, nz = D == 3 ? c->nz : 1;
-    acc a = {0};
-    for (int ox = -1; ox <= 1; ox++)
-        for (int oy = (D == 3 ? -1 : 0); oy <= (D == 3 ? 1 : 0); oy++) {
-            /* one contiguous range: the column of 3 cells along the fastest axis */
-            const long mid =
-                D == 3 ? ((long)(cx + ox) * ny + (cy + oy)) * nz + cz : (long)(cx + ox) * ny + cy;
-            const long jb = c->start[mid - 1], je = c->start[mid + 2];
-            for (long j = jb; j < je; j++) {
-                sph_wcsph_pair_out o;
-                pair_take tk;
-                if (j != i && pair_of(T, F, D, c, &q, j, &o, &tk))
-                    take_i(F, D, &o, &tk, &a);
-            }
-        }
-    add_acc(F, D, c, i, &a);
-    return a.pairs;
 }
 
 /* The pairs of strip `strip` (the cells with cx = 1 + 2 strip and 2 + 2 strip). Returns the
