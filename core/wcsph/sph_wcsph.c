@@ -215,6 +215,28 @@ static const strip_fn strips2_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
 static const strip_fn strips3_SPH_KERNEL_KOSHIZUKA[F_COUNT] = {0};
 static const strip_fn strips3_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
 
+void sph_wcsph_consts_of(const sph_sim *s, sph_wcsph_consts *k)
+{
+    const sph_config *cfg = &s->cfg;
+    const double alpha =
+        cfg->visc == SPH_VISC_MONAGHAN ? sph_config_monaghan_alpha(cfg) : cfg->alpha;
+    k->flags = (cfg->visc == SPH_VISC_LAMINAR ? F_LAMINAR : 0) |
+               (cfg->visc == SPH_VISC_MONAGHAN ? F_MONAGHAN : 0) |
+               (cfg->turb == SPH_TURB_SPS ? F_SPS : 0) | (cfg->delta_sph > 0.0 ? F_DELTA : 0) |
+               (cfg->boundary == SPH_BOUNDARY_GHOST ? F_GHOST : 0) | (s->bodies.n > 0 ? F_BODY : 0);
+    k->pc.m = s->mass;
+    k->pc.h = s->h;
+    k->pc.eta2 = 0.01 * s->h * s->h;
+    k->pc.alpha_c0 = alpha * cfg->c0;
+    k->pc.mu8 = 8.0 * cfg->rho0 * cfg->nu;
+    k->pc.dcoef = 2.0 * cfg->delta_sph * s->h * cfg->c0 * s->mass;
+    k->support2 = s->kernel.support * s->kernel.support;
+    k->tiny = 1e-12 * s->h;
+    k->wall_visc = cfg->wall_viscosity;
+    k->smag = (SPH_SPS_CS * cfg->dx) * (SPH_SPS_CS * cfg->dx);
+    k->blin = 2.0 / 3.0 * SPH_SPS_CI * cfg->dx * cfg->dx;
+}
+
 static void prepare(sph_sim *s)
 {
     const sph_config *cfg = &s->cfg;
@@ -375,13 +397,9 @@ static int forces(sph_sim *s, int gather)
         sph_bodies_pressure(&s->bodies, cfg, &s->kernel, &s->cells, P, s->nactive);
         s->timing.bodies += omp_get_wtime() - tb;
     }
-    const double alpha =
-        cfg->visc == SPH_VISC_MONAGHAN ? sph_config_monaghan_alpha(cfg) : cfg->alpha;
-    const unsigned flags = (cfg->visc == SPH_VISC_LAMINAR ? F_LAMINAR : 0) |
-                           (cfg->visc == SPH_VISC_MONAGHAN ? F_MONAGHAN : 0) |
-                           (cfg->turb == SPH_TURB_SPS ? F_SPS : 0) |
-                           (cfg->delta_sph > 0.0 ? F_DELTA : 0) | (ghosts ? F_GHOST : 0) |
-                           (s->bodies.n > 0 ? F_BODY : 0);
+    sph_wcsph_consts kc;
+    sph_wcsph_consts_of(s, &kc);
+    const unsigned flags = kc.flags;
     const int D = cfg->dim;
     fctx c = {.x = P->x,
               .y = P->y,
@@ -410,15 +428,10 @@ static int forces(sph_sim *s, int gather)
               .z0 = s->cells.z0,
               .inv_size = s->cells.inv_size,
               .k = &s->kernel,
-              .pc = {.m = s->mass,
-                     .h = s->h,
-                     .eta2 = 0.01 * s->h * s->h,
-                     .alpha_c0 = alpha * cfg->c0,
-                     .mu8 = 8.0 * cfg->rho0 * cfg->nu,
-                     .dcoef = 2.0 * cfg->delta_sph * s->h * cfg->c0 * s->mass},
-              .support2 = s->kernel.support * s->kernel.support,
-              .tiny = 1e-12 * s->h,
-              .wall_visc = cfg->wall_viscosity,
+              .pc = kc.pc,
+              .support2 = kc.support2,
+              .tiny = kc.tiny,
+              .wall_visc = kc.wall_visc,
               .flags = flags};
     for (int k = 0; k < s->bodies.n; k++)
         c.from_fluid[k] = (unsigned char)s->bodies.b[k].from_fluid;

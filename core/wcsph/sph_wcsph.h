@@ -7,6 +7,7 @@
 
 #include "sph_eos.h"
 #include "sph_sim_impl.h"
+#include "sph_wcsph_pair.h"
 
 /* sph_wcsph.c: builds the ghosts of free-slip walls, sorts the particles by cell, computes p,
  * then the accelerations (gravity included, zero for boundary particles) and density rates into
@@ -18,6 +19,23 @@ int sph_wcsph_forces(sph_sim *s);
  * (the GPU's scheduling; the sums run in another order, so the results agree to rounding, not
  * bit for bit). The C reference of the GPU kernels, for tests/unit/test_wcsph_gather.c. */
 int sph_wcsph_forces_gather(sph_sim *s);
+
+/* The constants of a force evaluation: the pair physics', the options (SPH_WF_*), the support,
+ * the walls' viscosity factor and the SPS model's (Cs dx)^2 and 2/3 CI dx^2. */
+typedef struct sph_wcsph_consts {
+    sph_wcsph_pair_const pc;
+    unsigned flags;
+    double support2, tiny, wall_visc, smag, blin;
+} sph_wcsph_consts;
+void sph_wcsph_consts_of(const sph_sim *s, sph_wcsph_consts *k);
+
+/* sph_wcsph_step.c, shared by the CPU's step and the GPU's: the step's dt (at most dt_cap; a
+ * collapsed dt is a blow-up: SPH_ERR_UNSTABLE), and the checks after it (bad: particles with a
+ * non-finite velocity or density; rlo, rhi: the density range; then the lost particles). */
+int sph_wcsph_step_dt(sph_sim *s, double dt_cap, double *dt, sph_error *err);
+int sph_wcsph_predict_failed(const sph_sim *s, long step, double dt, long bad, sph_error *err);
+int sph_wcsph_step_checks(sph_sim *s, long step, double dt, long bad, double rlo, double rhi,
+                          sph_error *err);
 
 /* sph_wcsph_step.c: the method's row of the table. */
 extern const sph_method_ops sph_wcsph_ops;

@@ -186,7 +186,11 @@ gather_one(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT 
     const int cy = (int)((q.x[1] - c->y0) * c->inv_size);
     const int cz = D == 3 ? (int)((q.x[2] - c->z0) * c->inv_size) : 0;
     const int ny = c->ny, nz = D == 3 ? c->nz : 1;
-    acc a = {0};
+    acc a;
+    a.a[0] = a.a[1] = a.a[2] = a.drho = 0.0;
+    for (int k = 0; k < 6; k++)
+        a.g[k] = 0.0;
+    a.pairs = 0;
     for (int ox = -1; ox <= 1; ox++)
         for (int oy = (D == 3 ? -1 : 0); oy <= (D == 3 ? 1 : 0); oy++) {
             /* one contiguous range: the column of 3 cells along the fastest axis */

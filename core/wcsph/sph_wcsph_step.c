@@ -119,20 +119,62 @@ SPH_PREDICT_LOOP(3)
 SPH_CORRECT_LOOP(2)
 SPH_CORRECT_LOOP(3)
 
+int sph_wcsph_step_checks(sph_sim *s, long step, double dt, long bad, double rlo, double rhi,
+                          sph_error *err)
+{
+    const sph_config *c = &s->cfg;
+    sph_particles *P = &s->P;
+    const long n = s->nactive;
+    const double rho0 = c->rho0;
+    if (bad) {
+        const long i = first_bad(P, n);
+        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                             "blow-up at step %ld (t = %g s, dt = %g s): non-finite velocity or "
+                             "density (%ld particles, first: particle %d)",
+                             step, s->t, dt, bad, i >= 0 ? P->id[i] : -1);
+    }
+    if (rlo < SPH_RHO_LOW * rho0 || rhi > SPH_RHO_HIGH * rho0)
+        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                             "blow-up at step %ld (t = %g s, dt = %g s): density %s: %g kg/m^3 is "
+                             "outside [%g, %g] (rho0 = %g)",
+                             step, s->t, dt, rlo < SPH_RHO_LOW * rho0 ? "collapse" : "explosion",
+                             rlo < SPH_RHO_LOW * rho0 ? rlo : rhi, SPH_RHO_LOW * rho0,
+                             SPH_RHO_HIGH * rho0, rho0);
+    return sph_sim_check_lost(s, P->n - n, err);
+}
+
+int sph_wcsph_predict_failed(const sph_sim *s, long step, double dt, long bad, sph_error *err)
+{
+    return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                         "blow-up at step %ld (t = %g s, dt = %g s): non-finite position of %ld "
+                         "particles",
+                         step, s->t, dt, bad);
+}
+
+int sph_wcsph_step_dt(sph_sim *s, double dt_cap, double *dt, sph_error *err)
+{
+    const sph_config *c = &s->cfg;
+    const double dt_free = wcsph_dt(s);
+    if (!(dt_free >= SPH_DT_COLLAPSE * c->cfl * s->h / c->c0))
+        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
+                             "time step collapsed to %g s at step %ld (t = %g s, max acceleration "
+                             "%g m/s^2)",
+                             dt_free, s->step + 1, s->t, s->amax);
+    *dt = dt_cap < dt_free ? dt_cap : dt_free;
+    s->dt = *dt;
+    return 0;
+}
+
 static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
 {
     const sph_config *c = &s->cfg;
     sph_particles *P = &s->P;
     const double t0 = omp_get_wtime();
-    const double dt_free = wcsph_dt(s);
     const long step = s->step + 1;
-    if (!(dt_free >= SPH_DT_COLLAPSE * c->cfl * s->h / c->c0))
-        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
-                             "time step collapsed to %g s at step %ld (t = %g s, max acceleration "
-                             "%g m/s^2)",
-                             dt_free, step, s->t, s->amax);
-    const double dt = dt_cap < dt_free ? dt_cap : dt_free;
-    s->dt = dt;
+    double dt;
+    const int rc = sph_wcsph_step_dt(s, dt_cap, &dt, err);
+    if (rc)
+        return rc;
 
     /* the latest rates become the old ones */
     swap(&P->ax, &P->ax0);
@@ -146,10 +188,7 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
     const step_ctx k = step_ctx_of(s);
     long bad = c->dim == 3 ? predict3(&k, dt, n0) : predict2(&k, dt, n0);
     if (bad)
-        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
-                             "blow-up at step %ld (t = %g s, dt = %g s): non-finite position of "
-                             "%ld particles",
-                             step, s->t, dt, bad);
+        return sph_wcsph_predict_failed(s, step, dt, bad, err);
     if (s->bodies.n > 0) {
         const double tb = omp_get_wtime();
         const int out = sph_bodies_predict(&s->bodies, dt, &c->domain);
@@ -171,7 +210,6 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
     /* corrector and checks */
     const double t1 = omp_get_wtime();
     const long n = s->nactive;
-    const double rho0 = c->rho0;
     double vmax2, rlo, rhi;
     bad = c->dim == 3 ? correct3(&k, dt, n, &vmax2, &rlo, &rhi)
                       : correct2(&k, dt, n, &vmax2, &rlo, &rhi);
@@ -187,21 +225,7 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
     s->step = step;
     s->timing.integration += omp_get_wtime() - t1;
 
-    if (bad) {
-        const long i = first_bad(P, n);
-        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
-                             "blow-up at step %ld (t = %g s, dt = %g s): non-finite velocity or "
-                             "density (%ld particles, first: particle %d)",
-                             step, s->t, dt, bad, i >= 0 ? P->id[i] : -1);
-    }
-    if (rlo < SPH_RHO_LOW * rho0 || rhi > SPH_RHO_HIGH * rho0)
-        return sph_error_set(err, SPH_ERR_UNSTABLE, "",
-                             "blow-up at step %ld (t = %g s, dt = %g s): density %s: %g kg/m^3 is "
-                             "outside [%g, %g] (rho0 = %g)",
-                             step, s->t, dt, rlo < SPH_RHO_LOW * rho0 ? "collapse" : "explosion",
-                             rlo < SPH_RHO_LOW * rho0 ? rlo : rhi, SPH_RHO_LOW * rho0,
-                             SPH_RHO_HIGH * rho0, rho0);
-    return sph_sim_check_lost(s, P->n - n, err);
+    return sph_wcsph_step_checks(s, step, dt, bad, rlo, rhi, err);
 }
 
 static int wcsph_check(const sph_config *c, sph_error *err)

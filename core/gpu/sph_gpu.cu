@@ -1,0 +1,579 @@
+/*
+ * sph_gpu.cu: the WCSPH step on the GPU (sph_gpu.h says what it does). Scheduling only: every
+ * per-particle and per-pair formula is an SPH_HD function of the C build's headers. One thread
+ * per particle; the pair loop is the gather form (gather_one), so no two threads write the same
+ * particle and no atomics touch the physics; the sort by cell is CUB's stable radix sort, so a
+ * run is the same from one launch to the next.
+ */
+#include <cub/cub.cuh>
+#include <cuda_runtime.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+extern "C" {
+#include "sph_gpu.h"
+}
+#include "sph_wcsph_loop.h"
+#include "sph_wcsph_particle.h"
+
+namespace {
+
+constexpr int BS = 256; /* threads per block */
+
+/* A step's reductions, on the device. */
+struct red {
+    unsigned long long bad_p, bad_c, pairs;
+    double vmax2, amax2, rlo, rhi;
+};
+
+struct dmax {
+    __device__ double operator()(double a, double b) const { return a > b ? a : b; }
+};
+struct dmin {
+    __device__ double operator()(double a, double b) const { return a < b ? a : b; }
+};
+
+__device__ void atomic_max_d(double *a, double v)
+{
+    unsigned long long *p = reinterpret_cast<unsigned long long *>(a), old = *p;
+    while (v > __longlong_as_double((long long)old)) {
+        const unsigned long long was = old;
+        old = atomicCAS(p, was, (unsigned long long)__double_as_longlong(v));
+        if (old == was)
+            break;
+    }
+}
+
+__device__ void atomic_min_d(double *a, double v)
+{
+    unsigned long long *p = reinterpret_cast<unsigned long long *>(a), old = *p;
+    while (v < __longlong_as_double((long long)old)) {
+        const unsigned long long was = old;
+        old = atomicCAS(p, was, (unsigned long long)__double_as_longlong(v));
+        if (old == was)
+            break;
+    }
+}
+
+typedef cub::BlockReduce<double, BS> reduce_d;
+typedef cub::BlockReduce<unsigned long long, BS> reduce_u;
+
+__global__ void k_reset(red *r)
+{
+    r->bad_p = r->bad_c = r->pairs = 0;
+    r->vmax2 = r->amax2 = 0.0;
+    r->rlo = INFINITY;
+    r->rhi = -INFINITY;
+}
+
+template <int D>
+__global__ void k_predict(sph_particles P, step_ctx k, double dt, long n, red *r)
+{
+    __shared__ typename reduce_u::TempStorage tmp;
+    const long i = (long)blockIdx.x * BS + threadIdx.x;
+    k.P = &P;
+    unsigned long long bad = 0;
+    if (i < n)
+        bad = (unsigned long long)predict_one(D, &k, dt, i);
+    const unsigned long long b = reduce_u(tmp).Sum(bad);
+    if (threadIdx.x == 0 && b)
+        atomicAdd(&r->bad_p, b);
+}
+
+template <int D> __global__ void k_keys(sph_particles P, sph_cells grid, int *key, int *idx, long n)
+{
+    const long i = (long)blockIdx.x * BS + threadIdx.x;
+    if (i < n) {
+        key[i] = sph_cells_key(D, &grid, &P, i);
+        idx[i] = (int)i;
+    }
+}
+
+template <typename T> __global__ void k_permute(const T *src, T *dst, const int *perm, long n)
+{
+    const long i = (long)blockIdx.x * BS + threadIdx.x;
+    if (i < n)
+        dst[i] = src[perm[i]];
+}
+
+/* start[c] = the first sorted particle of a cell >= c, for c in [0, ncells + 1]: each particle
+ * fills the starts of the cells from the one after its predecessor's up to its own. */
+__global__ void k_starts(const int *key, int *start, long n, long ncells)
+{
+    const long k = (long)blockIdx.x * BS + threadIdx.x;
+    if (k > n)
+        return;
+    const long cur = k < n ? key[k] : ncells + 1;
+    const long prev = k > 0 ? key[k - 1] : -1;
+    for (long c = prev + 1; c <= cur; c++)
+        start[c] = (int)k;
+}
+
+template <int D>
+__global__ void k_prepare(const sph_config *cfg, sph_particles P, double smag, double blin, long n)
+{
+    const long i = (long)blockIdx.x * BS + threadIdx.x;
+    if (i < n)
+        prepare_one(D, cfg, &P, smag, blin, i);
+}
+
+template <sph_kernel_type T, int D> __global__ void k_forces(fctx c, long n, red *r)
+{
+    __shared__ typename reduce_u::TempStorage tmp;
+    const long i = (long)blockIdx.x * BS + threadIdx.x;
+    unsigned long long pairs = 0;
+    if (i < n)
+        pairs = (unsigned long long)gather_one(T, c.flags, D, &c, i);
+    const unsigned long long s = reduce_u(tmp).Sum(pairs);
+    if (threadIdx.x == 0)
+        atomicAdd(&r->pairs, s);
+}
+
+template <int D> __global__ void k_gravity(sph_particles P, double gx, double gy, double gz,
+                                           long nactive, long n, red *r)
+{
+    __shared__ typename reduce_d::TempStorage tmp;
+    const long i = (long)blockIdx.x * BS + threadIdx.x;
+    const double g[3] = {gx, gy, gz};
+    double a2 = 0.0;
+    if (i < nactive) {
+        a2 = gravity_one(D, g, &P, i);
+    } else if (i < n) { /* as the C loop: the lost particles' rates zeroed */
+        P.ax[i] = P.ay[i] = P.drho[i] = 0.0;
+        if (D == 3)
+            P.az[i] = 0.0;
+    }
+    const double m = reduce_d(tmp).Reduce(a2, dmax());
+    if (threadIdx.x == 0)
+        atomic_max_d(&r->amax2, m);
+}
+
+template <int D> __global__ void k_correct(sph_particles P, step_ctx k, double dt, long n, red *r)
+{
+    __shared__ typename reduce_d::TempStorage tmp;
+    __shared__ typename reduce_u::TempStorage tmpu;
+    const long i = (long)blockIdx.x * BS + threadIdx.x;
+    k.P = &P;
+    double vmax2 = 0.0, rlo = INFINITY, rhi = -INFINITY;
+    unsigned long long bad = 0;
+    if (i < n)
+        bad = (unsigned long long)correct_one(D, &k, dt, i, &vmax2, &rlo, &rhi);
+    const double m = reduce_d(tmp).Reduce(vmax2, dmax());
+    __syncthreads();
+    const double lo = reduce_d(tmp).Reduce(rlo, dmin());
+    __syncthreads();
+    const double hi = reduce_d(tmp).Reduce(rhi, dmax());
+    const unsigned long long b = reduce_u(tmpu).Sum(bad);
+    if (threadIdx.x == 0) {
+        atomic_max_d(&r->vmax2, m);
+        atomic_min_d(&r->rlo, lo);
+        atomic_max_d(&r->rhi, hi);
+        if (b)
+            atomicAdd(&r->bad_c, b);
+    }
+}
+
+unsigned blocks(long n)
+{
+    return (unsigned)((n + BS - 1) / BS);
+}
+
+} // namespace
+
+#define SPH_GPU_NARRAYS 29
+
+struct sph_gpu {
+    sph_gpu_setup su;
+    int dim;
+    long n, nactive;
+    sph_particles P;            /* device arrays */
+    double *scratch;            /* n doubles: the permutation's target */
+    unsigned char *scratch_u8;  /* n */
+    int *scratch_i;             /* n */
+    sph_config *cfg;            /* device copies */
+    sph_kernel *kern;
+    int *key, *key_sorted, *idx, *perm, *start;
+    void *cub_tmp;
+    size_t cub_bytes;
+    int key_bits;
+    red *r;
+    red *r_host; /* pinned */
+    cudaStream_t st;
+    cudaEvent_t ev[5];
+    double bytes;
+};
+
+/* The double arrays of P, in one fixed order, NULL where P has none (the host's and the device's
+ * are the same set). */
+static int double_arrays(sph_particles *P, double ***out)
+{
+    double **const all[SPH_GPU_NARRAYS] = {
+        &P->x,    &P->y,   &P->z,   &P->vx,  &P->vy,  &P->vz,  &P->rho, &P->p,  &P->pr,  &P->ax,
+        &P->ay,   &P->az,  &P->drho, &P->ax0, &P->ay0, &P->az0, &P->drho0, &P->gxx, &P->gxy,
+        &P->gyy,  &P->gzz, &P->gxz, &P->gyz, &P->txx, &P->txy, &P->tyy, &P->tzz, &P->txz, &P->tyz};
+    int k = 0;
+    for (int a = 0; a < SPH_GPU_NARRAYS; a++)
+        out[k++] = all[a];
+    return k;
+}
+
+static int fail(sph_error *err, sph_error_code code, const char *what, cudaError_t e)
+{
+    sph_error_set(err, code, "", "GPU: %s: %s", what, cudaGetErrorString(e));
+    return -1;
+}
+
+#define CK(call, what)                                                                             \
+    do {                                                                                           \
+        cudaError_t e_ = (call);                                                                   \
+        if (e_ != cudaSuccess)                                                                     \
+            return fail(err, e_ == cudaErrorMemoryAllocation ? SPH_ERR_NOMEM : SPH_ERR_IO, what,  \
+                        e_);                                                                       \
+    } while (0)
+
+extern "C" int sph_gpu_count(void)
+{
+    int n = 0;
+    if (cudaGetDeviceCount(&n) != cudaSuccess)
+        return 0;
+    return n;
+}
+
+extern "C" int sph_gpu_describe(int k, char *name, size_t len, double *bytes)
+{
+    cudaDeviceProp p;
+    if (cudaGetDeviceProperties(&p, k) != cudaSuccess)
+        return -1;
+    if (name && len)
+        snprintf(name, len, "%s", p.name);
+    if (bytes)
+        *bytes = (double)p.totalGlobalMem;
+    return 0;
+}
+
+static int alloc_arrays(sph_gpu *g, const sph_particles *H, sph_error *err)
+{
+    const size_t n = (size_t)g->n;
+    sph_particles *P = &g->P;
+    memset(P, 0, sizeof *P);
+    P->n = g->n;
+    P->cap = g->n;
+    P->dim = g->dim;
+    sph_particles hc = *H;
+    double **hd[SPH_GPU_NARRAYS], **dd[SPH_GPU_NARRAYS];
+    double_arrays(&hc, hd);
+    double_arrays(P, dd);
+    for (int a = 0; a < SPH_GPU_NARRAYS; a++)
+        if (*hd[a]) {
+            CK(cudaMalloc((void **)dd[a], n * sizeof(double)), "allocating the particles");
+            g->bytes += (double)(n * sizeof(double));
+        }
+    CK(cudaMalloc((void **)&P->type, n), "allocating the particles");
+    CK(cudaMalloc((void **)&P->id, n * sizeof(int)), "allocating the particles");
+    CK(cudaMalloc((void **)&g->scratch, n * sizeof(double)), "allocating the sort");
+    CK(cudaMalloc((void **)&g->scratch_u8, n), "allocating the sort");
+    CK(cudaMalloc((void **)&g->scratch_i, n * sizeof(int)), "allocating the sort");
+    CK(cudaMalloc((void **)&g->key, n * sizeof(int)), "allocating the sort");
+    CK(cudaMalloc((void **)&g->key_sorted, n * sizeof(int)), "allocating the sort");
+    CK(cudaMalloc((void **)&g->idx, n * sizeof(int)), "allocating the sort");
+    CK(cudaMalloc((void **)&g->perm, n * sizeof(int)), "allocating the sort");
+    const long ncells = g->su.grid.ncells;
+    CK(cudaMalloc((void **)&g->start, (size_t)(ncells + 2) * sizeof(int)), "allocating the cells");
+    g->bytes += (double)(n * (1 + sizeof(int) + sizeof(double) + 1 + 5 * sizeof(int))) +
+                (double)(ncells + 2) * sizeof(int);
+    g->key_bits = 1;
+    while ((1L << g->key_bits) <= ncells)
+        g->key_bits++;
+    CK(cub::DeviceRadixSort::SortPairs(nullptr, g->cub_bytes, g->key, g->key_sorted, g->idx,
+                                       g->perm, (int)g->n, 0, g->key_bits, g->st),
+       "sizing the sort");
+    CK(cudaMalloc(&g->cub_tmp, g->cub_bytes ? g->cub_bytes : 1), "allocating the sort");
+    g->bytes += (double)g->cub_bytes;
+    CK(cudaMalloc((void **)&g->cfg, sizeof(sph_config)), "allocating the setup");
+    CK(cudaMalloc((void **)&g->kern, sizeof(sph_kernel)), "allocating the setup");
+    CK(cudaMalloc((void **)&g->r, sizeof(red)), "allocating the setup");
+    CK(cudaMallocHost((void **)&g->r_host, sizeof(red)), "allocating the setup");
+    return 0;
+}
+
+/* Host P -> device (to_device) or back, every array P has. */
+static int copy_all(sph_gpu *g, sph_particles *H, int to_device, sph_error *err)
+{
+    const size_t n = (size_t)g->n;
+    double **hd[SPH_GPU_NARRAYS], **dd[SPH_GPU_NARRAYS];
+    double_arrays(H, hd);
+    double_arrays(&g->P, dd);
+    const cudaMemcpyKind kind = to_device ? cudaMemcpyHostToDevice : cudaMemcpyDeviceToHost;
+    for (int a = 0; a < SPH_GPU_NARRAYS; a++)
+        if (*hd[a] && *dd[a])
+            CK(cudaMemcpyAsync(to_device ? (void *)*dd[a] : (void *)*hd[a],
+                               to_device ? (const void *)*hd[a] : (const void *)*dd[a],
+                               n * sizeof(double), kind, g->st),
+               "copying the particles");
+    CK(cudaMemcpyAsync(to_device ? (void *)g->P.type : (void *)H->type,
+                       to_device ? (const void *)H->type : (const void *)g->P.type, n, kind,
+                       g->st),
+       "copying the particles");
+    CK(cudaMemcpyAsync(to_device ? (void *)g->P.id : (void *)H->id,
+                       to_device ? (const void *)H->id : (const void *)g->P.id, n * sizeof(int),
+                       kind, g->st),
+       "copying the particles");
+    CK(cudaStreamSynchronize(g->st), "copying the particles");
+    return 0;
+}
+
+extern "C" sph_gpu *sph_gpu_create(const sph_gpu_setup *su, const sph_particles *P,
+                                   sph_error *err)
+{
+    if (sph_gpu_count() < 1) {
+        sph_error_set(err, SPH_ERR_INVALID, "/device", "no GPU is visible to this sphd");
+        return NULL;
+    }
+    sph_gpu *g = (sph_gpu *)calloc(1, sizeof *g);
+    if (!g) {
+        sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the GPU's state");
+        return NULL;
+    }
+    g->su = *su;
+    g->dim = su->cfg.dim;
+    g->n = P->n;
+    g->nactive = P->n;
+    sph_particles hc = *P;
+    int ok = cudaStreamCreateWithFlags(&g->st, cudaStreamNonBlocking) == cudaSuccess;
+    for (int k = 0; k < 5 && ok; k++)
+        ok = cudaEventCreate(&g->ev[k]) == cudaSuccess;
+    if (!ok) {
+        sph_error_set(err, SPH_ERR_IO, "", "GPU: cannot create a stream");
+        free(g);
+        return NULL;
+    }
+    if (alloc_arrays(g, P, err) || copy_all(g, &hc, 1, err) ||
+        cudaMemcpy(g->cfg, &su->cfg, sizeof(sph_config), cudaMemcpyHostToDevice) != cudaSuccess ||
+        cudaMemcpy(g->kern, &su->kernel, sizeof(sph_kernel), cudaMemcpyHostToDevice) !=
+            cudaSuccess) {
+        if (err && err->code == SPH_OK)
+            sph_error_set(err, SPH_ERR_IO, "", "GPU: cannot copy the set-up");
+        sph_gpu_destroy(g);
+        return NULL;
+    }
+    return g;
+}
+
+/* *a reordered by the sort's permutation through *scratch, the two swapped. */
+template <typename T> static void permute(sph_gpu *g, T **a, T **scratch)
+{
+    k_permute<T><<<blocks(g->n), BS, 0, g->st>>>(*a, *scratch, g->perm, g->n);
+    T *t = *a;
+    *a = *scratch;
+    *scratch = t;
+}
+
+static fctx fctx_of(const sph_gpu *g)
+{
+    const sph_particles *P = &g->P;
+    fctx c;
+    memset(&c, 0, sizeof c);
+    c.x = P->x;
+    c.y = P->y;
+    c.z = P->z;
+    c.vx = P->vx;
+    c.vy = P->vy;
+    c.vz = P->vz;
+    c.rho = P->rho;
+    c.pr = P->pr;
+    c.type = P->type;
+    c.id = P->id;
+    c.ax = P->ax;
+    c.ay = P->ay;
+    c.az = P->az;
+    c.drho = P->drho;
+    double *const gs[6] = {P->gxx, P->gxy, P->gyy, P->gzz, P->gxz, P->gyz};
+    const double *const ts[6] = {P->txx, P->txy, P->tyy, P->tzz, P->txz, P->tyz};
+    for (int q = 0; q < 6; q++) {
+        c.g[q] = gs[q];
+        c.t[q] = ts[q];
+    }
+    c.start = g->start;
+    c.nx = g->su.grid.nx;
+    c.ny = g->su.grid.ny;
+    c.nz = g->su.grid.nz;
+    c.x0 = g->su.grid.x0;
+    c.y0 = g->su.grid.y0;
+    c.z0 = g->su.grid.z0;
+    c.inv_size = g->su.grid.inv_size;
+    c.k = g->kern;
+    c.pc = g->su.pc;
+    c.support2 = g->su.support2;
+    c.tiny = g->su.tiny;
+    c.wall_visc = g->su.wall_visc;
+    c.flags = g->su.flags;
+    return c;
+}
+
+template <int D> static void launch_forces(sph_gpu *g, long n)
+{
+    const fctx c = fctx_of(g);
+    switch (g->su.kernel.type) {
+    case SPH_KERNEL_CUBIC_SPLINE:
+        k_forces<SPH_KERNEL_CUBIC_SPLINE, D><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        break;
+    case SPH_KERNEL_GAUSSIAN:
+        k_forces<SPH_KERNEL_GAUSSIAN, D><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        break;
+    case SPH_KERNEL_DOUBLE_COSINE:
+        k_forces<SPH_KERNEL_DOUBLE_COSINE, D><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        break;
+    case SPH_KERNEL_WENDLAND_C2:
+        k_forces<SPH_KERNEL_WENDLAND_C2, D><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        break;
+    case SPH_KERNEL_RENORMALIZED_GAUSSIAN:
+        k_forces<SPH_KERNEL_RENORMALIZED_GAUSSIAN, D><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        break;
+    default: /* the MPS weights: refused for WCSPH before a sim exists */
+        break;
+    }
+}
+
+static step_ctx step_ctx_of(const sph_gpu *g)
+{
+    step_ctx k;
+    memset(&k, 0, sizeof k);
+    k.ghost = NULL;
+    k.ghosts = 0;
+    k.rho0 = g->su.cfg.rho0;
+    for (int d = 0; d < 3; d++) {
+        k.lo[d] = g->su.cfg.domain.min[d];
+        k.hi[d] = g->su.cfg.domain.max[d];
+    }
+    return k;
+}
+
+template <int D> static int step_d(sph_gpu *g, double dt, sph_gpu_step_out *o, sph_error *err)
+{
+    sph_particles *P = &g->P;
+    const long n = g->n;
+    /* the latest rates become the old ones */
+    std::swap(P->ax, P->ax0);
+    std::swap(P->ay, P->ay0);
+    if (D == 3)
+        std::swap(P->az, P->az0);
+    std::swap(P->drho, P->drho0);
+    const step_ctx k = step_ctx_of(g);
+    cudaEventRecord(g->ev[0], g->st);
+    k_reset<<<1, 1, 0, g->st>>>(g->r);
+    k_predict<D><<<blocks(g->nactive), BS, 0, g->st>>>(*P, k, dt, g->nactive, g->r);
+    cudaEventRecord(g->ev[1], g->st);
+
+    /* the sort by cell: keys, a stable radix sort, the arrays permuted, the cells' starts */
+    k_keys<D><<<blocks(n), BS, 0, g->st>>>(*P, g->su.grid, g->key, g->idx, n);
+    CK(cub::DeviceRadixSort::SortPairs(g->cub_tmp, g->cub_bytes, g->key, g->key_sorted, g->idx,
+                                       g->perm, (int)n, 0, g->key_bits, g->st),
+       "sorting by cell");
+    double **arr[SPH_GPU_NARRAYS];
+    double_arrays(P, arr);
+    for (int a = 0; a < SPH_GPU_NARRAYS; a++) {
+        double **f = arr[a];
+        /* what the step reads before it writes: state, old rates, SPS gradients */
+        const int keep = *f && f != &P->p && f != &P->pr && f != &P->ax && f != &P->ay &&
+                         f != &P->az && f != &P->drho && f != &P->txx && f != &P->txy &&
+                         f != &P->tyy && f != &P->tzz && f != &P->txz && f != &P->tyz;
+        if (keep)
+            permute<double>(g, f, &g->scratch);
+    }
+    permute<unsigned char>(g, &P->type, &g->scratch_u8);
+    permute<int>(g, &P->id, &g->scratch_i);
+    const long ncells = g->su.grid.ncells;
+    k_starts<<<blocks(n + 1), BS, 0, g->st>>>(g->key_sorted, g->start, n, ncells);
+    int nact = 0;
+    CK(cudaMemcpyAsync(&nact, g->start + ncells, sizeof nact, cudaMemcpyDeviceToHost, g->st),
+       "reading the active count");
+    CK(cudaStreamSynchronize(g->st), "sorting by cell");
+    g->nactive = nact;
+    cudaEventRecord(g->ev[2], g->st);
+
+    /* forces */
+    k_prepare<D><<<blocks(nact), BS, 0, g->st>>>(g->cfg, *P, g->su.smag, g->su.blin, nact);
+    launch_forces<D>(g, nact);
+    const double *gr = g->su.cfg.gravity;
+    k_gravity<D><<<blocks(n), BS, 0, g->st>>>(*P, gr[0], gr[1], gr[2], nact, n, g->r);
+    cudaEventRecord(g->ev[3], g->st);
+
+    /* corrector */
+    k_correct<D><<<blocks(nact), BS, 0, g->st>>>(*P, k, dt, nact, g->r);
+    cudaEventRecord(g->ev[4], g->st);
+    CK(cudaMemcpyAsync(g->r_host, g->r, sizeof(red), cudaMemcpyDeviceToHost, g->st),
+       "reading the step's figures");
+    CK(cudaStreamSynchronize(g->st), "the step");
+    CK(cudaGetLastError(), "the step's kernels");
+    const red *r = g->r_host;
+    o->nactive = nact;
+    o->bad_predict = (long)r->bad_p;
+    o->bad_correct = (long)r->bad_c;
+    o->pairs = (long)(r->pairs / 2);
+    o->vmax2 = r->vmax2;
+    o->amax2 = r->amax2;
+    o->rho_lo = r->rlo;
+    o->rho_hi = r->rhi;
+    float ms[4] = {0};
+    for (int q = 0; q < 4; q++)
+        cudaEventElapsedTime(&ms[q], g->ev[q], g->ev[q + 1]);
+    o->t_integration = 1e-3 * (ms[0] + ms[3]);
+    o->t_neighbours = 1e-3 * ms[1];
+    o->t_interactions = 1e-3 * ms[2];
+    return 0;
+}
+
+extern "C" int sph_gpu_step(sph_gpu *g, double dt, sph_gpu_step_out *o, sph_error *err)
+{
+    memset(o, 0, sizeof *o);
+    return g->dim == 3 ? step_d<3>(g, dt, o, err) : step_d<2>(g, dt, o, err);
+}
+
+extern "C" int sph_gpu_download(sph_gpu *g, sph_particles *P, sph_error *err)
+{
+    if (P->n != g->n)
+        return sph_error_set(err, SPH_ERR_INVALID, "", "GPU: %ld particles on the host, %ld here",
+                             P->n, g->n);
+    return copy_all(g, P, 0, err);
+}
+
+extern "C" double sph_gpu_bytes(const sph_gpu *g)
+{
+    return g ? g->bytes : 0.0;
+}
+
+extern "C" void sph_gpu_destroy(sph_gpu *g)
+{
+    if (!g)
+        return;
+    if (g->st)
+        cudaStreamSynchronize(g->st);
+    double **arr[SPH_GPU_NARRAYS];
+    double_arrays(&g->P, arr);
+    for (int a = 0; a < SPH_GPU_NARRAYS; a++)
+        cudaFree(*arr[a]);
+    cudaFree(g->P.type);
+    cudaFree(g->P.id);
+    cudaFree(g->scratch);
+    cudaFree(g->scratch_u8);
+    cudaFree(g->scratch_i);
+    cudaFree(g->key);
+    cudaFree(g->key_sorted);
+    cudaFree(g->idx);
+    cudaFree(g->perm);
+    cudaFree(g->start);
+    cudaFree(g->cub_tmp);
+    cudaFree(g->cfg);
+    cudaFree(g->kern);
+    cudaFree(g->r);
+    cudaFreeHost(g->r_host);
+    for (int k = 0; k < 5; k++)
+        if (g->ev[k])
+            cudaEventDestroy(g->ev[k]);
+    if (g->st)
+        cudaStreamDestroy(g->st);
+    free(g);
+}
