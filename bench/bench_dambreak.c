@@ -19,9 +19,12 @@
  * the case DualSPHysics 5.4's CPU build ran side by side on this machine at 486k particle-steps/s
  * on 2 threads (251k on 1) in 31 MiB (about 130 bytes per particle).
  *
+ * --device gpu (a build with -DSPH_CUDA=ON, on a machine with a GPU) runs every row on the GPU
+ * (dynamic walls, continuity density; the threads are the host's, which only launch): the first
+ * step, which copies the particles to the device, is not timed, and "store B/p" is the device's.
  * Usage: bench_dambreak [--steps N] [--repeats R] [--threads "1 2"] [--sizes "20000 80000 320000"]
  *                       [--walls "dynamic ghost"] [--steps3d 10]
- *                       [--sizes3d "100000 400000 1600000"] [--dsph "0.0074"]
+ *                       [--sizes3d "100000 400000 1600000"] [--dsph "0.0074"] [--device cpu]
  * An empty list ("") leaves its rows out.
  */
 #include "sph_sim.h"
@@ -161,15 +164,27 @@ typedef struct run {
     long n, nfluid;
 } run;
 
+/* --device: where the runs go (gpu: the device's bytes in the "store B/p" column) */
+static sph_device device = SPH_DEVICE_CPU;
+
 static int one(const sph_config *cfg, int threads, long steps, run *r)
 {
     omp_set_num_threads(threads);
-    const sph_config c = *cfg;
+    sph_config c = *cfg;
+    c.device = device;
+    if (device == SPH_DEVICE_GPU) /* the GPU's walls: continuity density (DBC) */
+        c.wall_density = SPH_WALL_CONTINUITY;
     sph_error err;
     const double rss0 = rss_bytes();
     sph_sim *s = sph_sim_create(&c, &err);
     if (!s) {
+        fprintf(stderr, "bench_dambreak: %s (at %s)\n", err.message, err.path);
+        return -1;
+    }
+    /* the GPU's first step copies the particles to the device: not timed */
+    if (device == SPH_DEVICE_GPU && sph_sim_step(s, 1, &err)) {
         fprintf(stderr, "bench_dambreak: %s\n", err.message);
+        sph_sim_destroy(s);
         return -1;
     }
     const double rss1 = rss_bytes();
@@ -193,7 +208,7 @@ static int one(const sph_config *cfg, int threads, long steps, run *r)
     r->t_int = (t1.interactions - t0.interactions) / (double)steps;
     r->t_integ = (t1.integration - t0.integration) / (double)steps;
     r->rss = (fmax(rss1, rss2) - rss0) / (double)r->n;
-    r->own = sph_sim_bytes(s) / (double)r->n;
+    r->own = (device == SPH_DEVICE_GPU ? sph_sim_device_bytes(s) : sph_sim_bytes(s)) / (double)r->n;
     sph_sim_destroy(s);
     return 0;
 }
@@ -252,11 +267,15 @@ int main(int argc, char **argv)
             sizes3d = argv[i + 1];
         else if (strcmp(opt, "--dsph") == 0)
             dsph = argv[i + 1];
+        else if (strcmp(opt, "--device") == 0 &&
+                 (strcmp(argv[i + 1], "cpu") == 0 || strcmp(argv[i + 1], "gpu") == 0))
+            device = strcmp(argv[i + 1], "gpu") == 0 ? SPH_DEVICE_GPU : SPH_DEVICE_CPU;
         else {
-            fprintf(stderr,
-                    "usage: %s [--steps N] [--repeats R] [--threads LIST] [--sizes LIST] "
-                    "[--walls LIST] [--steps3d N] [--sizes3d LIST] [--dsph LIST]\n",
-                    argv[0]);
+            fprintf(
+                stderr,
+                "usage: %s [--steps N] [--repeats R] [--threads LIST] [--sizes LIST] "
+                "[--walls LIST] [--steps3d N] [--sizes3d LIST] [--dsph LIST] [--device cpu|gpu]\n",
+                argv[0]);
             return 64;
         }
     }
@@ -283,6 +302,10 @@ int main(int argc, char **argv)
             if (!ghost && strcmp(wv, "dynamic") != 0) {
                 fprintf(stderr, "bench_dambreak: walls are dynamic or ghost, not %s\n", wv);
                 return 64;
+            }
+            if (ghost && device == SPH_DEVICE_GPU) {
+                printf("%8s (the GPU runs dynamic walls only)\n", wv);
+                continue;
             }
             const sph_config c = dambreak(atol(sv), ghost);
             if (rows(wv, &c, threads, steps, repeats))

@@ -20,7 +20,7 @@
  * height gauges (sph_config and sph_diag); 10: 3D (a gauge's y; the third axis's arrays);
  * 11: obstacles; 12: pressure probes (sph_config and sph_diag); 13: sph_config.diag_interval;
  * 14: sph_config.wall_density */
-#define SIM_VERSION 14u
+#define SIM_VERSION 15u /* 15: sph_config.device */
 
 typedef struct {
     char magic[8];
@@ -85,7 +85,20 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     return 0;
 }
 
+static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err);
+
 sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
+{
+    return restore(buf, len, -1, err);
+}
+
+sph_sim *sph_sim_restore_on(const void *buf, size_t len, sph_device device, sph_error *err)
+{
+    return restore(buf, len, (int)device, err);
+}
+
+/* device: the device to run on, or -1 for the saved configuration's */
+static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
 {
     sim_header h;
     if (len < sizeof h) {
@@ -100,6 +113,8 @@ sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err)
     /* a solitary wave saved before its "order" option has 0 in that slot: the first order it ran */
     if (h.cfg.initial.type == SPH_INITIAL_SOLITARY_WAVE && h.cfg.initial.param[2] == 0.0)
         h.cfg.initial.param[2] = SPH_SOL_ORDER_DEFAULT;
+    if (device >= 0) /* the state's layout is the same on every device */
+        h.cfg.device = (sph_device)device;
     /* the configuration's particles are the state's: checked before they are allocated */
     long nf = 0, nb = 0;
     if (sph_sim_check(&h.cfg, err))

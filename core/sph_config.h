@@ -45,6 +45,9 @@ typedef enum {
  * interpolated from the fluid at their mirror points (mDBC, English et al. 2021; sph_mdbc.h). */
 typedef enum { SPH_WALL_CONTINUITY = 0, SPH_WALL_MDBC, SPH_WALL_COUNT } sph_wall_density;
 
+/* The case's "device". */
+typedef enum { SPH_DEVICE_CPU = 0, SPH_DEVICE_GPU } sph_device;
+
 typedef enum { SPH_EOS_LINEAR = 0, SPH_EOS_TAIT, SPH_EOS_COUNT } sph_eos_type;
 typedef enum {
     SPH_VISC_ARTIFICIAL = 0,
@@ -181,6 +184,8 @@ typedef struct sph_config {
     /* rigid bodies of boundary particles (boundary/sph_body.h) */
     int nbodies;
     sph_body_spec bodies[SPH_CONFIG_MAX_BODIES];
+
+    sph_device device; /* where the steps run: the CPU (default) or a GPU (WCSPH only) */
 } sph_config;
 
 #define SPH_CONFIG_DEFAULT_MAX_BYTES (4.0 * 1024 * 1024 * 1024)

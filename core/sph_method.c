@@ -18,6 +18,13 @@ const sph_method_ops *sph_method_ops_of(sph_method m)
     }
 }
 
+const sph_method_ops *sph_method_ops_for(const sph_config *c)
+{
+    if (c->device == SPH_DEVICE_GPU)
+        return c->method == SPH_METHOD_WCSPH ? &sph_wcsph_gpu_ops : NULL;
+    return sph_method_ops_of(c->method);
+}
+
 int sph_sim_has_method(sph_method m)
 {
     return sph_method_ops_of(m) != NULL;

@@ -42,6 +42,12 @@ typedef struct sph_method_ops {
     int (*arrays)(const sph_sim *s, double **d, int maxd);
     /* Frees s->mstate; may be NULL. */
     void (*destroy)(sph_sim *s);
+    /* A device backend: brings the host's particles up to date with the device's (called
+     * before the host reads them: diagnostics, outputs, checkpoints, queries). Returns 0 or an
+     * error code with err set. NULL for the CPU's rows. */
+    int (*sync)(sph_sim *s, sph_error *err);
+    /* A device backend: the bytes the simulation holds on the device. NULL for the CPU's. */
+    double (*device_bytes)(const sph_sim *s);
 } sph_method_ops;
 
 /* For a method's `arrays`: copies the non-NULL arrays of all[0..nall) to d (at most maxd, in
@@ -57,5 +63,9 @@ static inline int sph_method_arrays(double *const *all, int nall, double **d, in
 
 /* The row of method m, or NULL when m is not a particle simulation of this build. */
 const sph_method_ops *sph_method_ops_of(sph_method m);
+
+/* The row that runs configuration c: its method's, on its device (NULL: no such row; WCSPH is
+ * the one method with a GPU row). */
+const sph_method_ops *sph_method_ops_for(const sph_config *c);
 
 #endif

@@ -2,6 +2,7 @@
  * sph_sim: the simulation handle (creation, stepping, observation). Method-agnostic: every
  * method-specific call goes through the method's row of the table (sph_method.h).
  */
+#include "sph_gpu.h"
 #include "sph_fill.h"
 #include "sph_initial.h"
 #include "sph_rpdf.h"
@@ -77,7 +78,7 @@ double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nbounda
     double lo[3], hi[3];
     grid_bounds(cfg, lo, hi);
     const double cells = sph_cells_count(cfg->dim, lo, hi, support_of(cfg));
-    const sph_method_ops *ops = sph_method_ops_of(cfg->method);
+    const sph_method_ops *ops = sph_method_ops_for(cfg);
     const double per = ops ? (double)ops->bytes_per_particle(cfg) : 0.0;
     double span = fmax(hi[0] - lo[0], hi[1] - lo[1]);
     if (cfg->dim == 3)
@@ -182,7 +183,10 @@ static int gauge_check(const sph_config *c, sph_error *err)
  * (sph_checkpoint.c), which no parser has seen. */
 int sph_sim_check(const sph_config *c, sph_error *err)
 {
-    const sph_method_ops *ops = sph_method_ops_of(c->method);
+    const sph_method_ops *ops = sph_method_ops_for(c);
+    if (!ops && c->device == SPH_DEVICE_GPU && sph_method_ops_of(c->method))
+        return sph_error_set(err, SPH_ERR_INVALID, "/device",
+                             "\"gpu\": the GPU runs WCSPH only; use \"device\": \"cpu\"");
     if (!ops)
         return sph_error_set(err, SPH_ERR_INVALID, "/method",
                              "method %d is not a particle method of this build", (int)c->method);
@@ -291,7 +295,7 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
         return NULL;
     }
     s->cfg = *cfg;
-    s->ops = sph_method_ops_of(cfg->method);
+    s->ops = sph_method_ops_for(cfg);
     /* MPS weights have support 2h = re (sph_kernel.h) */
     s->h = sph_kernel_is_mps(cfg->kernel.type) ? 0.5 * support_of(cfg) : cfg->h_over_dx * cfg->dx;
     s->mass = cfg->rho0 * cfg->dx * cfg->dx;
@@ -412,12 +416,19 @@ int sph_sim_advance(sph_sim *s, long max_steps, double t_until, sph_error *err)
             s->failed = 1;
             break;
         }
-        if (s->has_theory)
+        if (s->has_theory) { /* (a device backend's particles come back every step then) */
+            if (s->ops->sync && (rc = s->ops->sync(s, err)) != 0) {
+                s->failed = 1;
+                break;
+            }
             sph_envelope_add(&s->wave, s->t, fluid_ekin(s));
+        }
         if (t_until - s->t < 1e-12 * (fabs(t_until) + 1.0))
             s->t = t_until;
     }
     const double t0 = omp_get_wtime();
+    if (s->ops->sync && !rc && (rc = s->ops->sync(s, err)) != 0)
+        s->failed = 1;
     sph_diag_compute(s);
     s->timing.integration += omp_get_wtime() - t0;
     return rc;
@@ -506,4 +517,19 @@ const char *sph_particle_type_name(int type)
     default:
         return NULL;
     }
+}
+
+double sph_sim_device_bytes(const sph_sim *s)
+{
+    return s->ops->device_bytes ? s->ops->device_bytes(s) : 0.0;
+}
+
+int sph_sim_gpu_count(void)
+{
+    return sph_gpu_count();
+}
+
+int sph_sim_gpu_describe(int k, char *name, size_t len, double *bytes)
+{
+    return sph_gpu_describe(k, name, len, bytes);
 }

@@ -104,6 +104,11 @@ typedef struct sph_timing {
  * a program that skips it still works. */
 void sph_core_init(void);
 
+/* The GPUs a case may run on ("device": "gpu"): their count (0 in a build without CUDA), and
+ * the name and memory [bytes] of GPU k (returns 0, or -1 when there is no such GPU). */
+int sph_sim_gpu_count(void);
+int sph_sim_gpu_describe(int k, char *name, size_t len, double *bytes);
+
 /* 1 if this build runs method m as a particle simulation (a row of the method table). */
 int sph_sim_has_method(sph_method m);
 
@@ -139,6 +144,8 @@ void sph_sim_particles(const sph_sim *s, sph_particle_view *view);
 void sph_sim_timing(const sph_sim *s, sph_timing *timing);
 /* Resident bytes of the sim's particle and cell storage. */
 double sph_sim_bytes(const sph_sim *s);
+/* Bytes the simulation holds on its device (a GPU's; 0 on the CPU or before the first step). */
+double sph_sim_device_bytes(const sph_sim *s);
 
 /* An oscillating run against its theory (initial fields that have one, sph_initial.h): the
  * kinetic-energy envelope's decay rate and the period fitted over the peaks up to
@@ -183,6 +190,10 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err);
  * or not: runs do not depend on it). Returns NULL with SPH_ERR_IO for a state that is not one,
  * or the errors of sph_sim_create. */
 sph_sim *sph_sim_restore(const void *buf, size_t len, sph_error *err);
+
+/* The same, run on `device` whichever the state was saved on (a GPU job's state continues on the
+ * CPU and the other way round); refused as a new case on that device would be. */
+sph_sim *sph_sim_restore_on(const void *buf, size_t len, sph_device device, sph_error *err);
 
 /* Bytes sph_sim_create() would need for cfg (what max_bytes is compared with). Also reports the
  * particle counts. */

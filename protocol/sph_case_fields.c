@@ -115,19 +115,21 @@ static int parse_boxes(const json_t *arr, const char *path, int lo, const char *
 }
 
 /* "fluid": 1 to SPH_CONFIG_MAX_BOXES blocks {"box": {...}} inside the domain. */
-/* /device: "cpu", the default, or "gpu", which no build runs yet (issue 26: the GPU backend). */
+/* /device: "cpu", the default, or "gpu" (WCSPH with dynamic walls; sph_sim_check refuses it
+ * at /device in a build without CUDA or on a machine without a GPU). */
 static int parse_device(const json_t *v, const char *path, sph_config *c, sph_output_config *o,
                         sph_error *err)
 {
-    (void)c;
     (void)o;
     const char *s = json_string_value(v);
-    if (s && strcmp(s, "cpu") == 0)
+    if (s && strcmp(s, "cpu") == 0) {
+        c->device = SPH_DEVICE_CPU;
         return 0;
-    if (s && strcmp(s, "gpu") == 0)
-        return sph_error_set(err, SPH_ERR_INVALID, path,
-                             "\"gpu\": this sphd runs cases on the CPU only (its GPU backend is "
-                             "not there yet); use \"device\": \"cpu\", the default");
+    }
+    if (s && strcmp(s, "gpu") == 0) {
+        c->device = SPH_DEVICE_GPU;
+        return 0;
+    }
     return sph_error_set(err, SPH_ERR_INVALID, path, "'device' is \"cpu\" or \"gpu\", not %s",
                          s ? s : sph_json_type_name(v));
 }
@@ -179,8 +181,8 @@ const sph_case_field sph_case_fields[] = {
      .has_def = 1, .def = 2, CFG(dim),
      .doc = "dimensions: 2, or 3 (wcsph only; z is the vertical axis in 3D, y in 2D)"},
     {.path = "/device", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS, .parse = parse_device,
-     .doc = "where the case runs: \"cpu\" (the default); \"gpu\" is refused until the GPU "
-            "backend is there"},
+     .doc = "where the case runs: \"cpu\" (the default) or \"gpu\" (WCSPH with dynamic walls, "
+            "continuity density, no bodies; needs a build with CUDA and a visible GPU)"},
     {.path = "/kernel", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS, .required = SPH_CF_MPS,
      .doc = "the kernel (section 1.1) and, for wcsph, the smoothing length"},
     {.path = "/kernel/type", .type = SPH_CF_ENUM, .methods = SPH_CF_SIMS,

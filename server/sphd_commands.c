@@ -395,9 +395,19 @@ static int op_hello(sphd_request *r, json_t **result, sphd_err *e)
         ops, "methods", methods, "limits", "max_msg_size", (json_int_t)d->opts.max_msg_size,
         "threads", d->opts.threads, "max_jobs", d->opts.max_jobs, "diag_rate", d->opts.diag_rate,
         "pid", (json_int_t)getpid(), "uptime", sphd_now() - d->started_at);
-    /* the devices a case may name (/device): the CPU; GPUs once the GPU backend runs cases */
-    json_object_set_new(*result, "devices",
-                        json_pack("[{s:s, s:i}]", "device", "cpu", "threads", d->opts.threads));
+    /* the devices a case may name (/device): the CPU, and each GPU this sphd sees (a build with
+     * CUDA); jobs on one GPU share it */
+    json_t *devices = json_pack("[{s:s, s:i}]", "device", "cpu", "threads", d->opts.threads);
+    const int ngpus = sph_sim_gpu_count();
+    for (int k = 0; k < ngpus; k++) {
+        char name[256];
+        double bytes = 0.0;
+        if (sph_sim_gpu_describe(k, name, sizeof name, &bytes) == 0)
+            json_array_append_new(devices,
+                                  json_pack("{s:s, s:i, s:s, s:f}", "device", "gpu", "index", k,
+                                            "name", name, "memory_bytes", bytes));
+    }
+    json_object_set_new(*result, "devices", devices);
     /* where jobs run: here (worker threads) and, with --executor slurm, on a Slurm cluster */
     json_object_set_new(*result, "executors",
                         d->opts.executor_slurm ? json_pack("[s, s]", "local", "slurm")

@@ -340,7 +340,7 @@ extern "C" sph_gpu *sph_gpu_create(const sph_gpu_setup *su, const sph_particles 
     g->su = *su;
     g->dim = su->cfg.dim;
     g->n = P->n;
-    g->nactive = P->n;
+    g->nactive = su->nactive;
     sph_particles hc = *P;
     int ok = cudaStreamCreateWithFlags(&g->st, cudaStreamNonBlocking) == cudaSuccess;
     for (int k = 0; k < 5 && ok; k++)

@@ -38,6 +38,7 @@ typedef struct sph_gpu_setup {
     unsigned flags;          /* SPH_WF_ options (no ghosts, no bodies) */
     double support2, tiny, wall_visc;
     double smag, blin; /* SPS: (Cs dx)^2 and 2/3 CI dx^2 */
+    long nactive;      /* the particles in cells (the rest, lost, at the end) */
 } sph_gpu_setup;
 
 /* What a step found: the active count after the sort, the predictor's and corrector's non-finite

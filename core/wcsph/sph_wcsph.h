@@ -37,7 +37,8 @@ int sph_wcsph_predict_failed(const sph_sim *s, long step, double dt, long bad, s
 int sph_wcsph_step_checks(sph_sim *s, long step, double dt, long bad, double rlo, double rhi,
                           sph_error *err);
 
-/* sph_wcsph_step.c: the method's row of the table. */
+/* sph_wcsph_step.c: the method's row of the table; sph_wcsph_gpu.c: its row on a GPU. */
 extern const sph_method_ops sph_wcsph_ops;
+extern const sph_method_ops sph_wcsph_gpu_ops;
 
 #endif

@@ -5,14 +5,20 @@
 # whole: every snapshot opens with all its fields, the XDMF parses, the diagnostics file opens.
 # With 3d: the same for a 3D dam break (issue 23: a column 0.2 x 0.25 x 0.6 m at the end of the
 # 3D still-water tank, dx = 0.05 m), its diag at a fixed interval of simulated time (7 ms).
-# Usage: crash_resume.sh SPHD SOURCE_DIR [SEED [3d]]
+# With gpu: the 2D dam break on the GPU ("device": "gpu", a build with -DSPH_CUDA=ON; exit 77,
+# skipped, when no GPU is visible): checkpointed, killed and resumed like a CPU job.
+# Usage: crash_resume.sh SPHD SOURCE_DIR [SEED [3d|gpu]]
 set -eu
 sphd=$1; src=$2; seed=${3:-$RANDOM}; mode=${4:-2d}
 [ -n "$seed" ] || seed=$RANDOM
 tmp=$(mktemp -d); pid=
 trap '[ -n "$pid" ] && kill -9 $pid 2>/dev/null || true; rm -rf "$tmp"' EXIT
 PY=/usr/bin/python3
-if [ "$mode" = 3d ]; then
+if [ "$mode" = gpu ]; then
+  nvidia-smi -L >/dev/null 2>&1 || { echo "no GPU visible: skipped"; exit 77; }
+  args=(--run "$src/cases/dambreak.json" --threads 1 --set dx=0.005 --set time.end=0.3
+        --set output.every=0.03 --set 'device="gpu"')
+elif [ "$mode" = 3d ]; then
   args=(--run "$src/cases/hydrostatic3d.json" --threads 1 --set dx=0.05 --set time.end=0.3
         --set output.every=0.03 --set diagnostics.interval=0.007
         --set 'fluid=[{"box": {"min": [0, 0, 0], "max": [0.2, 0.25, 0.6]}}]')

@@ -8,6 +8,7 @@
  *   - tests/cases/ghost_still3d.json (3D, free-slip ghost walls): H = 0.5 m at dx = H/20 in a
  *     tank 0.25 x 0.25 m, 1 s, bound 2%.
  * The vertical is the last axis (y in 2D, z in 3D).
+ * SPH_TEST_DEVICE=gpu runs it on the GPU (exit 77, skipped, when the case is refused there).
  * Usage: test_hydrostatic SOURCE_DIR [CASE [PRESSURE_BOUND]]   (CASE relative to SOURCE_DIR)
  */
 #include "sph_case.h"
@@ -16,6 +17,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #define SPEED_BOUND 0.01 /* of sqrt(g H) */
 
@@ -33,6 +35,14 @@ int main(int argc, char **argv)
         return 1;
     }
     json_decref(root);
+    const char *device = getenv("SPH_TEST_DEVICE");
+    if (device && strcmp(device, "gpu") == 0) {
+        c->sim.device = SPH_DEVICE_GPU;
+        if (sph_sim_check(&c->sim, &err)) {
+            printf("skipped: %s\n", err.message);
+            return 77;
+        }
+    }
     const sph_config *cfg = &c->sim;
     sph_sim *s = sph_sim_create(cfg, &err);
     if (!s) {

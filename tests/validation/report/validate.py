@@ -44,6 +44,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+EXTRA_SETS = []  # --set items for every run (validate.py --set)
 
 
 class Context:
@@ -93,7 +94,7 @@ class Context:
         d = os.path.join(self.out, "run-%d-%s" % (len(self.runs), job))
         cmd = [self.sphd, "--run", os.path.join(self.src, case), "--out", d,
                "--threads", str(self.threads)]
-        for s in sets:
+        for s in list(sets) + EXTRA_SETS:
             cmd += ["--set", s]
         t0 = time.time()
         p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
@@ -138,7 +139,7 @@ class Context:
                 json.dump(stamp, f)
             cmd = [self.sphd, "--run", os.path.join(self.src, case), "--out", d, "--resume",
                    "--id", job, "--threads", str(self.threads)]
-            for s in sets:
+            for s in list(sets) + EXTRA_SETS:
                 cmd += ["--set", s]
             p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
             if p.returncode != 0:
@@ -254,8 +255,12 @@ def main():
     ap.add_argument("--level", choices=("full", "ci"), default="full")
     ap.add_argument("--only", action="append", help="run this case only (repeatable)")
     ap.add_argument("--threads", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--set", action="append", default=[], dest="sets",
+                    help="a --set item for every run, after the case's own (repeatable): "
+                         "device=\"gpu\" runs the report on the GPU")
     ap.add_argument("--runs", help="where the long runs live and resume (default OUT/runs)")
     args = ap.parse_args()
+    EXTRA_SETS.extend(args.sets)
     os.makedirs(args.out, exist_ok=True)
     files = sorted(glob.glob(os.path.join(HERE, "cases", "*.py")))
     names = [os.path.splitext(os.path.basename(f))[0] for f in files]
