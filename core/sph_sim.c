@@ -427,8 +427,14 @@ int sph_sim_advance(sph_sim *s, long max_steps, double t_until, sph_error *err)
             s->t = t_until;
     }
     const double t0 = omp_get_wtime();
-    if (s->ops->sync && !rc && (rc = s->ops->sync(s, err)) != 0)
-        s->failed = 1;
+    if (s->ops->sync) { /* after a failure too: the diagnostics show the state it failed in */
+        sph_error late;
+        const int src = s->ops->sync(s, rc ? &late : err);
+        if (src && !rc) {
+            rc = src;
+            s->failed = 1;
+        }
+    }
     sph_diag_compute(s);
     s->timing.integration += omp_get_wtime() - t0;
     return rc;

@@ -19,7 +19,8 @@ extern "C" {
 #include "sph_wcsph_loop.h"
 #include "sph_wcsph_particle.h"
 
-namespace {
+namespace
+{
 
 constexpr int BS = 256; /* threads per block */
 
@@ -69,8 +70,7 @@ __global__ void k_reset(red *r)
     r->rhi = -INFINITY;
 }
 
-template <int D>
-__global__ void k_predict(sph_particles P, step_ctx k, double dt, long n, red *r)
+template <int D> __global__ void k_predict(sph_particles P, step_ctx k, double dt, long n, red *r)
 {
     __shared__ typename reduce_u::TempStorage tmp;
     const long i = (long)blockIdx.x * BS + threadIdx.x;
@@ -132,8 +132,9 @@ template <sph_kernel_type T, int D> __global__ void k_forces(fctx c, long n, red
         atomicAdd(&r->pairs, s);
 }
 
-template <int D> __global__ void k_gravity(sph_particles P, double gx, double gy, double gz,
-                                           long nactive, long n, red *r)
+template <int D>
+__global__ void k_gravity(sph_particles P, double gx, double gy, double gz, long nactive, long n,
+                          red *r)
 {
     __shared__ typename reduce_d::TempStorage tmp;
     const long i = (long)blockIdx.x * BS + threadIdx.x;
@@ -189,11 +190,11 @@ struct sph_gpu {
     sph_gpu_setup su;
     int dim;
     long n, nactive;
-    sph_particles P;            /* device arrays */
-    double *scratch;            /* n doubles: the permutation's target */
-    unsigned char *scratch_u8;  /* n */
-    int *scratch_i;             /* n */
-    sph_config *cfg;            /* device copies */
+    sph_particles P;           /* device arrays */
+    double *scratch;           /* n doubles: the permutation's target */
+    unsigned char *scratch_u8; /* n */
+    int *scratch_i;            /* n */
+    sph_config *cfg;           /* device copies */
     sph_kernel *kern;
     int *key, *key_sorted, *idx, *perm, *start;
     void *cub_tmp;
@@ -211,9 +212,9 @@ struct sph_gpu {
 static int double_arrays(sph_particles *P, double ***out)
 {
     double **const all[SPH_GPU_NARRAYS] = {
-        &P->x,    &P->y,   &P->z,   &P->vx,  &P->vy,  &P->vz,  &P->rho, &P->p,  &P->pr,  &P->ax,
-        &P->ay,   &P->az,  &P->drho, &P->ax0, &P->ay0, &P->az0, &P->drho0, &P->gxx, &P->gxy,
-        &P->gyy,  &P->gzz, &P->gxz, &P->gyz, &P->txx, &P->txy, &P->tyy, &P->tzz, &P->txz, &P->tyz};
+        &P->x,   &P->y,   &P->z,    &P->vx,  &P->vy,  &P->vz,  &P->rho,   &P->p,   &P->pr,  &P->ax,
+        &P->ay,  &P->az,  &P->drho, &P->ax0, &P->ay0, &P->az0, &P->drho0, &P->gxx, &P->gxy, &P->gyy,
+        &P->gzz, &P->gxz, &P->gyz,  &P->txx, &P->txy, &P->tyy, &P->tzz,   &P->txz, &P->tyz};
     int k = 0;
     for (int a = 0; a < SPH_GPU_NARRAYS; a++)
         out[k++] = all[a];
@@ -230,7 +231,7 @@ static int fail(sph_error *err, sph_error_code code, const char *what, cudaError
     do {                                                                                           \
         cudaError_t e_ = (call);                                                                   \
         if (e_ != cudaSuccess)                                                                     \
-            return fail(err, e_ == cudaErrorMemoryAllocation ? SPH_ERR_NOMEM : SPH_ERR_IO, what,  \
+            return fail(err, e_ == cudaErrorMemoryAllocation ? SPH_ERR_NOMEM : SPH_ERR_IO, what,   \
                         e_);                                                                       \
     } while (0)
 
@@ -314,8 +315,7 @@ static int copy_all(sph_gpu *g, sph_particles *H, int to_device, sph_error *err)
                                n * sizeof(double), kind, g->st),
                "copying the particles");
     CK(cudaMemcpyAsync(to_device ? (void *)g->P.type : (void *)H->type,
-                       to_device ? (const void *)H->type : (const void *)g->P.type, n, kind,
-                       g->st),
+                       to_device ? (const void *)H->type : (const void *)g->P.type, n, kind, g->st),
        "copying the particles");
     CK(cudaMemcpyAsync(to_device ? (void *)g->P.id : (void *)H->id,
                        to_device ? (const void *)H->id : (const void *)g->P.id, n * sizeof(int),
@@ -325,8 +325,7 @@ static int copy_all(sph_gpu *g, sph_particles *H, int to_device, sph_error *err)
     return 0;
 }
 
-extern "C" sph_gpu *sph_gpu_create(const sph_gpu_setup *su, const sph_particles *P,
-                                   sph_error *err)
+extern "C" sph_gpu *sph_gpu_create(const sph_gpu_setup *su, const sph_particles *P, sph_error *err)
 {
     if (sph_gpu_count() < 1) {
         sph_error_set(err, SPH_ERR_INVALID, "/device", "no GPU is visible to this sphd");
@@ -347,13 +346,15 @@ extern "C" sph_gpu *sph_gpu_create(const sph_gpu_setup *su, const sph_particles 
         ok = cudaEventCreate(&g->ev[k]) == cudaSuccess;
     if (!ok) {
         sph_error_set(err, SPH_ERR_IO, "", "GPU: cannot create a stream");
-        free(g);
+        sph_gpu_destroy(g);
         return NULL;
     }
     if (alloc_arrays(g, P, err) || copy_all(g, &hc, 1, err) ||
         cudaMemcpy(g->cfg, &su->cfg, sizeof(sph_config), cudaMemcpyHostToDevice) != cudaSuccess ||
         cudaMemcpy(g->kern, &su->kernel, sizeof(sph_kernel), cudaMemcpyHostToDevice) !=
-            cudaSuccess) {
+            cudaSuccess ||
+        cudaDeviceSynchronize() != cudaSuccess) { /* (a pageable copy may still be in flight:
+                                                     the step's stream does not wait for it) */
         if (err && err->code == SPH_OK)
             sph_error_set(err, SPH_ERR_IO, "", "GPU: cannot copy the set-up");
         sph_gpu_destroy(g);
@@ -464,7 +465,8 @@ template <int D> static int step_d(sph_gpu *g, double dt, sph_gpu_step_out *o, s
     const step_ctx k = step_ctx_of(g);
     cudaEventRecord(g->ev[0], g->st);
     k_reset<<<1, 1, 0, g->st>>>(g->r);
-    k_predict<D><<<blocks(g->nactive), BS, 0, g->st>>>(*P, k, dt, g->nactive, g->r);
+    if (g->nactive > 0) /* (a grid of no blocks is a launch error) */
+        k_predict<D><<<blocks(g->nactive), BS, 0, g->st>>>(*P, k, dt, g->nactive, g->r);
     cudaEventRecord(g->ev[1], g->st);
 
     /* the sort by cell: keys, a stable radix sort, the arrays permuted, the cells' starts */
@@ -488,21 +490,25 @@ template <int D> static int step_d(sph_gpu *g, double dt, sph_gpu_step_out *o, s
     const long ncells = g->su.grid.ncells;
     k_starts<<<blocks(n + 1), BS, 0, g->st>>>(g->key_sorted, g->start, n, ncells);
     int nact = 0;
+    cudaEventRecord(g->ev[2], g->st);
     CK(cudaMemcpyAsync(&nact, g->start + ncells, sizeof nact, cudaMemcpyDeviceToHost, g->st),
        "reading the active count");
     CK(cudaStreamSynchronize(g->st), "sorting by cell");
     g->nactive = nact;
-    cudaEventRecord(g->ev[2], g->st);
 
     /* forces */
-    k_prepare<D><<<blocks(nact), BS, 0, g->st>>>(g->cfg, *P, g->su.smag, g->su.blin, nact);
-    launch_forces<D>(g, nact);
+    if (nact > 0) {
+        k_prepare<D><<<blocks(nact), BS, 0, g->st>>>(g->cfg, *P, g->su.smag, g->su.blin, nact);
+        launch_forces<D>(g, nact);
+    }
     const double *gr = g->su.cfg.gravity;
-    k_gravity<D><<<blocks(n), BS, 0, g->st>>>(*P, gr[0], gr[1], gr[2], nact, n, g->r);
+    if (n > 0)
+        k_gravity<D><<<blocks(n), BS, 0, g->st>>>(*P, gr[0], gr[1], gr[2], nact, n, g->r);
     cudaEventRecord(g->ev[3], g->st);
 
     /* corrector */
-    k_correct<D><<<blocks(nact), BS, 0, g->st>>>(*P, k, dt, nact, g->r);
+    if (nact > 0)
+        k_correct<D><<<blocks(nact), BS, 0, g->st>>>(*P, k, dt, nact, g->r);
     cudaEventRecord(g->ev[4], g->st);
     CK(cudaMemcpyAsync(g->r_host, g->r, sizeof(red), cudaMemcpyDeviceToHost, g->st),
        "reading the step's figures");
