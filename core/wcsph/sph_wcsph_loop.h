@@ -191,6 +191,11 @@ gather_one(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT 
     for (int k = 0; k < 6; k++)
         a.g[k] = 0.0;
     a.pairs = 0;
+    /* one pair's output for the whole loop; its SPS gradients zeroed once, as the options may be
+     * read at run time, where the compiler cannot see that pair_of writes them when taken */
+    sph_wcsph_pair_out o;
+    for (int k = 0; k < 6; k++)
+        o.ga[k] = o.gb[k] = 0.0;
     for (int ox = -1; ox <= 1; ox++)
         for (int oy = (D == 3 ? -1 : 0); oy <= (D == 3 ? 1 : 0); oy++) {
             /* one contiguous range: the column of 3 cells along the fastest axis */
@@ -198,7 +203,6 @@ gather_one(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT 
                 D == 3 ? ((long)(cx + ox) * ny + (cy + oy)) * nz + cz : (long)(cx + ox) * ny + cy;
             const long jb = c->start[mid - 1], je = c->start[mid + 2];
             for (long j = jb; j < je; j++) {
-                sph_wcsph_pair_out o;
                 pair_take tk;
                 if (j != i && pair_of(T, F, D, c, &q, j, &o, &tk))
                     take_i(F, D, &o, &tk, &a);
