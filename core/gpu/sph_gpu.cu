@@ -376,43 +376,8 @@ template <typename T> static void permute(sph_gpu *g, T **a, T **scratch)
 
 static fctx fctx_of(const sph_gpu *g)
 {
-    const sph_particles *P = &g->P;
     fctx c;
-    memset(&c, 0, sizeof c);
-    c.x = P->x;
-    c.y = P->y;
-    c.z = P->z;
-    c.vx = P->vx;
-    c.vy = P->vy;
-    c.vz = P->vz;
-    c.rho = P->rho;
-    c.pr = P->pr;
-    c.type = P->type;
-    c.id = P->id;
-    c.ax = P->ax;
-    c.ay = P->ay;
-    c.az = P->az;
-    c.drho = P->drho;
-    double *const gs[6] = {P->gxx, P->gxy, P->gyy, P->gzz, P->gxz, P->gyz};
-    const double *const ts[6] = {P->txx, P->txy, P->tyy, P->tzz, P->txz, P->tyz};
-    for (int q = 0; q < 6; q++) {
-        c.g[q] = gs[q];
-        c.t[q] = ts[q];
-    }
-    c.start = g->start;
-    c.nx = g->su.grid.nx;
-    c.ny = g->su.grid.ny;
-    c.nz = g->su.grid.nz;
-    c.x0 = g->su.grid.x0;
-    c.y0 = g->su.grid.y0;
-    c.z0 = g->su.grid.z0;
-    c.inv_size = g->su.grid.inv_size;
-    c.k = g->kern;
-    c.pc = g->su.pc;
-    c.support2 = g->su.support2;
-    c.tiny = g->su.tiny;
-    c.wall_visc = g->su.wall_visc;
-    c.flags = g->su.flags;
+    fctx_init(&c, &g->P, &g->su.grid, g->start, g->kern, &g->su.k);
     return c;
 }
 
@@ -500,7 +465,7 @@ template <int D> static int step_d(sph_gpu *g, double dt, sph_gpu_step_out *o, s
 
     /* forces */
     if (nact > 0) {
-        k_prepare<D><<<blocks(nact), BS, 0, g->st>>>(g->cfg, *P, g->su.smag, g->su.blin, nact);
+        k_prepare<D><<<blocks(nact), BS, 0, g->st>>>(g->cfg, *P, g->su.k.smag, g->su.k.blin, nact);
         launch_forces<D>(g, nact);
     }
     const double *gr = g->su.cfg.gravity;

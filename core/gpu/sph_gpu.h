@@ -19,7 +19,7 @@
 #include "sph_error.h"
 #include "sph_kernel.h"
 #include "sph_particles.h"
-#include "sph_wcsph_pair.h"
+#include "sph_wcsph_loop.h"
 
 #include <stddef.h>
 
@@ -31,14 +31,11 @@ typedef struct sph_gpu sph_gpu;
 
 /* What the device needs besides the particles: all copied at creation. */
 typedef struct sph_gpu_setup {
-    sph_config cfg;          /* EOS, gravity, domain, the options */
-    sph_kernel kernel;       /* the kernel as initialised for the run */
-    sph_cells grid;          /* the grid's shape (its arrays are not read) */
-    sph_wcsph_pair_const pc; /* the pair constants */
-    unsigned flags;          /* SPH_WF_ options (no ghosts, no bodies) */
-    double support2, tiny, wall_visc;
-    double smag, blin; /* SPS: (Cs dx)^2 and 2/3 CI dx^2 */
-    long nactive;      /* the particles in cells (the rest, lost, at the end) */
+    sph_config cfg;     /* EOS, gravity, domain, the options */
+    sph_kernel kernel;  /* the kernel as initialised for the run */
+    sph_cells grid;     /* the grid's shape (its arrays are not read) */
+    sph_wcsph_consts k; /* the force constants (no ghosts, no bodies among the options) */
+    long nactive;       /* the particles in cells (the rest, lost, at the end) */
 } sph_gpu_setup;
 
 /* What a step found: the active count after the sort, the predictor's and corrector's non-finite

@@ -237,13 +237,12 @@ void sph_wcsph_consts_of(const sph_sim *s, sph_wcsph_consts *k)
     k->blin = 2.0 / 3.0 * SPH_SPS_CI * cfg->dx * cfg->dx;
 }
 
-static void prepare(sph_sim *s)
+static void prepare(sph_sim *s, const sph_wcsph_consts *kc)
 {
     const sph_config *cfg = &s->cfg;
     sph_particles *P = &s->P;
     const long n = s->nactive;
-    const double smag = (SPH_SPS_CS * cfg->dx) * (SPH_SPS_CS * cfg->dx);
-    const double blin = 2.0 / 3.0 * SPH_SPS_CI * cfg->dx * cfg->dx;
+    const double smag = kc->smag, blin = kc->blin;
     if (cfg->dim == 3) {
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
         for (long i = 0; i < n; i++)
@@ -391,48 +390,20 @@ static int forces(sph_sim *s, int gather)
         else
             mdbc2(s, P, wet, s->nactive);
     }
-    prepare(s);
+    sph_wcsph_consts kc;
+    sph_wcsph_consts_of(s, &kc);
+    prepare(s, &kc);
     if (s->bodies.n > 0) { /* the body particles' pressure from the fluid around them */
         const double tb = omp_get_wtime();
         sph_bodies_pressure(&s->bodies, cfg, &s->kernel, &s->cells, P, s->nactive);
         s->timing.bodies += omp_get_wtime() - tb;
     }
-    sph_wcsph_consts kc;
-    sph_wcsph_consts_of(s, &kc);
     const unsigned flags = kc.flags;
     const int D = cfg->dim;
-    fctx c = {.x = P->x,
-              .y = P->y,
-              .z = P->z,
-              .vx = P->vx,
-              .vy = P->vy,
-              .vz = P->vz,
-              .rho = P->rho,
-              .pr = P->pr,
-              .type = P->type,
-              .id = P->id,
-              .owner = s->bodies.owner,
-              .body0 = s->bodies.first,
-              .ax = P->ax,
-              .ay = P->ay,
-              .az = P->az,
-              .drho = P->drho,
-              .g = {P->gxx, P->gxy, P->gyy, P->gzz, P->gxz, P->gyz},
-              .t = {P->txx, P->txy, P->tyy, P->tzz, P->txz, P->tyz},
-              .start = s->cells.start,
-              .nx = s->cells.nx,
-              .ny = s->cells.ny,
-              .nz = s->cells.nz,
-              .x0 = s->cells.x0,
-              .y0 = s->cells.y0,
-              .z0 = s->cells.z0,
-              .inv_size = s->cells.inv_size,
-              .k = &s->kernel,
-              .pc = kc.pc,
-              .support2 = kc.support2,
-              .tiny = kc.tiny,
-              .wall_visc = kc.wall_visc,
-              .flags = flags};
+    fctx c;
+    fctx_init(&c, P, &s->cells, s->cells.start, &s->kernel, &kc);
+    c.owner = s->bodies.owner;
+    c.body0 = s->bodies.first;
     for (int k = 0; k < s->bodies.n; k++)
         c.from_fluid[k] = (unsigned char)s->bodies.b[k].from_fluid;
     strip_fn fn = NULL;

@@ -7,7 +7,7 @@
 
 #include "sph_eos.h"
 #include "sph_sim_impl.h"
-#include "sph_wcsph_pair.h"
+#include "sph_wcsph_loop.h"
 
 /* sph_wcsph.c: builds the ghosts of free-slip walls, sorts the particles by cell, computes p,
  * then the accelerations (gravity included, zero for boundary particles) and density rates into
@@ -20,13 +20,6 @@ int sph_wcsph_forces(sph_sim *s);
  * bit for bit). The C reference of the GPU kernels, for tests/unit/test_wcsph_gather.c. */
 int sph_wcsph_forces_gather(sph_sim *s);
 
-/* The constants of a force evaluation: the pair physics', the options (SPH_WF_*), the support,
- * the walls' viscosity factor and the SPS model's (Cs dx)^2 and 2/3 CI dx^2. */
-typedef struct sph_wcsph_consts {
-    sph_wcsph_pair_const pc;
-    unsigned flags;
-    double support2, tiny, wall_visc, smag, blin;
-} sph_wcsph_consts;
 void sph_wcsph_consts_of(const sph_sim *s, sph_wcsph_consts *k);
 
 /* sph_wcsph_step.c, shared by the CPU's step and the GPU's: the step's dt (at most dt_cap; a

@@ -82,15 +82,7 @@ static int gpu_step(sph_sim *s, double dt_cap, sph_error *err)
     gpu_state *gs = s->mstate;
     if (!gs->g) { /* the first step: the particles (made, or restored) go to the device */
         sph_gpu_setup su = {.cfg = s->cfg, .kernel = s->kernel, .grid = s->cells};
-        sph_wcsph_consts k;
-        sph_wcsph_consts_of(s, &k);
-        su.pc = k.pc;
-        su.flags = k.flags;
-        su.support2 = k.support2;
-        su.tiny = k.tiny;
-        su.wall_visc = k.wall_visc;
-        su.smag = k.smag;
-        su.blin = k.blin;
+        sph_wcsph_consts_of(s, &su.k);
         su.nactive = s->nactive;
         if (!(gs->g = sph_gpu_create(&su, &s->P, err)))
             return err ? err->code : SPH_ERR_NOMEM;

@@ -9,6 +9,7 @@
 #ifndef SPH_WCSPH_LOOP_H
 #define SPH_WCSPH_LOOP_H
 
+#include "sph_cells.h"
 #include "sph_config.h"
 #include "sph_hd.h"
 #include "sph_kernel.h"
@@ -16,6 +17,7 @@
 #include "sph_wcsph_pair.h"
 
 #include <math.h>
+#include <string.h>
 
 #define F_LAMINAR  SPH_WF_LAMINAR
 #define F_SPS      SPH_WF_SPS
@@ -46,6 +48,57 @@ typedef struct fctx {
     double wall_visc; /* factor on the viscous terms of fluid-wall pairs (dynamic walls) [-] */
     unsigned flags;   /* the SPH_WF_ options (read at run time only with SPH_STRIPS_RUNTIME) */
 } fctx;
+
+/* The constants of a force evaluation: the pair physics', the options (SPH_WF_*), the support,
+ * the walls' viscosity factor and the SPS model's (Cs dx)^2 and 2/3 CI dx^2. */
+typedef struct sph_wcsph_consts {
+    sph_wcsph_pair_const pc;
+    unsigned flags;
+    double support2, tiny, wall_visc, smag, blin;
+} sph_wcsph_consts;
+
+/* The force context of particle arrays P (where the caller runs), the grid's shape, its cells'
+ * starts, the kernel k and the constants kc; the bodies' fields zeroed (the C loop adds them). */
+SPH_HD static inline void fctx_init(fctx *c, const sph_particles *P, const sph_cells *grid,
+                                    const int *start, const sph_kernel *k,
+                                    const sph_wcsph_consts *kc)
+{
+    memset(c, 0, sizeof *c);
+    c->x = P->x;
+    c->y = P->y;
+    c->z = P->z;
+    c->vx = P->vx;
+    c->vy = P->vy;
+    c->vz = P->vz;
+    c->rho = P->rho;
+    c->pr = P->pr;
+    c->type = P->type;
+    c->id = P->id;
+    c->ax = P->ax;
+    c->ay = P->ay;
+    c->az = P->az;
+    c->drho = P->drho;
+    double *const gs[6] = {P->gxx, P->gxy, P->gyy, P->gzz, P->gxz, P->gyz};
+    const double *const ts[6] = {P->txx, P->txy, P->tyy, P->tzz, P->txz, P->tyz};
+    for (int q = 0; q < 6; q++) {
+        c->g[q] = gs[q];
+        c->t[q] = ts[q];
+    }
+    c->start = start;
+    c->nx = grid->nx;
+    c->ny = grid->ny;
+    c->nz = grid->nz;
+    c->x0 = grid->x0;
+    c->y0 = grid->y0;
+    c->z0 = grid->z0;
+    c->inv_size = grid->inv_size;
+    c->k = k;
+    c->pc = kc->pc;
+    c->support2 = kc->support2;
+    c->tiny = kc->tiny;
+    c->wall_visc = kc->wall_visc;
+    c->flags = kc->flags;
+}
 
 typedef struct acc {
     double a[3], drho, g[6];
