@@ -26,8 +26,17 @@
  *                       [--walls "dynamic ghost"] [--steps3d 10]
  *                       [--sizes3d "100000 400000 1600000"] [--dsph "0.0074"] [--device cpu]
  * An empty list ("") leaves its rows out.
+ *
+ * "serial %": the share of the timed steps spent outside every OpenMP parallel region (set-up
+ * excluded), the part of a step that more threads cannot shorten. Measured, not listed: this
+ * program interposes libgomp's GOMP_parallel, the entry every `#pragma omp parallel` of gcc's
+ * goes through, and adds up the wall time inside it; the rest of the steps' wall time is serial.
+ * "-" where the OpenMP runtime is not libgomp (clang's libomp: the entry is never called).
  */
+#define _GNU_SOURCE /* RTLD_NEXT */
 #include "sph_sim.h"
+
+#include <dlfcn.h>
 
 #include <malloc.h>
 #include <math.h>
@@ -36,6 +45,32 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+
+/* Wall time inside parallel regions [s], and how many were entered (the master thread's count:
+ * the bench's runs are sequential and the core does not nest parallel regions). */
+static double par_time;
+static long par_regions;
+
+typedef void (*gomp_parallel_fn)(void (*)(void *), void *, unsigned, unsigned);
+
+/* libgomp's entry of `#pragma omp parallel` (gcc), timed around the real one. */
+void GOMP_parallel(void (*fn)(void *), void *data, unsigned num_threads, unsigned flags);
+void GOMP_parallel(void (*fn)(void *), void *data, unsigned num_threads, unsigned flags)
+{
+    static gomp_parallel_fn real;
+    if (!real) {
+        void *sym = dlsym(RTLD_NEXT, "GOMP_parallel");
+        if (!sym) {
+            fprintf(stderr, "bench_dambreak: libgomp's GOMP_parallel not found\n");
+            abort();
+        }
+        memcpy(&real, &sym, sizeof real); /* (object to function pointer: ISO C has no cast) */
+    }
+    const double t0 = omp_get_wtime();
+    real(fn, data, num_threads, flags);
+    par_time += omp_get_wtime() - t0;
+    par_regions++;
+}
 
 /* Resident set size of the process [bytes]. */
 static double rss_bytes(void)
@@ -159,6 +194,8 @@ typedef struct run {
     double rate;                 /* particle-steps per second (all particles) */
     double neighbours;           /* neighbours per particle */
     double t_nb, t_int, t_integ; /* per step [s] */
+    double serial;               /* share of the steps' wall time outside parallel regions, or
+                                    -1 when not measured (no libgomp) */
     double rss;                  /* resident bytes per particle */
     double own;                  /* the sim's own storage per particle */
     long n, nfluid;
@@ -190,6 +227,8 @@ static int one(const sph_config *cfg, int threads, long steps, run *r)
     const double rss1 = rss_bytes();
     sph_timing t0, t1;
     sph_sim_timing(s, &t0);
+    const double p0 = par_time;
+    const long n0 = par_regions;
     const double w0 = omp_get_wtime();
     if (sph_sim_step(s, steps, &err)) {
         fprintf(stderr, "bench_dambreak: %s\n", err.message);
@@ -197,6 +236,7 @@ static int one(const sph_config *cfg, int threads, long steps, run *r)
         return -1;
     }
     const double wall = omp_get_wtime() - w0;
+    r->serial = par_regions > n0 ? 1.0 - (par_time - p0) / wall : -1.0;
     const double rss2 = rss_bytes();
     sph_sim_timing(s, &t1);
     const sph_diag *d = sph_sim_diag(s);
@@ -233,10 +273,13 @@ static int rows(const char *label, const sph_config *c, const char *threads, lon
         qsort(rs, (size_t)repeats, sizeof rs[0], by_rate);
         const run *r = &rs[repeats / 2];
         const double ms = 1e3 / (r->rate / (double)r->n);
-        printf("%8s %8ld %8ld %7s %6.1f %10.3f %11.3f %9.3f %8.3f %8.3f %8.3f %8.0f %9.0f\n", label,
-               r->nfluid, r->n, tv, r->neighbours, r->rate / 1e6,
+        char serial[16] = "-";
+        if (r->serial >= 0.0)
+            snprintf(serial, sizeof serial, "%.2f", 100.0 * r->serial);
+        printf("%8s %8ld %8ld %7s %6.1f %10.3f %11.3f %9.3f %8.3f %8.3f %8.3f %8s %8.0f %9.0f\n",
+               label, r->nfluid, r->n, tv, r->neighbours, r->rate / 1e6,
                r->rate / 1e6 * (double)r->nfluid / (double)r->n, ms, 1e3 * r->t_nb, 1e3 * r->t_int,
-               1e3 * r->t_integ, r->rss, r->own);
+               1e3 * r->t_integ, serial, r->rss, r->own);
         fflush(stdout);
     }
     return 0;
@@ -289,9 +332,9 @@ int main(int argc, char **argv)
     printf("dam break, Wendland C2, h = 1.414 dx, alpha = 0.01, c0 = 25 m/s, %ld steps, median of "
            "%d runs\n",
            steps, repeats);
-    printf("%8s %8s %8s %7s %6s %10s %11s %9s %8s %8s %8s %8s %9s\n", "walls", "fluid", "total",
+    printf("%8s %8s %8s %7s %6s %10s %11s %9s %8s %8s %8s %8s %8s %9s\n", "walls", "fluid", "total",
            "threads", "neigh", "Mpart-st/s", "Mfluid-st/s", "ms/step", "nb ms", "inter ms",
-           "integ ms", "RSS B/p", "store B/p");
+           "integ ms", "serial %", "RSS B/p", "store B/p");
     char sz[256];
     snprintf(sz, sizeof sz, "%s", sizes);
     for (char *sp = NULL, *sv = strtok_r(sz, " ,", &sp); sv; sv = strtok_r(NULL, " ,", &sp)) {
@@ -318,9 +361,9 @@ int main(int argc, char **argv)
                "'dsph01' DualSPHysics' examples/main/01_DamBreak (cubic spline, h = 1.732 dx, "
                "alpha = 0.1, Tait, c0 = 20 sqrt(g 0.3))\n",
                steps3d, repeats);
-        printf("%8s %8s %8s %7s %6s %10s %11s %9s %8s %8s %8s %8s %9s\n", "case", "fluid", "total",
-               "threads", "neigh", "Mpart-st/s", "Mfluid-st/s", "ms/step", "nb ms", "inter ms",
-               "integ ms", "RSS B/p", "store B/p");
+        printf("%8s %8s %8s %7s %6s %10s %11s %9s %8s %8s %8s %8s %8s %9s\n", "case", "fluid",
+               "total", "threads", "neigh", "Mpart-st/s", "Mfluid-st/s", "ms/step", "nb ms",
+               "inter ms", "integ ms", "serial %", "RSS B/p", "store B/p");
     }
     snprintf(sz, sizeof sz, "%s", sizes3d);
     for (char *sp = NULL, *sv = strtok_r(sz, " ,", &sp); sv; sv = strtok_r(NULL, " ,", &sp)) {

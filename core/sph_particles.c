@@ -1,5 +1,7 @@
 #include "sph_particles.h"
 
+#include <omp.h>
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -100,6 +102,9 @@ int sph_particles_reserve(sph_particles *P, long cap)
     return 0;
 }
 
+/* Threads of sph_particles_remove's partition at most. */
+#define SPH_REMOVE_THREADS 64
+
 /* *a = old[perm]: gathered into the scratch array, which then takes the field's place. */
 static void permute_doubles(double **a, double **scratch, const long *perm, long n)
 {
@@ -128,28 +133,64 @@ void sph_particles_permute(sph_particles *P, const long *perm)
     int *restrict id = (int *)(P->scratch + (n + 7) / 8); /* n bytes, then n ints */
     unsigned char *restrict type = P->type;
     int *restrict pid = P->id;
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++) {
-        t[i] = type[perm[i]];
-        id[i] = pid[perm[i]];
+#pragma omp parallel if (n >= SPH_OMP_MIN)
+    {
+#pragma omp for schedule(dynamic, SPH_OMP_CHUNK)
+        for (long i = 0; i < n; i++) {
+            t[i] = type[perm[i]];
+            id[i] = pid[perm[i]];
+        }
+        /* (the loop's barrier: every old value read) copied back in parallel too */
+#pragma omp for schedule(static)
+        for (long i = 0; i < n; i++) {
+            type[i] = t[i];
+            pid[i] = id[i];
+        }
     }
-    memcpy(type, t, (size_t)n);
-    memcpy(pid, id, (size_t)n * sizeof *pid);
 }
 
 long sph_particles_remove(sph_particles *P, unsigned char type, long *perm)
 {
     const long n = P->n;
-    long k = 0;
-    for (long i = 0; i < n; i++)
-        if (P->type[i] != type)
-            perm[k++] = i;
-    const long kept = k;
+    const unsigned char *restrict ty = P->type;
+    /* a stable partition in parallel: each thread counts the particles its chunk keeps, then
+     * lists its chunk's kept ones after those of the chunks before it, and its removed ones
+     * after every kept one and the removed ones of the chunks before it */
+    int nt = n >= 2 * SPH_OMP_MIN ? omp_get_max_threads() : 1;
+    nt = nt < SPH_REMOVE_THREADS ? nt : SPH_REMOVE_THREADS;
+    long count[SPH_REMOVE_THREADS + 1];
+    long kept = 0;
+#pragma omp parallel num_threads(nt)
+    {
+        const int t = omp_get_thread_num(), m = omp_get_num_threads();
+        const long lo = n * t / m, hi = n * (t + 1) / m;
+        long c = 0;
+        for (long i = lo; i < hi; i++)
+            c += ty[i] != type;
+        count[t] = c;
+#pragma omp barrier
+#pragma omp single
+        {
+            long sum = 0;
+            for (int u = 0; u < m; u++) {
+                const long cu = count[u];
+                count[u] = sum;
+                sum += cu;
+            }
+            kept = sum;
+        } /* (a barrier) */
+        if (kept < n) {
+            long k = count[t], r = kept + (lo - count[t]);
+            for (long i = lo; i < hi; i++) {
+                if (ty[i] != type)
+                    perm[k++] = i;
+                else
+                    perm[r++] = i;
+            }
+        }
+    }
     if (kept == n)
         return n;
-    for (long i = 0; i < n; i++)
-        if (P->type[i] == type)
-            perm[k++] = i;
     sph_particles_permute(P, perm);
     double **r[] = {&P->ax, &P->ay, &P->drho, &P->az};
     for (size_t f = 0; f < sizeof r / sizeof r[0]; f++)

@@ -148,21 +148,23 @@ long sph_wall_ghost_build(const sph_wall_ghost *w, const sph_config *c, const sp
      * the ghosts come in the particles' order whatever the number of threads. */
     int nt = n >= 2 * SPH_OMP_MIN ? omp_get_max_threads() : 1;
     nt = nt < GHOST_THREADS ? nt : GHOST_THREADS;
-    if (nt == 1)
-        return ghosts_of(w, c, a, 0, n, n, cap) - n;
     long count[GHOST_THREADS], end = n;
 #pragma omp parallel num_threads(nt)
     {
         const int t = omp_get_thread_num(), m = omp_get_num_threads();
         const long lo = n * t / m, hi = n * (t + 1) / m;
-        count[t] = ghosts_of(w, c, a, lo, hi, 0, 0);
+        if (m == 1) { /* one pass: nothing to count first */
+            end = ghosts_of(w, c, a, 0, n, n, cap);
+        } else {
+            count[t] = ghosts_of(w, c, a, lo, hi, 0, 0);
 #pragma omp barrier
-        long g = n;
-        for (int u = 0; u < t; u++)
-            g += count[u];
-        g = ghosts_of(w, c, a, lo, hi, g, cap);
-        if (t == m - 1) /* the last chunk's ghosts end them all */
-            end = g;
+            long g = n;
+            for (int u = 0; u < t; u++)
+                g += count[u];
+            g = ghosts_of(w, c, a, lo, hi, g, cap);
+            if (t == m - 1) /* the last chunk's ghosts end them all */
+                end = g;
+        }
     }
     return end - n;
 }
