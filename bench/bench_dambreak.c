@@ -34,6 +34,7 @@
  * "-" where the OpenMP runtime is not libgomp (clang's libomp: the entry is never called).
  */
 #define _GNU_SOURCE /* RTLD_NEXT */
+#include "bench_cases.h"
 #include "sph_sim.h"
 
 #include <dlfcn.h>
@@ -85,60 +86,6 @@ static double rss_bytes(void)
     return (double)resident * (double)sysconf(_SC_PAGESIZE);
 }
 
-static sph_config dambreak(long nfluid, int ghost)
-{
-    sph_config c = sph_config_default();
-    c.dx = sqrt(0.1 * 0.2 / (double)nfluid);
-    c.kernel = sph_kernel_spec_default(SPH_KERNEL_WENDLAND_C2);
-    c.h_over_dx = 1.414;
-    c.domain = (sph_box){{0, 0, 0}, {1.0, 0.6, 0}};
-    c.nfluid = 1;
-    c.fluid[0] = (sph_box){{0, 0, 0}, {0.1, 0.2, 0}};
-    c.boundary = ghost ? SPH_BOUNDARY_GHOST : SPH_BOUNDARY_DYNAMIC;
-    c.layers = 3;
-    c.has_tank = 1;
-    c.tank = (sph_box){{0, 0, 0}, {1.0, 0.6, 0}};
-    c.eos = SPH_EOS_LINEAR;
-    c.c0 = 25.0;
-    c.visc = SPH_VISC_ARTIFICIAL;
-    c.alpha = 0.01;
-    c.cfl = 0.2;
-    c.t_end = 1.0;
-    return c;
-}
-
-/* SPHERIC Test 2 (cases/dambreak3d.json, Kleefsman et al. 2005) at spacing dx: tank 3.22 x 1 x 1 m
- * (open roof), water 1.228 x 1 x 0.55 m against the far wall, the box obstacle; Wendland C2,
- * h = 1.414 dx, artificial viscosity 0.1, delta-SPH 0.1, c0 = 35 m/s, 3 layers of dynamic walls. */
-static sph_config test2(double dx)
-{
-    sph_config c = sph_config_default();
-    c.dim = 3;
-    c.dx = dx;
-    c.kernel = sph_kernel_spec_default(SPH_KERNEL_WENDLAND_C2);
-    c.h_over_dx = 1.414;
-    c.domain = (sph_box){{0, 0, 0}, {3.22, 1.0, 1.5}};
-    c.nfluid = 1;
-    c.fluid[0] = (sph_box){{1.992, 0, 0}, {3.22, 1.0, 0.55}};
-    c.boundary = SPH_BOUNDARY_DYNAMIC;
-    c.layers = 3;
-    c.wall_viscosity = 0.0;
-    c.has_tank = 1;
-    c.tank = (sph_box){{0, 0, 0}, {3.22, 1.0, 1.0}};
-    c.nobstacles = 1;
-    c.obstacles[0] = (sph_box){{0.6635, 0.295, 0}, {0.8245, 0.698, 0.161}};
-    c.gravity[0] = c.gravity[1] = 0.0;
-    c.gravity[2] = -9.81;
-    c.eos = SPH_EOS_LINEAR;
-    c.c0 = 35.0;
-    c.visc = SPH_VISC_ARTIFICIAL;
-    c.alpha = 0.1;
-    c.delta_sph = 0.1;
-    c.cfl = 0.2;
-    c.t_end = 6.0;
-    return c;
-}
-
 /* DualSPHysics' own 3D dam break (its examples/main/01_DamBreak) at spacing dx: tank 1.6 x 0.67 x
  * 0.4 m, water 0.4 x 0.67 x 0.3 m in a corner, a square column 0.12 x 0.12 x 0.45 m with its
  * corner at (0.9, 0.24); cubic spline, h = 1.732 dx, artificial viscosity 0.1, delta-SPH 0.1,
@@ -171,23 +118,6 @@ static sph_config dsph01(double dx)
     c.cfl = 0.2;
     c.t_end = 1.5;
     return c;
-}
-
-/* Test 2's spacing for about `total` particles (fluid and walls), by bisection on the counts. */
-static double test2_dx(double total)
-{
-    double lo = 1e-3, hi = 0.2;
-    for (int k = 0; k < 60; k++) {
-        const double mid = sqrt(lo * hi);
-        sph_config c = test2(mid);
-        long nf = 0, nb = 0;
-        sph_sim_estimate_bytes(&c, &nf, &nb);
-        if ((double)(nf + nb) > total)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return hi;
 }
 
 typedef struct run {
