@@ -79,22 +79,8 @@ static int build(const sph_sim *s, double reach2, nlist *L)
         for (int cy = 1; cy < ny - 1; cy++)
             for (int cz = D == 3 ? 1 : 0; cz < (D == 3 ? nz - 1 : 1); cz++) {
                 const long cell = D == 3 ? ((long)cx * ny + cy) * nz + cz : (long)cx * ny + cy;
-                long rb[4], re[4], nr;
-                if (D == 3) {
-                    const long slab = (long)ny * nz;
-                    rb[0] = start[cell + nz - 1];
-                    re[0] = start[cell + nz + 2];
-                    for (int k = 0; k < 3; k++) {
-                        const long base = cell + slab + (long)(k - 1) * nz;
-                        rb[k + 1] = start[base - 1];
-                        re[k + 1] = start[base + 2];
-                    }
-                    nr = 4;
-                } else {
-                    rb[0] = start[cell + ny - 1];
-                    re[0] = start[cell + ny + 2];
-                    nr = 1;
-                }
+                long rb[4], re[4];
+                const int nr = half_stencil(D, start, cell, ny, nz, rb, re);
                 const long up = start[cell + 2]; /* end of the cell above */
                 for (long i = start[cell]; i < start[cell + 1]; i++) {
                     L->off[i] = L->len;

@@ -80,18 +80,18 @@ strip_generic(sph_kernel_type T, unsigned F, const int D, const fctx *cp, int st
                 if (ib == ie)
                     continue;
                 const long up = start[cell + 2]; /* end of the cell above */
-                const long nb = start[cell + ny - 1], ne = start[cell + ny + 2]; /* next column */
+                long rb[1], re[1];
+                (void)half_stencil(2, start, cell, ny, 1, rb, re); /* the next column */
                 for (long i = ib; i < ie; i++) {
                     acc a = {0};
                     interact(T, F, D, c, i, i + 1, up, &a);
-                    interact(T, F, D, c, i, nb, ne, &a);
+                    interact(T, F, D, c, i, rb[0], re[0], &a);
                     add_acc(F, D, c, i, &a);
                     pairs += a.pairs;
                 }
             }
         return pairs;
     }
-    const long slab = (long)ny * nz; /* cells per x slab */
     for (int cx = cx0; cx < cx1; cx++)
         for (int cy = 1; cy < ny - 1; cy++)
             for (int cz = 1; cz < nz - 1; cz++) {
@@ -100,16 +100,8 @@ strip_generic(sph_kernel_type T, unsigned F, const int D, const fctx *cp, int st
                 if (ib == ie)
                     continue;
                 const long up = start[cell + 2]; /* end of the cell above (cz + 1) */
-                /* the next y column (cy + 1, cz - 1 .. cz + 1), and the three columns of the
-                 * next x slab (cx + 1, cy - 1 .. cy + 1) */
-                long rb[4], re[4];
-                rb[0] = start[cell + nz - 1];
-                re[0] = start[cell + nz + 2];
-                for (int k = 0; k < 3; k++) {
-                    const long base = cell + slab + (long)(k - 1) * nz;
-                    rb[k + 1] = start[base - 1];
-                    re[k + 1] = start[base + 2];
-                }
+                long rb[4], re[4];               /* the next y column and the next x slab's three */
+                (void)half_stencil(3, start, cell, ny, nz, rb, re);
                 for (long i = ib; i < ie; i++) {
                     acc a = {0};
                     interact(T, F, D, c, i, i + 1, up, &a);

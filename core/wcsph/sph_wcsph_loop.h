@@ -227,6 +227,32 @@ add_acc(unsigned F, const int D, const fctx *c, long i, const acc *a)
             c->g[q][i] += a->g[q];
 }
 
+/* The half stencil of a cell, for the symmetric loops: the particle ranges after the cell's own
+ * that its particles pair with, [rb[k], re[k]) for k < the count returned. 2D (cells ordered
+ * cy fastest, ny per column): the next column's three cells cy - 1 .. cy + 1, one range. 3D
+ * (cz fastest, ny nz per x slab): the next y column's cells cz - 1 .. cz + 1, then the three
+ * columns cy - 1 .. cy + 1 of the next x slab, four ranges. With the cell above (start[cell +
+ * 2] ends it), each pair of neighbouring cells is visited once. */
+SPH_HD static inline __attribute__((always_inline)) int
+half_stencil(const int D, const int *SPH_RESTRICT start, long cell, int ny, int nz,
+             long *SPH_RESTRICT rb, long *SPH_RESTRICT re)
+{
+    if (D == 2) {
+        rb[0] = start[cell + ny - 1];
+        re[0] = start[cell + ny + 2];
+        return 1;
+    }
+    const long slab = (long)ny * nz;
+    rb[0] = start[cell + nz - 1];
+    re[0] = start[cell + nz + 2];
+    for (int k = 0; k < 3; k++) {
+        const long base = cell + slab + (long)(k - 1) * nz;
+        rb[k + 1] = start[base - 1];
+        re[k + 1] = start[base + 2];
+    }
+    return 4;
+}
+
 /* The gather form (a GPU thread's, and the C reference of it): particle i against every
  * neighbour in the 3 x 3 (x 3) cells around its own, i's side alone; no other particle's sums
  * are written, so the particles can run in any order at once. Adds i's sums; returns its pairs. */
