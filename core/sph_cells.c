@@ -93,6 +93,38 @@ int sph_cells_reserve(sph_cells *g, long n)
 SPH_CELL_KEYS(2)
 SPH_CELL_KEYS(3)
 
+/* 3D: the particles of each cell in the order of their z (stable: insertion sort of the cell's
+ * part of perm, which is nearly sorted already from the previous step), so that a column of
+ * cells along z is one range sorted by z, which the pair loops cut to the particles within
+ * reach of z (sph_wcsph.c). Returns how many particles the whole permutation moves. */
+static long sort_cells_by_z(sph_cells *g, const sph_particles *P)
+{
+    const long n = P->n, ncells = g->ncells;
+    const int *restrict start = g->start;
+    long *restrict perm = g->perm;
+    const double *restrict z = P->z;
+    long moved = 0;
+#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : moved) if (n >= SPH_OMP_MIN)
+    for (long c = 0; c < ncells; c++) {
+        const long b = start[c], e = start[c + 1];
+        for (long k = b + 1; k < e; k++) {
+            const long pk = perm[k];
+            const double zk = z[pk];
+            long m = k;
+            while (m > b && z[perm[m - 1]] > zk) {
+                perm[m] = perm[m - 1];
+                m--;
+            }
+            perm[m] = pk;
+        }
+        for (long k = b; k < e; k++)
+            moved += perm[k] != k;
+    }
+    for (long k = start[ncells]; k < n; k++) /* the lost ones, in the stable sort's order */
+        moved += perm[k] != k;
+    return moved;
+}
+
 long sph_cells_sort(sph_cells *g, sph_particles *P)
 {
     const long n = P->n, ncells = g->ncells, nc = ncells + 4;
@@ -200,6 +232,8 @@ long sph_cells_sort(sph_cells *g, sph_particles *P)
             }
         }
     }
+    if (g->dim == 3)
+        moved = sort_cells_by_z(g, P);
     const int sorted = moved == 0;
     if (!sorted)
         sph_particles_permute(P, g->perm);

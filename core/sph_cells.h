@@ -7,8 +7,9 @@
  * * nz + cz), so the three cells of a neighbouring (cx, cy) column are one range likewise.
  *
  * sph_cells_sort() is a stable counting sort of the particles by cell (lost particles go to the
- * end), in parallel passes; the pair loops then read cell cell's particles as [start[cell],
- * start[cell + 1]).
+ * end), in parallel passes, and in 3D then by z within each cell (stable), so that a column of
+ * cells along z is one range sorted by z; the pair loops then read cell cell's particles as
+ * [start[cell], start[cell + 1]).
  */
 #ifndef SPH_CELLS_H
 #define SPH_CELLS_H

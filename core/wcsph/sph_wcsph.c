@@ -92,6 +92,15 @@ strip_generic(sph_kernel_type T, unsigned F, const int D, const fctx *cp, int st
             }
         return pairs;
     }
+    /* In 3D each range is a column of cells along z whose particles are sorted by z
+     * (sph_cells_sort), so it is cut to the particles whose z is within reach of i's: two
+     * pointers per range that only move forward, as i's z only grows through its cell. The cut
+     * is wider than the support by a margin far above the rounding of z +- reach, so that it
+     * only drops candidates pair_of would refuse: the same pairs in the same order as the whole
+     * ranges. */
+    const double *restrict z = c->z;
+    const double zmag = fabs(c->z0) + (double)nz / c->inv_size;
+    const double reach = sqrt(c->support2) * (1.0 + 1e-9) + 1e-12 * zmag;
     for (int cx = cx0; cx < cx1; cx++)
         for (int cy = 1; cy < ny - 1; cy++)
             for (int cz = 1; cz < nz - 1; cz++) {
@@ -102,11 +111,24 @@ strip_generic(sph_kernel_type T, unsigned F, const int D, const fctx *cp, int st
                 const long up = start[cell + 2]; /* end of the cell above (cz + 1) */
                 long rb[4], re[4];               /* the next y column and the next x slab's three */
                 (void)half_stencil(3, start, cell, ny, nz, rb, re);
+                long lo[4], hi[4], top = ib + 1;
+                for (int k = 0; k < 4; k++)
+                    lo[k] = hi[k] = rb[k];
                 for (long i = ib; i < ie; i++) {
+                    const double zlo = z[i] - reach, zhi = z[i] + reach;
                     acc a = {0};
-                    interact(T, F, D, c, i, i + 1, up, &a);
-                    for (int k = 0; k < 4; k++)
-                        interact(T, F, D, c, i, rb[k], re[k], &a);
+                    top = top > i + 1 ? top : i + 1;
+                    while (top < up && z[top] < zhi)
+                        top++;
+                    interact(T, F, D, c, i, i + 1, top, &a);
+                    for (int k = 0; k < 4; k++) {
+                        while (lo[k] < re[k] && z[lo[k]] <= zlo)
+                            lo[k]++;
+                        hi[k] = hi[k] > lo[k] ? hi[k] : lo[k];
+                        while (hi[k] < re[k] && z[hi[k]] < zhi)
+                            hi[k]++;
+                        interact(T, F, D, c, i, lo[k], hi[k], &a);
+                    }
                     add_acc(F, D, c, i, &a);
                     pairs += a.pairs;
                 }

@@ -285,8 +285,8 @@ static void test_sort(void **state)
 }
 
 /* The parallel counting sort, 3D, 40,000 particles in random order (some lost, some outside the
- * grid), with 1, 2 and 3 threads: the same order as a stable sort by cell (checked against the
- * keys computed here), the same cell starts, and every particle kept. */
+ * grid), with 1, 2 and 3 threads: the same order as a stable sort by cell, then by z within each
+ * cell (checked against the keys computed here), the same cell starts, and every particle kept. */
 static void sort_cloud(int threads, int *ids, int *starts, long *active)
 {
     const long n = 40000;
@@ -313,7 +313,9 @@ static void sort_cloud(int threads, int *ids, int *starts, long *active)
             const int cy = (int)((P.y[i] - g.y0) * g.inv_size);
             const int cz = (int)((P.z[i] - g.z0) * g.inv_size);
             assert_int_equal(((long)cx * g.ny + cy) * g.nz + cz, c);
-            assert_true(i == g.start[c] || P.id[i - 1] < P.id[i]); /* stable */
+            /* in 3D by z within the cell, stable: ties keep the particles' order */
+            assert_true(i == g.start[c] || P.z[i - 1] < P.z[i] ||
+                        (P.z[i - 1] == P.z[i] && P.id[i - 1] < P.id[i]));
         }
     assert_int_equal(k, *active);
     assert_int_equal(g.start[g.ncells + 1], n);
