@@ -99,8 +99,13 @@ strip_generic(sph_kernel_type T, unsigned F, const int D, const fctx *cp, int st
      * only drops candidates pair_of would refuse: the same pairs in the same order as the whole
      * ranges. */
     const double *restrict z = c->z;
-    const double zmag = fabs(c->z0) + (double)nz / c->inv_size;
-    const double reach = sqrt(c->support2) * (1.0 + 1e-9) + 1e-12 * zmag;
+    const double size = 1.0 / c->inv_size;
+    const double zmag = fabs(c->z0) + (double)nz * size;
+    const double reach = sqrt(c->support2) * (1.0 + 1e-9) + 1e-12 * zmag, reach2 = reach * reach;
+    /* A neighbour column is also at a distance across (x, y) from i, at least that of i to the
+     * column's cells (less a margin above the rounding of the cells' keys), which leaves it the
+     * reach in z sqrt(reach^2 - d^2), or none. */
+    const double lat = 1e-9 * size + 1e-12 * (fabs(c->x0) + fabs(c->y0) + (c->nx + ny) * size);
     for (int cx = cx0; cx < cx1; cx++)
         for (int cy = 1; cy < ny - 1; cy++)
             for (int cz = 1; cz < nz - 1; cz++) {
@@ -114,6 +119,10 @@ strip_generic(sph_kernel_type T, unsigned F, const int D, const fctx *cp, int st
                 long lo[4], hi[4], top = ib + 1;
                 for (int k = 0; k < 4; k++)
                     lo[k] = hi[k] = rb[k];
+                /* the faces of the neighbour columns: y of the next y column (and of the next
+                 * slab's cy + 1 one), y of the slab's cy - 1 one, x of the next slab */
+                const double yup = c->y0 + (cy + 1) * size, ydn = c->y0 + cy * size;
+                const double xup = c->x0 + (cx + 1) * size;
                 for (long i = ib; i < ie; i++) {
                     const double zlo = z[i] - reach, zhi = z[i] + reach;
                     acc a = {0};
@@ -121,13 +130,27 @@ strip_generic(sph_kernel_type T, unsigned F, const int D, const fctx *cp, int st
                     while (top < up && z[top] < zhi)
                         top++;
                     interact(T, F, D, c, i, i + 1, top, &a);
+                    const double ux = fmax(xup - c->x[i] - lat, 0.0);
+                    const double uy = fmax(yup - c->y[i] - lat, 0.0);
+                    const double dy = fmax(c->y[i] - ydn - lat, 0.0);
+                    /* the columns' squared distances across, in half_stencil's order */
+                    const double d2[4] = {uy * uy, ux * ux + dy * dy, ux * ux, ux * ux + uy * uy};
                     for (int k = 0; k < 4; k++) {
                         while (lo[k] < re[k] && z[lo[k]] <= zlo)
                             lo[k]++;
                         hi[k] = hi[k] > lo[k] ? hi[k] : lo[k];
                         while (hi[k] < re[k] && z[hi[k]] < zhi)
                             hi[k]++;
-                        interact(T, F, D, c, i, lo[k], hi[k], &a);
+                        if (d2[k] >= reach2)
+                            continue; /* the whole column is out of reach */
+                        /* within the window, the part within the column's own reach in z */
+                        const double rz = sqrt(reach2 - d2[k]);
+                        long b = lo[k], e = hi[k];
+                        while (b < e && z[b] <= z[i] - rz)
+                            b++;
+                        while (e > b && z[e - 1] >= z[i] + rz)
+                            e--;
+                        interact(T, F, D, c, i, b, e, &a);
                     }
                     add_acc(F, D, c, i, &a);
                     pairs += a.pairs;
