@@ -31,7 +31,10 @@
  * excluded), the part of a step that more threads cannot shorten. Measured, not listed: this
  * program interposes libgomp's GOMP_parallel, the entry every `#pragma omp parallel` of gcc's
  * goes through, and adds up the wall time inside it; the rest of the steps' wall time is serial.
- * "-" where the OpenMP runtime is not libgomp (clang's libomp: the entry is never called).
+ * "-" where the OpenMP runtime is not libgomp (clang's libomp: the entry is never called). Every
+ * region of the core goes through GOMP_parallel today (nm: no GOMP_parallel_loop_*, sections or
+ * teams entry); one that went through another entry would be counted as serial. Regions run on
+ * one thread because they are small (their `if` clause) count as parallel.
  */
 #define _GNU_SOURCE /* RTLD_NEXT */
 #include "bench_cases.h"

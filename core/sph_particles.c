@@ -152,7 +152,7 @@ void sph_particles_permute(sph_particles *P, const long *perm)
 long sph_particles_remove(sph_particles *P, unsigned char type, long *perm)
 {
     const long n = P->n;
-    const unsigned char *restrict ty = P->type;
+    const unsigned char *ty = P->type; /* (not restrict: permuted below) */
     /* a stable partition in parallel: each thread counts the particles its chunk keeps, then
      * lists its chunk's kept ones after those of the chunks before it, and its removed ones
      * after every kept one and the removed ones of the chunks before it */

@@ -97,7 +97,8 @@ strip_generic(sph_kernel_type T, unsigned F, const int D, const fctx *cp, int st
      * pointers per range that only move forward, as i's z only grows through its cell. The cut
      * is wider than the support by a margin far above the rounding of z +- reach, so that it
      * only drops candidates pair_of would refuse: the same pairs in the same order as the whole
-     * ranges. */
+     * ranges. Both cuts take the positions as sorted: forces() sorts before every evaluation (a
+     * loop over cells built earlier, from positions since moved, would lose pairs). */
     const double *restrict z = c->z;
     const double size = 1.0 / c->inv_size;
     const double zmag = fabs(c->z0) + (double)nz * size;
