@@ -89,6 +89,30 @@ static inline void sph_cells_column3(const sph_cells *g, int cx, int cy, long *j
     *je = g->start[cell + 2];
 }
 
+/* 3D: the part of the range [*b, *e) of a column of cells along z (sorted by z: sph_cells_sort)
+ * whose z lies strictly within rz of zc, by bisection; the caller's rz carries its margin. */
+static inline void sph_cells_cut_z(const double *z, double zc, double rz, long *b, long *e)
+{
+    long lo = *b, hi = *e;
+    while (lo < hi) { /* the first z > zc - rz */
+        const long mid = lo + (hi - lo) / 2;
+        if (z[mid] <= zc - rz)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    long lo2 = lo, hi2 = *e;
+    while (lo2 < hi2) { /* the first z >= zc + rz */
+        const long mid = lo2 + (hi2 - lo2) / 2;
+        if (z[mid] < zc + rz)
+            lo2 = mid + 1;
+        else
+            hi2 = mid;
+    }
+    *b = lo;
+    *e = lo2;
+}
+
 /* Particle i's cell (ncells for a lost particle, and for one outside the grid, which becomes
  * lost). Shared by the C sort (cell_keys2, cell_keys3 in sph_cells.c)
  * and the GPU's (core/gpu/). */

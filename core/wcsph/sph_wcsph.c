@@ -338,6 +338,14 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
     int c[3];
     if (sph_cells_locate(D, g, gx, c)) {
         const double support2 = s->kernel.support * s->kernel.support, m = s->mass;
+        /* 3D: each column cut to the fluid within reach of the mirror point, in z and across (as
+         * the pair loop, strip_generic, with its margins: only points beyond the support go) */
+        const double size = 1.0 / g->inv_size;
+        const double reach = s->kernel.support * (1.0 + 1e-9) +
+                             1e-12 * (fabs(g->z0) + (double)g->nz * size),
+                     reach2 = reach * reach;
+        const double lat =
+            1e-9 * size + 1e-12 * (fabs(g->x0) + fabs(g->y0) + (g->nx + g->ny) * size);
         sph_mdbc_sum sum;
         memset(&sum, 0, sizeof sum);
         for (int a = -1; a <= 1; a++)
@@ -345,7 +353,17 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
                 const long cell = sph_cells_index(g, c[0] + a, c[1] + b, c[2]);
                 if (!(wet[cell - 1] | wet[cell] | wet[cell + 1]))
                     continue; /* no fluid there: most of a tank's walls are dry */
-                const long jb = g->start[cell - 1], je = g->start[cell + 2];
+                long jb = g->start[cell - 1], je = g->start[cell + 2];
+                if (D == 3) {
+                    /* the mirror point's distance across to the column (0 inside it) */
+                    const double xl = g->x0 + (c[0] + a) * size, yl = g->y0 + (c[1] + b) * size;
+                    const double dx = fmax(fmax(xl - gx[0], gx[0] - (xl + size)) - lat, 0.0);
+                    const double dy = fmax(fmax(yl - gx[1], gx[1] - (yl + size)) - lat, 0.0);
+                    const double d2 = dx * dx + dy * dy;
+                    if (d2 >= reach2)
+                        continue;
+                    sph_cells_cut_z(P->z, gx[2], sqrt(reach2 - d2), &jb, &je);
+                }
                 for (long j = jb; j < je; j++) {
                     if (P->type[j] != SPH_FLUID)
                         continue;
