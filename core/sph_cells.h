@@ -17,6 +17,8 @@
 #include "sph_hd.h"
 #include "sph_particles.h"
 
+#include <math.h>
+
 /* The most threads the sort uses. */
 #define SPH_CELLS_SORT_THREADS 64
 
@@ -87,6 +89,18 @@ static inline void sph_cells_column3(const sph_cells *g, int cx, int cy, long *j
     const long cell = sph_cells_index(g, cx, cy, 0);
     *jb = g->start[cell - 1];
     *je = g->start[cell + 2];
+}
+
+/* The reach that cuts of the cells' ranges use for a support radius (in z), and their margin on
+ * distances across (x, y): wider than the support by far more than the rounding of positions
+ * and of the cells' keys, so that a cut only drops points beyond the support (sph_wcsph.c: the 3D
+ * pair loop, mDBC). */
+SPH_HD static inline void sph_cells_cut_margins(const sph_cells *g, double support, double *reach,
+                                                double *lat)
+{
+    const double size = 1.0 / g->inv_size;
+    *reach = support * (1.0 + 1e-9) + 1e-12 * (fabs(g->z0) + (double)g->nz * size);
+    *lat = 1e-9 * size + 1e-12 * (fabs(g->x0) + fabs(g->y0) + (double)(g->nx + g->ny) * size);
 }
 
 /* 3D: the part of the range [*b, *e) of a column of cells along z (sorted by z: sph_cells_sort)

@@ -101,12 +101,11 @@ strip_generic(sph_kernel_type T, unsigned F, const int D, const fctx *cp, int st
      * loop over cells built earlier, from positions since moved, would lose pairs). */
     const double *restrict z = c->z;
     const double size = 1.0 / c->inv_size;
-    const double zmag = fabs(c->z0) + (double)nz * size;
-    const double reach = sqrt(c->support2) * (1.0 + 1e-9) + 1e-12 * zmag, reach2 = reach * reach;
+    const double reach = c->reach, reach2 = reach * reach;
     /* A neighbour column is also at a distance across (x, y) from i, at least that of i to the
-     * column's cells (less a margin above the rounding of the cells' keys), which leaves it the
-     * reach in z sqrt(reach^2 - d^2), or none. */
-    const double lat = 1e-9 * size + 1e-12 * (fabs(c->x0) + fabs(c->y0) + (c->nx + ny) * size);
+     * column's cells (less the margin lat), which leaves it the reach in z sqrt(reach^2 - d^2),
+     * or none. */
+    const double lat = c->lat;
     for (int cx = cx0; cx < cx1; cx++)
         for (int cy = 1; cy < ny - 1; cy++)
             for (int cz = 1; cz < nz - 1; cz++) {
@@ -341,11 +340,9 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
         /* 3D: each column cut to the fluid within reach of the mirror point, in z and across (as
          * the pair loop, strip_generic, with its margins: only points beyond the support go) */
         const double size = 1.0 / g->inv_size;
-        const double reach = s->kernel.support * (1.0 + 1e-9) +
-                             1e-12 * (fabs(g->z0) + (double)g->nz * size),
-                     reach2 = reach * reach;
-        const double lat =
-            1e-9 * size + 1e-12 * (fabs(g->x0) + fabs(g->y0) + (g->nx + g->ny) * size);
+        double reach, lat;
+        sph_cells_cut_margins(g, s->kernel.support, &reach, &lat);
+        const double reach2 = reach * reach;
         sph_mdbc_sum sum;
         memset(&sum, 0, sizeof sum);
         for (int a = -1; a <= 1; a++)

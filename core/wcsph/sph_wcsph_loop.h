@@ -45,8 +45,9 @@ typedef struct fctx {
     sph_wcsph_pair_const pc; /* the pair physics' constants */
     double support2;         /* support radius squared [m^2] */
     double tiny;             /* guards r = 0 [m] */
-    double wall_visc; /* factor on the viscous terms of fluid-wall pairs (dynamic walls) [-] */
-    unsigned flags;   /* the SPH_WF_ options (read at run time only with SPH_STRIPS_RUNTIME) */
+    double wall_visc;  /* factor on the viscous terms of fluid-wall pairs (dynamic walls) [-] */
+    double reach, lat; /* 3D cuts of the cell ranges: sph_cells_cut_margins [m] */
+    unsigned flags;    /* the SPH_WF_ options (read at run time only with SPH_STRIPS_RUNTIME) */
 } fctx;
 
 /* The constants of a force evaluation: the pair physics', the options (SPH_WF_*), the support,
@@ -98,6 +99,7 @@ SPH_HD static inline void fctx_init(fctx *c, const sph_particles *P, const sph_c
     c->tiny = kc->tiny;
     c->wall_visc = kc->wall_visc;
     c->flags = kc->flags;
+    sph_cells_cut_margins(grid, sqrt(kc->support2), &c->reach, &c->lat);
 }
 
 typedef struct acc {
