@@ -126,13 +126,7 @@ list_forces(sph_kernel_type T, unsigned F, const int D, sph_sim *s, const nlist 
                     if (!pair_of(T, F, D, c, &q, j, &o, &tk))
                         continue;
                     take_i(F, D, &o, &tk, &a);
-                    cl.drho[j] += o.dd;
-                    if ((F & F_DELTA) && tk.delta)
-                        cl.drho[j] -= o.dwb;
-                    cl.ax[j] -= o.f[0];
-                    cl.ay[j] -= o.f[1];
-                    if (D == 3)
-                        cl.az[j] -= o.f[2];
+                    take_j(F, D, c, cl.ax, cl.ay, cl.az, cl.drho, j, &o, &tk);
                 }
                 add_acc(F, D, c, i, &a);
             }

@@ -47,17 +47,7 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
         if (!pair_of(T, F, D, c, &q, j, &o, &tk))
             continue;
         take_i(F, D, &o, &tk, ai);
-        if (!tk.skip_j)
-            drho[j] += o.dd;
-        if (F & F_SPS)
-            for (int k = 0; k < (D == 3 ? 6 : 3); k++)
-                c->g[k][j] += o.gb[k];
-        if ((F & F_DELTA) && tk.delta)
-            drho[j] -= o.dwb;
-        ax[j] -= o.f[0];
-        ay[j] -= o.f[1];
-        if (D == 3)
-            az[j] -= o.f[2];
+        take_j(F, D, c, ax, ay, az, drho, j, &o, &tk);
     }
 }
 

@@ -44,11 +44,6 @@ static int gpu_check(const sph_config *c, sph_error *err)
     return sph_wcsph_ops.check(c, err);
 }
 
-static size_t gpu_bytes_per_particle(const sph_config *c)
-{
-    return sph_wcsph_ops.bytes_per_particle(c);
-}
-
 static int gpu_init(sph_sim *s, sph_error *err)
 {
     gpu_state *gs = calloc(1, sizeof *gs);
@@ -56,11 +51,6 @@ static int gpu_init(sph_sim *s, sph_error *err)
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory");
     s->mstate = gs;
     return sph_wcsph_ops.init(s, err); /* the first forces on the CPU */
-}
-
-static double gpu_dt(const sph_sim *s)
-{
-    return sph_wcsph_ops.dt(s);
 }
 
 /* The device's particles back on the host, in the host's cell order (the host's readers, the
@@ -115,16 +105,6 @@ static int gpu_step(sph_sim *s, double dt_cap, sph_error *err)
     return sph_wcsph_step_checks(s, step, dt, o.bad_correct, o.rho_lo, o.rho_hi, err);
 }
 
-static void gpu_pressure(const sph_sim *s)
-{
-    sph_wcsph_ops.pressure(s);
-}
-
-static int gpu_arrays(const sph_sim *s, double **d, int maxd)
-{
-    return sph_wcsph_ops.arrays(s, d, maxd);
-}
-
 static void gpu_destroy(sph_sim *s)
 {
     gpu_state *gs = s->mstate;
@@ -143,13 +123,13 @@ static double gpu_device_bytes(const sph_sim *s)
 const sph_method_ops sph_wcsph_gpu_ops = {
     .name = "wcsph",
     .check = gpu_check,
-    .bytes_per_particle = gpu_bytes_per_particle,
+    .bytes_per_particle = sph_wcsph_bytes_per_particle,
     .init = gpu_init,
-    .dt = gpu_dt,
+    .dt = sph_wcsph_dt,
     .step = gpu_step,
-    .pressure = gpu_pressure,
+    .pressure = sph_wcsph_pressure,
     .diag = NULL,
-    .arrays = gpu_arrays,
+    .arrays = sph_wcsph_arrays,
     .destroy = gpu_destroy,
     .sync = gpu_sync,
     .device_bytes = gpu_device_bytes,

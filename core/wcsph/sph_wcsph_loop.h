@@ -215,6 +215,26 @@ take_i(unsigned F, const int D, const sph_wcsph_pair_out *SPH_RESTRICT o, const 
         ai->a[2] += o->f[2];
 }
 
+/* j's side of a pair in a symmetric loop (the opposite of take_i), into the arrays of the
+ * caller's restrict locals (c->ax ... through them; c gives the SPS gradients). */
+SPH_HD static inline __attribute__((always_inline)) void
+take_j(unsigned F, const int D, const fctx *c, double *SPH_RESTRICT ax, double *SPH_RESTRICT ay,
+       double *SPH_RESTRICT az, double *SPH_RESTRICT drho, long j,
+       const sph_wcsph_pair_out *SPH_RESTRICT o, const pair_take *tk)
+{
+    if (!tk->skip_j)
+        drho[j] += o->dd;
+    if (F & F_SPS)
+        for (int k = 0; k < (D == 3 ? 6 : 3); k++)
+            c->g[k][j] += o->gb[k];
+    if ((F & F_DELTA) && tk->delta)
+        drho[j] -= o->dwb;
+    ax[j] -= o->f[0];
+    ay[j] -= o->f[1];
+    if (D == 3)
+        az[j] -= o->f[2];
+}
+
 /* Adds particle i's sums. */
 SPH_HD static inline __attribute__((always_inline)) void
 add_acc(unsigned F, const int D, const fctx *c, long i, const acc *a)

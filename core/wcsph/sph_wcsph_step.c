@@ -30,7 +30,7 @@
 /* An adaptive dt below this fraction of cfl h / c0 is a blow-up (it would take forever). */
 #define SPH_DT_COLLAPSE 1e-3
 
-static double wcsph_dt(const sph_sim *s)
+double sph_wcsph_dt(const sph_sim *s)
 {
     const sph_config *c = &s->cfg;
     if (c->dt_fixed > 0.0)
@@ -154,7 +154,7 @@ int sph_wcsph_predict_failed(const sph_sim *s, long step, double dt, long bad, s
 int sph_wcsph_step_dt(sph_sim *s, double dt_cap, double *dt, sph_error *err)
 {
     const sph_config *c = &s->cfg;
-    const double dt_free = wcsph_dt(s);
+    const double dt_free = sph_wcsph_dt(s);
     if (!(dt_free >= SPH_DT_COLLAPSE * c->cfl * s->h / c->c0))
         return sph_error_set(err, SPH_ERR_UNSTABLE, "",
                              "time step collapsed to %g s at step %ld (t = %g s, max acceleration "
@@ -244,7 +244,7 @@ static int wcsph_check(const sph_config *c, sph_error *err)
     return 0;
 }
 
-static size_t wcsph_bytes_per_particle(const sph_config *c)
+size_t sph_wcsph_bytes_per_particle(const sph_config *c)
 {
     return sph_particles_bytes_per_particle(c->dim, c->turb == SPH_TURB_SPS);
 }
@@ -259,7 +259,7 @@ static int wcsph_init(sph_sim *s, sph_error *err)
 
 /* The pressure of the current density: the steps compute it only inside the force loop, before
  * the corrector changes the density, so it is brought up to date for a view. */
-static void wcsph_pressure(const sph_sim *s)
+void sph_wcsph_pressure(const sph_sim *s)
 {
     const sph_particles *P = &s->P;
     for (long i = 0; i < P->n; i++)
@@ -267,7 +267,7 @@ static void wcsph_pressure(const sph_sim *s)
 }
 
 /* What lives from one step to the next: the state and the previous rates of the corrector. */
-static int wcsph_arrays(const sph_sim *s, double **d, int maxd)
+int sph_wcsph_arrays(const sph_sim *s, double **d, int maxd)
 {
     const sph_particles *P = &s->P;
     /* the third axis's arrays last (NULL in 2D: the 2D list is what it was) */
@@ -281,12 +281,12 @@ static int wcsph_arrays(const sph_sim *s, double **d, int maxd)
 const sph_method_ops sph_wcsph_ops = {
     .name = "wcsph",
     .check = wcsph_check,
-    .bytes_per_particle = wcsph_bytes_per_particle,
+    .bytes_per_particle = sph_wcsph_bytes_per_particle,
     .init = wcsph_init,
-    .dt = wcsph_dt,
+    .dt = sph_wcsph_dt,
     .step = wcsph_step,
-    .pressure = wcsph_pressure,
+    .pressure = sph_wcsph_pressure,
     .diag = NULL,
-    .arrays = wcsph_arrays,
+    .arrays = sph_wcsph_arrays,
     .destroy = NULL,
 };
