@@ -20,7 +20,8 @@
  * height gauges (sph_config and sph_diag); 10: 3D (a gauge's y; the third axis's arrays);
  * 11: obstacles; 12: pressure probes (sph_config and sph_diag); 13: sph_config.diag_interval;
  * 14: sph_config.wall_density */
-#define SIM_VERSION 15u /* 15: sph_config.device */
+/* 15: sph_config.device */
+#define SIM_VERSION 16u /* 16: a pressure probe's normal (sph_pressure_spec) */
 
 typedef struct {
     char magic[8];

@@ -88,11 +88,20 @@ typedef struct sph_gauge_spec {
 
 /* A pressure probe: the pressure at a point (a sensor on a wall), interpolated from the fluid
  * particles within a kernel support with a Shepard correction, sampled with the diagnostics
- * (sph_diag.c); 0 where no fluid is within reach (a dry sensor). */
+ * (sph_diag.c); 0 where no fluid is within reach (a dry sensor). With a normal, it reads
+ * SPH_PROBE_OFFSET_H smoothing lengths off the wall along it (sph_sim_pressure_point). */
 typedef struct sph_pressure_spec {
     char name[SPH_GAUGE_NAME_MAX]; /* its key in diag events and its series in diag.h5 */
     double at[3];                  /* the point [m] */
+    double normal[3];              /* the wall's normal into the fluid there (any length), or
+                                      0, 0, 0: read at the point itself */
 } sph_pressure_spec;
+
+/* How far off its wall a pressure probe with a normal reads, in smoothing lengths: within about
+ * a kernel support of a wall, the kernel's truncation there and the wall's first layer of
+ * particles bias an interpolated pressure, so the peers read their wall sensors 1.5 h into the
+ * fluid (DualSPHysics' MeasureTool "correct" points, e.g. its 01_DamBreak example). */
+#define SPH_PROBE_OFFSET_H 1.5
 
 /* A rigid body of boundary particles (boundary/sph_body.h): its shape, its mass (density or
  * mass: the other is 0), its initial motion and the degrees of freedom the forces move. */

@@ -168,8 +168,11 @@ void sph_diag_compute(sph_sim *s)
         d->gauge[k] = isnan(top) ? 0.0 : top - bottom; /* a dry gauge reads 0 */
     }
     d->npressure = c->npressure;
-    for (int k = 0; k < c->npressure; k++)
-        d->pressure[k] = pressure_at(s, c->pressure[k].at);
+    for (int k = 0; k < c->npressure; k++) {
+        double x[3];
+        sph_sim_pressure_point(c, &c->pressure[k], x);
+        d->pressure[k] = pressure_at(s, x);
+    }
     if (s->ops->diag)
         s->ops->diag(s);
 }

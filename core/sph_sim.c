@@ -27,6 +27,22 @@ static double support_of(const sph_config *c)
     return q * c->h_over_dx * c->dx;
 }
 
+/* The smoothing length h; MPS weights have support 2h = re (sph_kernel.h). */
+static double smoothing_length(const sph_config *c)
+{
+    return sph_kernel_is_mps(c->kernel.type) ? 0.5 * support_of(c) : c->h_over_dx * c->dx;
+}
+
+void sph_sim_pressure_point(const sph_config *c, const sph_pressure_spec *q, double x[3])
+{
+    double n2 = 0.0;
+    for (int d = 0; d < c->dim; d++)
+        n2 += q->normal[d] * q->normal[d];
+    const double f = n2 > 0.0 ? SPH_PROBE_OFFSET_H * smoothing_length(c) / sqrt(n2) : 0.0;
+    for (int d = 0; d < 3; d++)
+        x[d] = d < c->dim ? q->at[d] + f * q->normal[d] : 0.0;
+}
+
 /* The box the cell grid covers: the domain and the tank with its walls (dynamic particles or
  * the band of ghosts, one support plus a spacing wide). */
 static void grid_bounds(const sph_config *c, double lo[3], double hi[3])
@@ -174,6 +190,18 @@ static int gauge_check(const sph_config *c, sph_error *err)
                                      "([%g, %g] m on this axis)",
                                      q->name, c->domain.min[d], c->domain.max[d]);
             }
+        double x[3];
+        sph_sim_pressure_point(c, q, x);
+        for (int d = 0; d < c->dim; d++)
+            if (!(x[d] >= c->domain.min[d] && x[d] <= c->domain.max[d])) {
+                snprintf(path, sizeof path, "/diagnostics/pressure/%d/normal", k);
+                return sph_error_set(err, SPH_ERR_INVALID, path,
+                                     "the pressure probe '%s' reads %g smoothing lengths along "
+                                     "its normal, at %g m on axis %d, outside the domain ([%g, "
+                                     "%g] m): the normal must point into the fluid",
+                                     q->name, SPH_PROBE_OFFSET_H, x[d], d, c->domain.min[d],
+                                     c->domain.max[d]);
+            }
     }
     return 0;
 }
@@ -296,8 +324,7 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
     }
     s->cfg = *cfg;
     s->ops = sph_method_ops_for(cfg);
-    /* MPS weights have support 2h = re (sph_kernel.h) */
-    s->h = sph_kernel_is_mps(cfg->kernel.type) ? 0.5 * support_of(cfg) : cfg->h_over_dx * cfg->dx;
+    s->h = smoothing_length(cfg);
     s->mass = cfg->rho0 * cfg->dx * cfg->dx;
     if (cfg->dim == 3)
         s->mass *= cfg->dx;

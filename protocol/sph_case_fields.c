@@ -468,6 +468,11 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/diagnostics/pressure/*/at", .type = SPH_CF_VECTOR, .methods = SPH_CF_SIMS,
      .required = SPH_CF_SIMS, .lo = -1e6, .hi = 1e6, PRESSURE(at),
      .doc = "the point [m] (dim components), inside the domain"},
+    {.path = "/diagnostics/pressure/*/normal", .type = SPH_CF_VECTOR, .methods = SPH_CF_SIMS,
+     .lo = -1e6, .hi = 1e6, PRESSURE(normal),
+     .doc = "the wall's normal into the fluid at the point (dim components, any length): the "
+            "probe reads 1.5 h along it, off the wall's bias, as the peers do; absent or all 0: "
+            "at the point"},
     {.path = NULL},
 };
 /* clang-format on */

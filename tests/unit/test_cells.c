@@ -549,8 +549,11 @@ static void test_obstacles(void **state)
  * fluid reads that value (the field is linear and the kernel weights symmetric: exact but for the
  * volumes m / rho_j, which vary by 0.1% across the support; 2.8e-5 in 2D); a probe on the
  * bottom face sees the fluid above it only, and reads less than rho0 g H by the weights' mean
- * height (within rho0 g h); one in the air reads 0. In 2D and 3D. Names are checked with the
- * gauges', positions against the domain. */
+ * height (within rho0 g h); one in the air reads 0. A probe on the bottom with the normal up
+ * (of any length) reads where a probe placed 1.5 h above the bottom reads, the same bits, and is
+ * nearer the hydrostatic pressure there (within 0.1%: 0.02%) than the probe on the bottom is to
+ * its own (6.5% low). In 2D and 3D. Names are checked with the gauges', positions (and where a
+ * normal makes a probe read) against the domain. */
 static void test_pressure_probes(void **state)
 {
     (void)state;
@@ -564,22 +567,36 @@ static void test_pressure_probes(void **state)
         if (dim == 3) /* 0.2 x 0.1 x 0.1 m, 0.1 deep */
             c.fluid[0] = (sph_box){{0, 0, 0}, {0.2, 0.1, 0.1}};
         const double H = 0.1, g = 9.81, pH = c.rho0 * g * H;
-        c.npressure = 3;
-        c.pressure[0] = (sph_pressure_spec){"mid", {0.1, 0.05, 0.05}};
-        c.pressure[1] = (sph_pressure_spec){"floor", {0.1, 0.0, 0.0}};
-        c.pressure[2] = (sph_pressure_spec){"air", {0.6, 0.6, 0.6}};
+        c.npressure = 5;
+        c.pressure[0] = (sph_pressure_spec){.name = "mid", .at = {0.1, 0.05, 0.05}};
+        c.pressure[1] = (sph_pressure_spec){.name = "floor", .at = {0.1, 0.0, 0.0}};
+        c.pressure[2] = (sph_pressure_spec){.name = "air", .at = {0.6, 0.6, 0.6}};
+        c.pressure[3] = (sph_pressure_spec){.name = "floor_n", .at = {0.1, 0.0, 0.0}};
+        c.pressure[3].normal[V] = 2.0;
+        c.pressure[4] = (sph_pressure_spec){.name = "above", .at = {0.1, 0.0, 0.0}};
         if (dim == 3)
-            c.pressure[1].at[1] = 0.05;
+            c.pressure[1].at[1] = c.pressure[3].at[1] = c.pressure[4].at[1] = 0.05;
+        const double h = c.h_over_dx * c.dx;
+        c.pressure[4].at[V] = 1.5 * h;
         sph_error err;
         sph_sim *s = sph_sim_create(&c, &err);
         assert_non_null(s);
-        assert_int_equal(s->diag.npressure, 3);
-        printf("  %dD: mid %.6f of rho0 g H / 2, floor %.4f of rho0 g H\n", dim,
-               s->diag.pressure[0] / (0.5 * pH), s->diag.pressure[1] / pH);
-        assert_true(fabs(s->diag.pressure[0] / (0.5 * pH) - 1.0) < 1e-4);
-        assert_true(s->diag.pressure[1] < pH && s->diag.pressure[1] > pH - c.rho0 * g * s->h);
-        assert_true(s->diag.pressure[2] == 0.0);
+        assert_int_equal(s->diag.npressure, 5);
+        const double *pp = s->diag.pressure, pn = c.rho0 * g * (H - 1.5 * h);
+        printf("  %dD: mid %.6f of rho0 g H / 2, floor %.4f of rho0 g H, 1.5 h off the floor "
+               "%.4f of rho0 g (H - 1.5 h)\n",
+               dim, pp[0] / (0.5 * pH), pp[1] / pH, pp[3] / pn);
+        assert_true(fabs(pp[0] / (0.5 * pH) - 1.0) < 1e-4);
+        assert_true(pp[1] < pH && pp[1] > pH - c.rho0 * g * s->h);
+        assert_true(pp[2] == 0.0);
+        assert_true(pp[3] == pp[4]);
+        assert_true(fabs(pp[3] / pn - 1.0) < 1e-3 && fabs(pp[3] - pn) < 0.5 * fabs(pp[1] - pH));
         sph_sim_destroy(s);
+
+        c.pressure[3].normal[V] = -1.0; /* reads below the bottom, outside the domain */
+        assert_null(sph_sim_create(&c, &err));
+        assert_string_equal(err.path, "/diagnostics/pressure/3/normal");
+        c.npressure = 3;
 
         c.ngauges = 1;
         c.gauges[0] = (sph_gauge_spec){"floor", 0.1, 0.05};
