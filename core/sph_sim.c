@@ -190,6 +190,7 @@ static int gauge_check(const sph_config *c, sph_error *err)
                                      "([%g, %g] m on this axis)",
                                      q->name, c->domain.min[d], c->domain.max[d]);
             }
+        static const char axis[] = "xyz";
         double x[3];
         sph_sim_pressure_point(c, q, x);
         for (int d = 0; d < c->dim; d++)
@@ -197,9 +198,9 @@ static int gauge_check(const sph_config *c, sph_error *err)
                 snprintf(path, sizeof path, "/diagnostics/pressure/%d/normal", k);
                 return sph_error_set(err, SPH_ERR_INVALID, path,
                                      "the pressure probe '%s' reads %g smoothing lengths along "
-                                     "its normal, at %g m on axis %d, outside the domain ([%g, "
-                                     "%g] m): the normal must point into the fluid",
-                                     q->name, SPH_PROBE_OFFSET_H, x[d], d, c->domain.min[d],
+                                     "its normal, at %c = %g m, outside the domain ([%g, %g] "
+                                     "m): the normal must point into the fluid",
+                                     q->name, SPH_PROBE_OFFSET_H, axis[d], x[d], c->domain.min[d],
                                      c->domain.max[d]);
             }
     }
