@@ -5,8 +5,9 @@
  *   sphctl_util.c                   shared helpers (command-line parsing, printing)
  *   sphctl_curve.c                  settings, CURVE keys, socket monitor, keygen
  *   sphctl_conn.c                   the control connection: requests
- *   sphctl_watch.c, sphctl_files.c, the event stream; the result-file commands; parameter
- *   sphctl_sweep.c                  sweeps
+ *   sphctl_watch.c, sphctl_files.c  the event stream and watch; the result-file commands
+ *   sphctl_sweep_watch.c            following a sweep's jobs (sweep --watch)
+ *   sphctl_sweep.c                  parameter sweeps
  *   sphctl.c                        main and the command table
  */
 #ifndef SPHCTL_H
@@ -90,6 +91,9 @@ double sphctl_num(const json_t *o, const char *k);
  * values as compact JSON) into buf (truncated to n); the paths in order (an array of strings,
  * may be NULL) first, then the others in the object's order. Returns buf. */
 const char *sphctl_fmt_params(const json_t *params, const json_t *order, char *buf, size_t n);
+/* The widths of the columns of a sweep's jobs (statuses): the ids, and their params as
+ * sphctl_fmt_params writes them. */
+void sphctl_sweep_widths(const json_t *jobs, const json_t *order, int *wid, int *wpar);
 
 /* ---- sphctl_curve.c: settings, CURVE keys, the socket monitor, keygen ---- */
 
@@ -125,7 +129,7 @@ void sphctl_close(sphctl *c);
 int sphctl_show(sphctl *c, const char *op, json_t *args,
                 void (*human)(const json_t *r, const void *ud), const void *ud);
 
-/* ---- sphctl_watch.c: the event stream, subscribed and connected ---- */
+/* ---- sphctl_watch.c: the event stream; a job's view; watch ---- */
 
 typedef struct sphctl_stream {
     void *sub;                 /* SUB socket */
@@ -134,11 +138,58 @@ typedef struct sphctl_stream {
     char ep[SPH_ENDPOINT_MAX]; /* the stream endpoint */
     int connected;             /* its handshake was seen before sphctl_stream_open returned */
 } sphctl_stream;
-/* Subscribes to topic (a job id, or "" for every job, when the id is not known yet) and waits
- * up to c->timeout for the connection's handshake, so that events published after it returns
- * reach it. Returns 0 or the exit code (said). */
+/* Subscribes to topic (a job id, a prefix of job ids, or "" for every job, when the id is not
+ * known yet) and waits up to c->timeout for the connection's handshake, so that events
+ * published after it returns reach it. Returns 0 or the exit code (said). */
 int sphctl_stream_open(sphctl *c, const char *topic, sphctl_stream *st);
+/* Moves the subscription to topic (the new one goes out before the old one's cancellation:
+ * nothing under both is missed). Returns 0, or 69 (said; the stream is closed). */
+int sphctl_stream_topic(sphctl_stream *st, const char *topic);
+/* Waits up to ms milliseconds for the next event. Returns 0 with *ev (new ref; NULL when none
+ * came: quiet, a signal, or a message that is not JSON), or the exit code: 77 the stream refused
+ * us (said), 70 the poll failed. Events of any job under the topic (a prefix): check "job". */
+int sphctl_stream_next(sphctl *c, sphctl_stream *st, long ms, json_t **ev);
 void sphctl_stream_close(sphctl_stream *st);
+
+/* One job as a watch sees it: a status (query, list, sweep's reply), then its events. */
+typedef struct sphctl_view {
+    char job[128];
+    char state[16];   /* queued, running, paused, done, failed, stopped; "" before any */
+    char reason[256]; /* why it failed, or "" */
+    long seq;         /* the last seq applied (status or event) */
+    double t, t_end;  /* simulated time and end time [s]; NaN unknown */
+    double rate, eta; /* steps/s, wall seconds to t_end; NaN unknown */
+    long steps;
+    json_t *diag; /* the latest diagnostics (owned), or NULL */
+    double last_diag_wall, last_diag_t;
+    long last_diag_step;
+} sphctl_view;
+void sphctl_view_init(sphctl_view *v, const char *job);
+void sphctl_view_free(sphctl_view *v); /* its diag; the struct is the caller's */
+/* Takes a job status (PROTOCOL.md 3.3): state, seq, progress, diag. */
+void sphctl_view_status(sphctl_view *v, const json_t *status);
+/* Applies an event of the job (seq, and a state or diag event's fields; the others leave the
+ * view as it is); the steps/s and ETA from the diag events' pace. */
+void sphctl_view_event(sphctl_view *v, json_t *ev);
+/* The progress text (" [####....] 40.0% t T/T_END s step N R steps/s ETA E", with diag a few
+ * key diagnostics) into line (size bytes). */
+void sphctl_view_progress(const sphctl_view *v, int diag, char *line, size_t size);
+/* done, failed or stopped: no event follows. */
+int sphctl_final_state(const char *state);
+/* The exit code of a watch whose job ended in state: 0 done, 1 failed or stopped. */
+int sphctl_state_exit(const char *state);
+/* A watch draws live on stderr when this is true (stdout a terminal, no --json), else prints
+ * lines on stdout. */
+int sphctl_watch_tty(const sphctl *c);
+/* stderr's terminal size (0 and 0 when it is none); cuts line to cols - 1 characters, so that
+ * a redraw does not wrap and scroll. */
+void sphctl_term_size(int *rows, int *cols);
+void sphctl_fit_line(char *line, int cols);
+/* "sphctl: JOB: missed events FROM..TO" on stderr (clear: erase the live line first); with
+ * json_line also a {"job", "type": "gap", "from", "to"} line on stdout. */
+void sphctl_report_gap(const char *job, long from, long to, int clear, int json_line);
+/* Seconds on the monotonic clock. */
+double sphctl_mono(void);
 /* Follows job to its end on an open stream (subscribe, then snapshot), and closes it; with
  * from_start (the stream was connected before the job was created) every event of the job is
  * on the stream, so it is followed from its first event, without a snapshot. Returns the exit
@@ -146,6 +197,16 @@ void sphctl_stream_close(sphctl_stream *st);
 int sphctl_watch_stream(sphctl *c, sphctl_stream *st, const char *job, int from_start);
 /* Both: watch JOB. */
 int sphctl_watch(sphctl *c, const char *job);
+
+/* ---- sphctl_sweep_watch.c: sweep --watch, every job of a sweep to its end ---- */
+
+/* Follows the jobs of sphd's sweep reply (borrowed) on st, subscribed before the sweep was
+ * sent, and closes st; paths: the varied paths in order, for the parameters' text. On a TTY a
+ * block of lines redrawn on stderr; else a line per state change on stdout; with --json one
+ * line at the end, {"sweep", "count", "jobs": [STATUS, ...]} as list gives them. Returns the
+ * worst of the jobs' sphctl_state_exit (0 all done, 1 one failed or stopped), or the exit
+ * code that ended the watch (69 sphd gone, 77 refused). */
+int sphctl_sweep_watch(sphctl *c, sphctl_stream *st, const json_t *reply, const json_t *paths);
 
 /* ---- sphctl_files.c: results, fetch and export (argv[0] is the command's name) ---- */
 

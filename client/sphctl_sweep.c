@@ -10,7 +10,7 @@
 
 typedef struct sweep_opts {
     const char *id;
-    int nostart;
+    int nostart, watch;
     json_t *sets;  /* fixed overrides: "PATH=VALUE" strings */
     json_t *vary;  /* [{"path": PATH, "values": [...]}] */
     json_t *paths; /* the varied paths, in the order given */
@@ -83,6 +83,9 @@ static int sweep_opt(void *ud, int o, const char *arg)
     case 'n':
         so->nostart = 1;
         break;
+    case 'w':
+        so->watch = 1;
+        break;
     }
     return 0;
 }
@@ -91,21 +94,15 @@ static int sweep_opt(void *ud, int o, const char *arg)
 static void print_sweep(const json_t *r, const json_t *paths)
 {
     const json_t *jobs = json_object_get(r, "jobs");
-    size_t i, wid = 0, wpar = 0;
+    int wid, wpar;
+    sphctl_sweep_widths(jobs, paths, &wid, &wpar);
+    size_t i;
     json_t *s;
     char buf[1024];
     json_array_foreach(jobs, i, s)
     {
-        const char *id = json_string_value(json_object_get(s, "job"));
-        size_t l = id ? strlen(id) : 0, lp;
-        wid = l > wid ? l : wid;
-        lp = strlen(sphctl_fmt_params(json_object_get(s, "params"), paths, buf, sizeof buf));
-        wpar = lp > wpar ? lp : wpar;
-    }
-    json_array_foreach(jobs, i, s)
-    {
-        printf("%-*s  %-*s  (%s%s)\n", (int)wid, json_string_value(json_object_get(s, "job")),
-               (int)wpar, sphctl_fmt_params(json_object_get(s, "params"), paths, buf, sizeof buf),
+        printf("%-*s  %-*s  (%s%s)\n", wid, json_string_value(json_object_get(s, "job")), wpar,
+               sphctl_fmt_params(json_object_get(s, "params"), paths, buf, sizeof buf),
                json_string_value(json_object_get(s, "state")),
                json_is_false(json_object_get(s, "created")) ? ", already submitted" : "");
     }
@@ -117,7 +114,7 @@ int sphctl_cmd_sweep(sphctl *c, int argc, char **argv)
 {
     static const char help[] =
         "Usage: sphctl sweep FILE --set PATH=V1,V2,... [--set PATH=VALUE]... [--id SWEEP]\n"
-        "                    [--resources JSON] [--no-start]\n"
+        "                    [--resources JSON] [--no-start] [--watch]\n"
         "Sends the case in FILE with lists of values for some of its fields; sphd creates one\n"
         "job per combination (the last list varies fastest), ids SWEEP-0, SWEEP-1, ... Prints\n"
         "each job's id, parameters and state. 'sphctl list --sweep SWEEP' shows them, 'sphctl\n"
@@ -134,14 +131,22 @@ int sphctl_cmd_sweep(sphctl *c, int argc, char **argv)
         "  --resources JSON      as submit's, for every job; with the Slurm executor the jobs\n"
         "                        go to Slurm as one job array\n"
         "  --no-start            create the jobs paused; 'sphctl start JOB' runs one\n"
+        "  --watch               then follow every job until each is done, failed or stopped:\n"
+        "                        on a TTY a line per job (parameters, state, progress) redrawn\n"
+        "                        in place, else the jobs' table and then a line per change of\n"
+        "                        state; Ctrl-C stops watching, the jobs go on\n"
         "With --json: sphd's result, {\"sweep\", \"count\", \"jobs\": [STATUS, ...]}, on one "
-        "line.\n"
-        "Exit codes: 0 created, 1 refused, 64 usage, 65 invalid case, 66 no such file, 69 sphd\n"
-        "unreachable, 75 busy.\n";
-    static const struct option lo[] = {
-        {"id", required_argument, NULL, 'i'}, {"set", required_argument, NULL, 's'},
-        {"no-start", no_argument, NULL, 'n'}, {"resources", required_argument, NULL, 'r'},
-        {"help", no_argument, NULL, 'h'},     {NULL, 0, NULL, 0}};
+        "line;\nwith --watch the same once every job has ended, with each one's final status.\n"
+        "Exit codes: 0 created (with --watch: every job done), 1 refused (with --watch: or a\n"
+        "job failed or was stopped: the worst job's 'watch' code), 64 usage, 65 invalid case,\n"
+        "66 no such file, 69 sphd unreachable, 75 busy, 77 not authorised.\n";
+    static const struct option lo[] = {{"id", required_argument, NULL, 'i'},
+                                       {"set", required_argument, NULL, 's'},
+                                       {"no-start", no_argument, NULL, 'n'},
+                                       {"resources", required_argument, NULL, 'r'},
+                                       {"watch", no_argument, NULL, 'w'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
     static const sphctl_argspec spec = {
         help, "h", lo, "bad option", 1, 1, "sweep takes one case FILE"};
     sweep_opts so = {.sets = json_array(), .vary = json_array(), .paths = json_array()};
@@ -173,14 +178,29 @@ int sphctl_cmd_sweep(sphctl *c, int argc, char **argv)
         json_object_set_new(args, "start", json_false());
     if (so.resources) /* with the Slurm executor the jobs go as one job array */
         json_object_set_new(args, "resources", so.resources);
+    /* --watch: listen before the jobs exist (as submit --watch does), to the sweep's jobs
+     * (ID-0, ID-1, ...) when its id is given, else to every job until the reply names it */
+    sphctl_stream st = {0};
+    char topic[128];
+    snprintf(topic, sizeof topic, "%s%s", so.id ? so.id : "", so.id ? "-" : "");
+    if (so.watch && (rc = sphctl_stream_open(c, topic, &st)) != 0) {
+        json_decref(args);
+        json_decref(so.paths);
+        return rc;
+    }
     json_t *r;
     if ((rc = sphctl_request(c, "sweep", args, &r, NULL, 0)) == 0) {
-        if (c->json)
+        if (c->json && !so.watch)
             sphctl_print_json(r, 1);
-        else
+        else if (!c->json && !(so.watch && sphctl_watch_tty(c)))
             print_sweep(r, so.paths);
+        if (so.watch) {
+            fflush(stdout);
+            rc = sphctl_sweep_watch(c, &st, r, so.paths);
+        }
         json_decref(r);
     }
+    sphctl_stream_close(&st);
     json_decref(so.paths);
     return rc;
 }

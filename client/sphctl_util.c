@@ -125,6 +125,23 @@ const char *sphctl_fmt_params(const json_t *params, const json_t *order, char *b
     return buf;
 }
 
+void sphctl_sweep_widths(const json_t *jobs, const json_t *order, int *wid, int *wpar)
+{
+    size_t i;
+    const json_t *s;
+    char buf[1024];
+    *wid = *wpar = 0;
+    json_array_foreach(jobs, i, s)
+    {
+        const char *id = json_string_value(json_object_get(s, "job"));
+        int l = id ? (int)strlen(id) : 0;
+        int lp =
+            (int)strlen(sphctl_fmt_params(json_object_get(s, "params"), order, buf, sizeof buf));
+        *wid = l > *wid ? l : *wid;
+        *wpar = lp > *wpar ? lp : *wpar;
+    }
+}
+
 int sphctl_resources_opt(const char *cmd, const char *arg, json_t **out)
 {
     json_error_t err;

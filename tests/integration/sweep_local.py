@@ -3,16 +3,23 @@
 combination (the product of the lists, the last varying fastest), `list` with `sweep`, the sweep's
 table from `export` (CSV and JSON), each job's result equal to the same case submitted alone,
 idempotent resubmission, and bad input refused whole (nothing created). With sphctl: `sweep`,
-`list --sweep`, `export --sweep`.
+`list --sweep`, `export --sweep`, and `sweep --watch` (lines, --json, a TTY; the exit code of the
+worst job; SIGINT leaves the jobs alone).
 
 Usage: sweep_local.py SPHD SPHCTL SOURCE_DIR
 """
 import csv
+import fcntl
 import io
 import json
 import os
+import pty
+import re
+import signal
+import struct
 import subprocess
 import sys
+import termios
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -38,6 +45,15 @@ def wait_done(jobs, timeout=300):
             return st
         time.sleep(0.1)
     raise AssertionError(f"{jobs} not finished in {timeout} s")
+
+
+def wait_listed(sweep, timeout=30):
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        if d.request("list", {"sweep": sweep}).get("ok"):
+            return
+        time.sleep(0.05)
+    raise AssertionError(f"sweep {sweep} not made in {timeout} s")
 
 
 def same_result(a, b):
@@ -147,6 +163,66 @@ try:
             len(out.splitlines()) == 3, "sphctl export --sweep: CSV", out + err)
     rc, out, err = ctl("sweep", case_file, "--set", "dx=0.01")
     F.check(rc == 64, "sphctl sweep without a varied --set: usage error", (rc, err))
+
+    # sphctl sweep --watch, stdout not a TTY: the table, then a line per change of state, then
+    # the summary; exit 0 when every job is done
+    two = ["--set", "dx=0.01", "--set", "time.end=0.01,0.02"]
+    rc, out, err = ctl("sweep", case_file, *two, "--id", "W", "--watch")
+    F.check(rc == 0, "sphctl sweep --watch: exit 0, every job done", (rc, err))
+    F.check(all(re.search(rf"^W-{k}\s+time\.end={t}\s+done\b", out, re.M)
+                for k, t in ((0, 0.01), (1, 0.02))) and
+            out.splitlines()[-1:] == ["sweep W: 2 jobs: 2 done"],
+            "sphctl sweep --watch: each job's final state, then the summary", out + err)
+    # with --json: one document once all have ended, every job final
+    rc, out, err = ctl("--json", "sweep", case_file, *two, "--id", "WJ", "--watch")
+    try:
+        r = json.loads(out)
+    except ValueError:
+        r = {}
+    F.check(rc == 0 and r.get("sweep") == "WJ" and r.get("count") == 2 and
+            [(j["job"], j["state"]) for j in r.get("jobs", [])] ==
+            [("WJ-0", "done"), ("WJ-1", "done")], "sphctl --json sweep --watch: the final statuses",
+            (rc, out, err))
+    # on a TTY: a block redrawn in place on stderr, each job's final line in its last draw
+    master, slave = pty.openpty()
+    fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 40, 200, 0, 0))
+    p = subprocess.Popen([sphctl, "sweep", case_file, *two, "--id", "WT", "--watch"], env=env,
+                         stdin=subprocess.DEVNULL, stdout=slave, stderr=slave)
+    os.close(slave)
+    tty = b""
+    while True:
+        try:
+            chunk = os.read(master, 65536)
+        except OSError:  # EIO: the process has closed the terminal
+            break
+        if not chunk:
+            break
+        tty += chunk
+    os.close(master)
+    rc = p.wait(timeout=60)
+    last = tty.decode(errors="replace").split("\x1b[J")[-1]
+    F.check(rc == 0 and "sweep WT: 2 jobs: 2 done" in last and
+            all(re.search(rf"WT-{k}\s+time\.end=[0-9.]+\s+done\b", last) for k in (0, 1)),
+            "sphctl sweep --watch on a TTY: the last draw has every job done", (rc, last))
+    # the worst job's exit code: one stopped, one done -> 1 (as watch: done 0, failed or stopped 1)
+    p = subprocess.Popen([sphctl, "sweep", case_file, *two, "--id", "M", "--no-start", "--watch"],
+                         env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    wait_listed("M")
+    d.ok("stop", {"job": "M-0"})
+    d.ok("start", {"job": "M-1"})
+    out, err = p.communicate(timeout=120)
+    F.check(p.returncode == 1 and re.search(r"^M-0\s+\S+\s+stopped\b", out, re.M) and
+            re.search(r"^M-1\s+\S+\s+done\b", out, re.M),
+            "sphctl sweep --watch: exit 1 when a job was stopped, the others done", (out, err))
+    # Ctrl-C stops watching; the jobs are left as they are
+    p = subprocess.Popen([sphctl, "sweep", case_file, *two, "--id", "I", "--no-start", "--watch"],
+                         env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    head = [p.stdout.readline() for _ in range(3)]  # the table: the watch is on
+    p.send_signal(signal.SIGINT)
+    p.wait(timeout=30)
+    F.check(head[-1] == "sweep I: 2 jobs\n" and p.returncode == -signal.SIGINT and
+            [j["state"] for j in d.ok("list", {"sweep": "I"})["jobs"]] == ["paused", "paused"],
+            "sphctl sweep --watch: SIGINT ends the watch, the jobs stay", (head, p.returncode))
     F.check(d.shutdown() == 0, "sphd shuts down cleanly", d.log()[-2000:])
 finally:
     d.close()
