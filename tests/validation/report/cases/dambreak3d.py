@@ -1,7 +1,9 @@
 """The 3D dam break with a box obstacle (Kleefsman et al. 2005; SPHERIC benchmark Test 2;
 cases/dambreak3d.json) against the MARIN measurement: the water heights at gauges H2 (between
 the box and the gate) and H4 (in the reservoir), and the pressures at sensors P1 and P3 on the
-box's front face, sampled every 1 ms (`diagnostics.interval`, the experiment's rate).
+box's front face (read 1.5 h off the face along its normal, as the peers read wall sensors: the
+case's `diagnostics.pressure.*.normal`), sampled every 1 ms (`diagnostics.interval`, the
+experiment's rate).
 
 Issue 23's yardsticks, over t in [0, 6] s at the finest resolution (30 particles over the 0.55 m
 depth, as the SPHERIC description suggests):
