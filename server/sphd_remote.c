@@ -9,6 +9,7 @@
 #include "sphd_daemon.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,11 +17,16 @@
 #define POLL_EVERY_S 2.0
 #define GONE_GRACE_S 3.0 /* an ended Slurm job's last messages may still be on their way */
 
-static void say(sphd_daemon *d, sphd_job *j, const char *level, const char *fmt, const char *a,
-                const char *b)
+/* A line in the daemon's log and a `log` event on the job's stream, printf-style. */
+static void say(sphd_daemon *d, sphd_job *j, const char *level, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static void say(sphd_daemon *d, sphd_job *j, const char *level, const char *fmt, ...)
 {
     char msg[512];
-    snprintf(msg, sizeof msg, fmt, a, b);
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
     sphd_log("job %s: %s", j->id, msg);
     sphd_publish(d, j, "log", json_pack("{s:s, s:s}", "level", level, "message", msg));
 }
@@ -116,7 +122,7 @@ void sphd_remote_on_message(sphd_daemon *d)
         }
         if (!j->runner_seen) { /* sphd was restarted while the runner ran: it is back */
             j->runner_seen = 1;
-            say(d, j, "info", "its runner (Slurm job %s) is back%s", j->slurm_id, "");
+            say(d, j, "info", "its runner (Slurm job %s) is back", j->slurm_id);
         }
         j->gone_since = 0;
         ev.job = j;
@@ -243,7 +249,7 @@ static void on_states(sphd_daemon *d, const char *lines)
             snprintf(reason, sizeof reason,
                      "Slurm job %s was cancelled (scancel): resume continues from the checkpoint",
                      slurm_id);
-            say(d, j, "warning", "%s%s", reason, "");
+            say(d, j, "warning", "%s", reason);
             sphd_job_set_state(d, j, SPHD_JOB_PAUSED, reason);
         } else if (j->retries < limit) {
             j->retries++;
@@ -251,7 +257,7 @@ static void on_states(sphd_daemon *d, const char *lines)
                      "Slurm job %s ended (%s) without a result%s: submitted again from the "
                      "checkpoint (retry %d of %d)",
                      slurm_id, st, said, j->retries, limit);
-            say(d, j, "warning", "%s%s", reason, "");
+            say(d, j, "warning", "%s", reason);
             sphd_job_set_state(d, j, SPHD_JOB_QUEUED, reason);
         } else {
             snprintf(reason, sizeof reason,
