@@ -19,9 +19,9 @@
  * walls' viscosity factor; 7: a body's pressure option; 8: sph_mps_config.stabilization; 9: the
  * height gauges (sph_config and sph_diag); 10: 3D (a gauge's y; the third axis's arrays);
  * 11: obstacles; 12: pressure probes (sph_config and sph_diag); 13: sph_config.diag_interval;
- * 14: sph_config.wall_density */
-/* 15: sph_config.device */
-#define SIM_VERSION 16u /* 16: a pressure probe's normal (sph_pressure_spec) */
+ * 14: sph_config.wall_density; 15: sph_config.device; 16: a pressure probe's normal
+ * (sph_pressure_spec) */
+#define SIM_VERSION 17u /* 17: sph_config.delta_form */
 
 typedef struct {
     char magic[8];

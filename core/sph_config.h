@@ -57,6 +57,12 @@ typedef enum {
 } sph_visc_type;
 typedef enum { SPH_TURB_NONE = 0, SPH_TURB_SPS, SPH_TURB_COUNT } sph_turb_type;
 
+/* The form of delta-SPH's density diffusion: Molteni & Colagrossi's (2009), which diffuses the
+ * hydrostatic density gradient too, or Fourtakas et al.'s (2019), which diffuses the density's
+ * departure from the hydrostatic one (the gradient rho0 g / c0^2 taken off each pair's
+ * difference). */
+typedef enum { SPH_DELTA_MOLTENI = 0, SPH_DELTA_FOURTAKAS, SPH_DELTA_COUNT } sph_delta_form;
+
 /* Probes a diag can carry besides the always-present fields (bit mask). */
 enum {
     SPH_PROBE_FRONT_X = 1 << 0,
@@ -169,21 +175,22 @@ typedef struct sph_config {
     double gravity[3];                       /* [m/s^2] */
     sph_eos_type eos;                        /* linear (Yang et al. eq. 16) or Tait (gamma = 7) */
     double c0;                               /* numerical speed of sound [m/s] */
-    sph_visc_type visc;       /* artificial (Monaghan, approaching pairs), laminar (Yang et al. eq.
-                                 14) or monaghan (Monaghan's term on every pair, a physical viscosity) */
-    double alpha;             /* artificial viscosity coefficient [-] */
-    double nu;                /* kinematic viscosity for laminar and monaghan [m^2/s] */
-    sph_turb_type turb;       /* none or SPS (Yang et al. eqs. 7-9, 15) */
-    double delta_sph;         /* delta-SPH density diffusion coefficient, 0 = off [-] */
-    sph_initial_spec initial; /* initial velocity field of the fluid (rest by default) */
-    double t_end;             /* end time [s] */
-    double cfl;               /* CFL number for the adaptive time step [-] */
-    double dt_fixed;          /* fixed time step, 0 = adaptive [s] */
-    long diag_every;          /* steps between diagnostics events [-] */
-    double diag_interval;     /* simulated time between diagnostics events, the steps landing on
-                                 its multiples; 0: every diag_every steps [s] */
-    unsigned probes;          /* SPH_PROBE_* mask */
-    int ngauges;              /* height gauges */
+    sph_visc_type visc;        /* artificial (Monaghan, approaching pairs), laminar (Yang et al. eq.
+                                  14) or monaghan (Monaghan's term on every pair, a physical viscosity) */
+    double alpha;              /* artificial viscosity coefficient [-] */
+    double nu;                 /* kinematic viscosity for laminar and monaghan [m^2/s] */
+    sph_turb_type turb;        /* none or SPS (Yang et al. eqs. 7-9, 15) */
+    double delta_sph;          /* delta-SPH density diffusion coefficient, 0 = off [-] */
+    sph_delta_form delta_form; /* delta-SPH's form: Molteni & Colagrossi or Fourtakas et al. */
+    sph_initial_spec initial;  /* initial velocity field of the fluid (rest by default) */
+    double t_end;              /* end time [s] */
+    double cfl;                /* CFL number for the adaptive time step [-] */
+    double dt_fixed;           /* fixed time step, 0 = adaptive [s] */
+    long diag_every;           /* steps between diagnostics events [-] */
+    double diag_interval;      /* simulated time between diagnostics events, the steps landing on
+                                  its multiples; 0: every diag_every steps [s] */
+    unsigned probes;           /* SPH_PROBE_* mask */
+    int ngauges;               /* height gauges */
     sph_gauge_spec gauges[SPH_CONFIG_MAX_GAUGES];
     int npressure; /* pressure probes */
     sph_pressure_spec pressure[SPH_CONFIG_MAX_GAUGES];

@@ -48,6 +48,8 @@ static const char *const initial_names[] = {"rest", "standing_wave", "solitary_w
                                             NULL}; /* sph_initial_type */
 static const char *const turb_names[] = {"none", "sps", NULL};
 static const int turb_values[] = {SPH_TURB_NONE, SPH_TURB_SPS};
+static const char *const delta_form_names[] = {"molteni", "fourtakas", NULL};
+static const int delta_form_values[] = {SPH_DELTA_MOLTENI, SPH_DELTA_FOURTAKAS};
 static const char *const probe_names[] = {"front_x", "height_left", "ekin",  "epot",
                                           "vmax",    "penetration", "runup", NULL};
 /* ekin, epot and vmax are always in diag: accepted, no bit */
@@ -324,6 +326,12 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/physics/delta_sph", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH, .lo = 0.0,
      .hi = 1.0, .has_def = 1, .def = 0.0, CFG(delta_sph),
      .doc = "delta-SPH density diffusion coefficient (Molteni & Colagrossi 2009); 0 = off"},
+    {.path = "/physics/delta_sph_form", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
+     .names = delta_form_names, .values = delta_form_values, .has_def = 1, .def = 0,
+     CFG(delta_form),
+     .doc = "delta-SPH's form: molteni (Molteni & Colagrossi 2009: diffuses the hydrostatic "
+            "density gradient too) or fourtakas (Fourtakas et al. 2019: the departure from the "
+            "hydrostatic density, rho0 g / c0^2 taken off each pair's difference)"},
     {.path = "/initial", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
      .doc = "an analytic initial velocity field of the fluid (the pressure stays hydrostatic); "
             "absent: rest"},

@@ -257,6 +257,10 @@ void sph_wcsph_consts_of(const sph_sim *s, sph_wcsph_consts *k)
     k->pc.alpha_c0 = alpha * cfg->c0;
     k->pc.mu8 = 8.0 * cfg->rho0 * cfg->nu;
     k->pc.dcoef = 2.0 * cfg->delta_sph * s->h * cfg->c0 * s->mass;
+    for (int d = 0; d < 3; d++)
+        k->pc.dgh[d] = cfg->delta_form == SPH_DELTA_FOURTAKAS
+                           ? cfg->rho0 * cfg->gravity[d] / (cfg->c0 * cfg->c0)
+                           : 0.0;
     k->support2 = s->kernel.support * s->kernel.support;
     k->tiny = 1e-12 * s->h;
     k->wall_visc = cfg->wall_viscosity;

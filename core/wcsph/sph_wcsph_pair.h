@@ -38,6 +38,8 @@ typedef struct sph_wcsph_pair_const {
     double alpha_c0; /* Monaghan's term (artificial or physical): alpha c0 [m/s] */
     double mu8;      /* laminar: 8 mu = 8 rho0 nu [Pa s] */
     double dcoef;    /* delta-SPH: 2 delta h c0 m [kg m^2/s] */
+    double dgh[3];   /* delta-SPH, Fourtakas et al.'s form: the hydrostatic density's gradient
+                        rho0 g / c0^2 (0 in Molteni & Colagrossi's) [kg/m^4] */
 } sph_wcsph_pair_const;
 
 /* What a pair adds: a gets +f, b gets -f; both get dd (continuity, eq. 12); delta-SPH: a gets
@@ -116,8 +118,13 @@ sph_wcsph_pair(const int D, const unsigned F, const sph_wcsph_pair_const *SPH_RE
     }
     if ((F & SPH_WF_DELTA) && delta) {
         /* delta-SPH (Molteni & Colagrossi 2009): 2 delta h c0 sum (rho_b - rho_a)
-         * (x_b - x_a).grad_a W / (r^2 + eta^2) V_b */
-        const double w = k->dcoef * (rhoj - rhoi) * (-fw * r2) / (r2 + k->eta2);
+         * (x_b - x_a).grad_a W / (r^2 + eta^2) V_b; in Fourtakas et al.'s (2019) form the
+         * hydrostatic part of rho_b - rho_a, rho0 g.(x_b - x_a) / c0^2 = -dgh.d, taken off
+         * (with dgh = 0, Molteni's: the same bits) */
+        double gd = k->dgh[0] * d[0] + k->dgh[1] * d[1];
+        if (D == 3)
+            gd += k->dgh[2] * d[2];
+        const double w = k->dcoef * ((rhoj - rhoi) + gd) * (-fw * r2) / (r2 + k->eta2);
         o->dwa = w / rhoj;
         o->dwb = w / rhoi;
     } else {
