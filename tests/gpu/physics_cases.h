@@ -13,9 +13,10 @@
 #include "sph_wcsph_pair.h"
 
 #define PC_SAMPLES 256
-#define PC_KERNELS 5 /* cubic spline, Gaussian, double cosine, Wendland C2, renormalised Gaussian */
-#define PC_PAIRS   8 /* 2D and 3D, 4 option sets each */
-#define PC_OUT     (PC_KERNELS * 2 + 4 + PC_PAIRS * 18 + 9)
+#define PC_KERNELS 5 /* cubic spline, Gaussian, double cosine, Wendland C2, renormalised Gaussian  \
+                      */
+#define PC_PAIRS 8   /* 2D and 3D, 4 option sets each */
+#define PC_OUT   (PC_KERNELS * 2 + 4 + PC_PAIRS * 18 + 9)
 
 /* A number in [0, 1) from (i, j): a fixed hash, the same everywhere. */
 SPH_HD static inline double pc_u(int i, int j)
@@ -29,7 +30,8 @@ SPH_HD static inline double pc_u(int i, int j)
     return (double)(x & 0xffffffu) / 16777216.0;
 }
 
-/* The option sets of the pairs: 0, laminar, SPS + delta-SPH, Monaghan + delta-SPH. */
+/* The option sets of the pairs: 0, laminar, SPS + delta-SPH (Molteni's form), Monaghan +
+ * delta-SPH (Fourtakas' form: the hydrostatic gradient rho0 g / c0^2 along the last axis). */
 SPH_HD static inline void pc_pair(int D, unsigned F, int i, double h, const sph_kernel *kern,
                                   double *out)
 {
@@ -40,6 +42,8 @@ SPH_HD static inline void pc_pair(int D, unsigned F, int i, double h, const sph_
     k.alpha_c0 = 0.1 * 25.0;
     k.mu8 = 8.0e-3;
     k.dcoef = 2.0 * 0.1 * h * 25.0 * k.m;
+    for (int c = 0; c < 3; c++)
+        k.dgh[c] = (F & SPH_WF_MONAGHAN) && c == D - 1 ? 1000.0 * -9.81 / (25.0 * 25.0) : 0.0;
     double d[3], dv[3], ta[6], tb[6];
     for (int c = 0; c < 3; c++) {
         d[c] = (c < D ? 1.0 : 0.0) * (pc_u(i, 2 + c) - 0.5) * 1.2 * h;
@@ -52,7 +56,8 @@ SPH_HD static inline void pc_pair(int D, unsigned F, int i, double h, const sph_
     const double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + 1e-12 * h * h;
     const double r = sqrt(r2);
     const double fw = sph_kernel_dwdr(kern, r) / r;
-    const double rhoi = 1000.0 * (1.0 + 0.01 * pc_u(i, 20)), rhoj = 1000.0 * (1.0 + 0.01 * pc_u(i, 21));
+    const double rhoi = 1000.0 * (1.0 + 0.01 * pc_u(i, 20)),
+                 rhoj = 1000.0 * (1.0 + 0.01 * pc_u(i, 21));
     sph_wcsph_pair_out o;
     sph_wcsph_pair(D, F, &k, d, r2, fw, dv, rhoi, rhoj, 600.0 * pc_u(i, 22) / (rhoi * rhoi),
                    600.0 * pc_u(i, 23) / (rhoj * rhoj), 1.0, ta, tb, (F & SPH_WF_DELTA) != 0, &o);
