@@ -484,7 +484,7 @@ sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_bac
         const sph_diag *d = sph_sim_diag(x->sim);
         x->diag = diag_json(d, &x->c.sim, sph_sim_solves_pressure(x->sim));
         x->out = sphd_outputs_open(outdir, job_of(outdir), c, x->sim, d->step, err);
-        if (x->out && sphd_outputs_restore(x->out, json_object_get(ex, "outputs"), err)) {
+        if (x->out && sphd_outputs_restore(x->out, json_object_get(ex, "outputs"), d->t, err)) {
             sphd_outputs_close(x->out);
             x->out = NULL;
         }

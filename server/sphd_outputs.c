@@ -59,6 +59,7 @@ struct sphd_outputs {
     char body_names[SPH_CONFIG_MAX_BODIES * NBODYCOL][SPH_BODY_NAME_MAX + 16];
     sphd_xdmf_entry *entries; /* snapshots written */
     int nentries, capentries;
+    long skip; /* output times passed over: a run resumed past them (its output.every changed) */
 };
 
 sphd_outputs *sphd_outputs_open(const char *dir, const char *job, const sph_case *c,
@@ -148,7 +149,7 @@ double sphd_outputs_next_time(const sphd_outputs *o)
 {
     if (!(o->cfg.every > 0.0))
         return INFINITY;
-    return (double)o->nentries * o->cfg.every;
+    return (double)(o->nentries + o->skip) * o->cfg.every;
 }
 
 /* Gathers src[where[k]] for k in creation order into dst (elements of size es). */
@@ -307,7 +308,7 @@ json_t *sphd_outputs_state(const sphd_outputs *o)
     return json_pack("{s:o}", "snapshots", list);
 }
 
-int sphd_outputs_restore(sphd_outputs *o, const json_t *state, sph_error *err)
+int sphd_outputs_restore(sphd_outputs *o, const json_t *state, double t, sph_error *err)
 {
     json_t *list = json_object_get(state, "snapshots");
     if (!json_is_array(list))
@@ -327,6 +328,13 @@ int sphd_outputs_restore(sphd_outputs *o, const json_t *state, sph_error *err)
     free(o->entries);
     o->entries = e;
     o->nentries = o->capentries = (int)n;
+    /* a schedule the state is already past (the case's output.every made shorter before the
+     * resume): the next output is the first time due from t on, not a burst of late ones */
+    if (o->cfg.every > 0.0 && (double)o->nentries * o->cfg.every <= t) {
+        const double k = floor(t / o->cfg.every + 1e-9) + 1.0; /* the first time after t */
+        if (k < 1e15)
+            o->skip = (long)k - o->nentries;
+    }
     return 0;
 }
 

@@ -33,9 +33,10 @@ double sphd_outputs_next_time(const sphd_outputs *o);
  * body (new reference) or NULL with err. */
 json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err);
 
-/* The state to checkpoint (new reference), and its restoration. */
+/* The state to checkpoint (new reference), and its restoration for a sim at time t [s] (output
+ * times already behind t are passed over). */
 json_t *sphd_outputs_state(const sphd_outputs *o);
-int sphd_outputs_restore(sphd_outputs *o, const json_t *state, sph_error *err);
+int sphd_outputs_restore(sphd_outputs *o, const json_t *state, double t, sph_error *err);
 
 /* close(NULL) is a no-op. */
 void sphd_outputs_close(sphd_outputs *o);

@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 typedef struct emitter {
     const char *job;
@@ -139,16 +140,28 @@ int sphd_run(const sphd_run_opts *o)
     sphd_exec *x = NULL;
     if (o->resume && sph_case_is_sim(c)) {
         int fell_back = 0;
-        char ck[4200];
-        snprintf(ck, sizeof ck, "%s/checkpoint", outdir);
         x = sphd_exec_resume(c, outdir, &fell_back, &err);
         if (x && fell_back)
             fprintf(stderr, "sphd: %s\n", err.message);
         else if (x)
             fprintf(stderr, "sphd: %s: resuming from its checkpoint\n", job);
-        else
-            fprintf(stderr, "sphd: %s: no checkpoint to resume from (%s); starting afresh\n", job,
-                    err.message);
+        else {
+            /* one this sphd cannot take (another version's state, or damaged) is kept aside,
+             * not overwritten by the fresh run's first checkpoint */
+            int kept = 0;
+            static const char *const names[] = {"checkpoint", "checkpoint.prev"};
+            for (int k = 0; k < 2; k++) {
+                char from[4200], to[4300];
+                snprintf(from, sizeof from, "%s/%s", outdir, names[k]);
+                snprintf(to, sizeof to, "%s.unreadable", from);
+                kept += access(from, F_OK) == 0 && rename(from, to) == 0;
+            }
+            fprintf(stderr, "sphd: %s: no checkpoint to resume from (%s); starting afresh%s\n", job,
+                    err.message,
+                    kept ? " (the checkpoint that could not be read is kept as "
+                           "checkpoint.unreadable)"
+                         : "");
+        }
     }
     if (!x)
         x = sphd_exec_new(c, outdir, &err);

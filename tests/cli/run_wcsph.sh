@@ -72,6 +72,39 @@ assert r1["steps"] == r2["steps"] and r1["diag"] == r2["diag"], (r1["diag"], r2[
 print("SIGTERM OK: stopped after step", last, "exit 75; resumed to", r2["steps"], "steps, as the uninterrupted run")
 PY
 fi
+# --resume past output times (output.every made shorter than at the checkpoint, written after the
+# snapshot at t = 0.1): it goes on from there (it spun on the first missed time before), the
+# missed times passed over
+sets=(--set dx=0.01 --set time.end=0.4)
+"$sphd" --run "$src/cases/dambreak.json" --out "$tmp/sk" "${sets[@]}" --set time.end=0.2 \
+  --set output.every=0.1 --threads 1 >/dev/null 2>&1
+timeout 60 "$sphd" --run "$src/cases/dambreak.json" --out "$tmp/sk" "${sets[@]}" \
+  --set output.every=0.02 --threads 1 --resume >"$tmp/ev_sk" 2>"$tmp/err_sk"
+rc=$?
+if [ $rc != 0 ] || ! grep -q "resuming from its checkpoint" "$tmp/err_sk"; then
+  echo "FAIL: resume past output times: exit $rc"; cat "$tmp/err_sk"; fail=1
+else
+  /usr/bin/python3 - "$tmp/ev_sk" <<'PY' || fail=1
+import json, sys
+ev = [json.loads(l) for l in open(sys.argv[1])]
+out = [round(e["t"], 9) for e in ev if e["type"] == "output"]
+want = [round(0.12 + 0.02 * k, 9) for k in range(15)]
+assert ev[-1]["state"] == "done" and out == want, out
+print("resume past output times OK: outputs at", out[0], "...", out[-1])
+PY
+fi
+# --resume with a checkpoint it cannot read: kept as checkpoint.unreadable, the run starts afresh
+printf 'not a checkpoint' >"$tmp/sk/checkpoint"
+printf 'not a checkpoint' >"$tmp/sk/checkpoint.prev"
+"$sphd" --run "$src/cases/dambreak.json" --out "$tmp/sk" "${sets[@]}" --set time.end=0.01 \
+  --set output.every=0.1 --threads 1 --resume >/dev/null 2>"$tmp/err_un"
+rc=$?
+if [ $rc != 0 ] || ! grep -q "kept as checkpoint.unreadable" "$tmp/err_un" ||
+   [ "$(cat "$tmp/sk/checkpoint.unreadable" 2>/dev/null)" != "not a checkpoint" ]; then
+  echo "FAIL: unreadable checkpoint: exit $rc"; cat "$tmp/err_un"; fail=1
+else
+  echo "unreadable checkpoint OK: $(cat "$tmp/err_un")"
+fi
 for dx in 1e-5 1e-300; do
   "$sphd" --run "$src/cases/dambreak.json" --out "$tmp/o2" --set dx=$dx >"$tmp/ev2" 2>"$tmp/err2"
   rc=$?
