@@ -25,6 +25,8 @@
  * Usage: bench_dambreak [--steps N] [--repeats R] [--threads "1 2"] [--sizes "20000 80000 320000"]
  *                       [--walls "dynamic ghost"] [--steps3d 10]
  *                       [--sizes3d "100000 400000 1600000"] [--dsph "0.0074"] [--device cpu]
+ *                       [--precision double]
+ * --precision mixed: every row with the particles' hot fields in float (positions in double).
  * An empty list ("") leaves its rows out.
  *
  * "serial %": the share of the timed steps spent outside every OpenMP parallel region (set-up
@@ -136,12 +138,15 @@ typedef struct run {
 
 /* --device: where the runs go (gpu: the device's bytes in the "store B/p" column) */
 static sph_device device = SPH_DEVICE_CPU;
+/* --precision: the particles' storage (sph_config.precision) */
+static sph_precision precision = SPH_PRECISION_DOUBLE;
 
 static int one(const sph_config *cfg, int threads, long steps, run *r)
 {
     omp_set_num_threads(threads);
     sph_config c = *cfg;
     c.device = device;
+    c.precision = precision;
     if (device == SPH_DEVICE_GPU) /* the GPU's walls: continuity density (DBC) */
         c.wall_density = SPH_WALL_CONTINUITY;
     sph_error err;
@@ -246,11 +251,16 @@ int main(int argc, char **argv)
         else if (strcmp(opt, "--device") == 0 &&
                  (strcmp(argv[i + 1], "cpu") == 0 || strcmp(argv[i + 1], "gpu") == 0))
             device = strcmp(argv[i + 1], "gpu") == 0 ? SPH_DEVICE_GPU : SPH_DEVICE_CPU;
+        else if (strcmp(opt, "--precision") == 0 &&
+                 (strcmp(argv[i + 1], "double") == 0 || strcmp(argv[i + 1], "mixed") == 0))
+            precision =
+                strcmp(argv[i + 1], "mixed") == 0 ? SPH_PRECISION_MIXED : SPH_PRECISION_DOUBLE;
         else {
             fprintf(
                 stderr,
                 "usage: %s [--steps N] [--repeats R] [--threads LIST] [--sizes LIST] "
-                "[--walls LIST] [--steps3d N] [--sizes3d LIST] [--dsph LIST] [--device cpu|gpu]\n",
+                "[--walls LIST] [--steps3d N] [--sizes3d LIST] [--dsph LIST] [--device cpu|gpu] "
+                "[--precision double|mixed]\n",
                 argv[0]);
             return 64;
         }
@@ -263,8 +273,8 @@ int main(int argc, char **argv)
      * size measured around a run is that run's */
     mallopt(M_MMAP_THRESHOLD, 64 * 1024);
     printf("dam break, Wendland C2, h = 1.414 dx, alpha = 0.01, c0 = 25 m/s, %ld steps, median of "
-           "%d runs\n",
-           steps, repeats);
+           "%d runs, %s precision\n",
+           steps, repeats, precision == SPH_PRECISION_MIXED ? "mixed" : "double");
     printf("%8s %8s %8s %7s %6s %10s %11s %9s %8s %8s %8s %8s %8s %9s\n", "walls", "fluid", "total",
            "threads", "neigh", "Mpart-st/s", "Mfluid-st/s", "ms/step", "nb ms", "inter ms",
            "integ ms", "serial %", "RSS B/p", "store B/p");

@@ -105,7 +105,7 @@ list_forces(sph_kernel_type T, unsigned F, const int D, sph_sim *s, const nlist 
     sph_wcsph_consts kc;
     sph_wcsph_consts_of(s, &kc);
     for (long i = 0; i < n; i++)
-        prepare_one(D, &s->cfg, P, kc.smag, kc.blin, i);
+        prepare_one(D, 0, &s->cfg, P, kc.smag, kc.blin, i);
     fctx cl;
     fctx_init(&cl, P, &s->cells, s->cells.start, &s->kernel, &kc);
     const fctx *c = &cl;
@@ -133,7 +133,7 @@ list_forces(sph_kernel_type T, unsigned F, const int D, sph_sim *s, const nlist 
         }
     const double gv[3] = {s->cfg.gravity[0], s->cfg.gravity[1], s->cfg.gravity[2]};
     for (long i = 0; i < n; i++)
-        (void)gravity_one(D, gv, P, i);
+        (void)gravity_one(D, 0, gv, P, i);
 }
 
 /* The cases' own options: the 2D dam break without options, Test 2 with delta-SPH. */

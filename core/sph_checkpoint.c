@@ -21,7 +21,7 @@
  * 11: obstacles; 12: pressure probes (sph_config and sph_diag); 13: sph_config.diag_interval;
  * 14: sph_config.wall_density; 15: sph_config.device; 16: a pressure probe's normal
  * (sph_pressure_spec) */
-#define SIM_VERSION 17u /* 17: sph_config.delta_form */
+#define SIM_VERSION 18u /* 18: sph_config.precision, float arrays under mixed precision */
 
 typedef struct {
     char magic[8];
@@ -37,11 +37,11 @@ typedef struct {
 
 int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
 {
-    double *arrays[32];
-    const int na = s->ops->arrays(s, arrays, 32);
+    sph_array arrays[40];
+    const int na = s->ops->arrays(s, arrays, 40);
     const size_t n = (size_t)s->P.n;
     const size_t nbs = (size_t)s->bodies.n;
-    const size_t size = sizeof(sim_header) + (size_t)na * n * sizeof(double) +
+    const size_t size = sizeof(sim_header) + sph_method_arrays_size(arrays, na) * n +
                         n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state);
     unsigned char *b = malloc(size);
     if (!b)
@@ -70,8 +70,8 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     memcpy(p, &h, sizeof h);
     p += sizeof h;
     for (int i = 0; i < na; i++) {
-        memcpy(p, arrays[i], n * sizeof(double));
-        p += n * sizeof(double);
+        memcpy(p, arrays[i].p, n * arrays[i].size);
+        p += n * arrays[i].size;
     }
     memcpy(p, s->P.type, n);
     p += n;
@@ -128,13 +128,13 @@ static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
     sph_sim *s = sph_sim_create(&h.cfg, err);
     if (!s)
         return NULL;
-    double *arrays[32];
-    const int na = s->ops->arrays(s, arrays, 32);
+    sph_array arrays[40];
+    const int na = s->ops->arrays(s, arrays, 40);
     const size_t n = (size_t)s->P.n;
     const size_t nbs = (size_t)s->bodies.n;
+    const size_t per = sph_method_arrays_size(arrays, na);
     if (h.n != s->P.n || (s->P.txx != NULL) != (h.sps != 0) || h.nbodies != s->bodies.n ||
-        len != sizeof h + (size_t)na * n * sizeof(double) + n * (1 + sizeof(int)) +
-                   nbs * sizeof(sph_body_state)) {
+        len != sizeof h + per * n + n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state)) {
         sph_sim_destroy(s);
         sph_error_set(err, SPH_ERR_IO, "", "simulation state does not match its configuration");
         return NULL;
@@ -150,7 +150,7 @@ static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
      * evaluation), the ids a permutation of 0..n-1 (the server indexes by id), and a particle is
      * a body's exactly when its id is one of the bodies' (the pair loop and the bodies index
      * their tables by id - first): checked before anything is taken */
-    const unsigned char *types = p + (size_t)na * n * sizeof(double);
+    const unsigned char *types = p + per * n;
     const unsigned char *ids = types + n;
     unsigned char *seen = calloc(n ? n : 1, 1);
     int bad = !seen;
@@ -168,8 +168,8 @@ static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
         return NULL;
     }
     for (int i = 0; i < na; i++) {
-        memcpy(arrays[i], p, n * sizeof(double));
-        p += n * sizeof(double);
+        memcpy(arrays[i].p, p, n * arrays[i].size);
+        p += n * arrays[i].size;
     }
     memcpy(s->P.type, p, n);
     p += n;

@@ -45,6 +45,10 @@ typedef enum {
  * interpolated from the fluid at their mirror points (mDBC, English et al. 2021; sph_mdbc.h). */
 typedef enum { SPH_WALL_CONTINUITY = 0, SPH_WALL_MDBC, SPH_WALL_COUNT } sph_wall_density;
 
+/* The case's "precision": every particle field in double, or mixed (positions in double, the
+ * other hot fields in float: sph_particles.h). */
+typedef enum { SPH_PRECISION_DOUBLE = 0, SPH_PRECISION_MIXED, SPH_PRECISION_COUNT } sph_precision;
+
 /* The case's "device". */
 typedef enum { SPH_DEVICE_CPU = 0, SPH_DEVICE_GPU } sph_device;
 
@@ -201,7 +205,8 @@ typedef struct sph_config {
     int nbodies;
     sph_body_spec bodies[SPH_CONFIG_MAX_BODIES];
 
-    sph_device device; /* where the steps run: the CPU (default) or a GPU (WCSPH only) */
+    sph_device device;       /* where the steps run: the CPU (default) or a GPU (WCSPH only) */
+    sph_precision precision; /* the particles' storage: double (default) or mixed */
 } sph_config;
 
 #define SPH_CONFIG_DEFAULT_MAX_BYTES (4.0 * 1024 * 1024 * 1024)

@@ -90,8 +90,9 @@ static double pressure_at(const sph_sim *s, const double *x)
         const double r2 = dx * dx + dy * dy + dz * dz;
         if (r2 >= support2)
             continue;
-        const double w = sph_kernel_w(&s->kernel, sqrt(r2)) / P->rho[i];
-        const double p = solved ? P->p[i] : sph_eos_pressure(&s->cfg, P->rho[i]);
+        const double rho = SPH_GET(P->mixed, P, rho, i);
+        const double w = sph_kernel_w(&s->kernel, sqrt(r2)) / rho;
+        const double p = solved ? SPH_GET(P->mixed, P, p, i) : sph_eos_pressure(&s->cfg, rho);
         num += p * w;
         den += w;
     }
@@ -108,17 +109,21 @@ void sph_diag_compute(sph_sim *s)
     for (long i = 0; i < s->nactive; i++) {
         if (P->type[i] != SPH_FLUID)
             continue;
-        double v2 = P->vx[i] * P->vx[i] + P->vy[i] * P->vy[i];
+        const int M = P->mixed;
+        const double vx = SPH_GET(M, P, vx, i), vy = SPH_GET(M, P, vy, i);
+        const double rho = SPH_GET(M, P, rho, i);
+        double v2 = vx * vx + vy * vy;
         if (P->z) {
-            v2 += P->vz[i] * P->vz[i];
+            const double vz = SPH_GET(M, P, vz, i);
+            v2 += vz * vz;
             epot -= m * (gx * P->x[i] + gy * P->y[i] + gz * P->z[i]);
         } else {
             epot -= m * (gx * P->x[i] + gy * P->y[i]);
         }
         ekin += 0.5 * m * v2;
         v2max = v2 > v2max ? v2 : v2max;
-        rlo = P->rho[i] < rlo ? P->rho[i] : rlo;
-        rhi = P->rho[i] > rhi ? P->rho[i] : rhi;
+        rlo = rho < rlo ? rho : rlo;
+        rhi = rho > rhi ? rho : rhi;
     }
     d->t = s->t;
     d->step = s->step;

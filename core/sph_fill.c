@@ -39,11 +39,12 @@ static void settle(const sph_config *c, sph_particles *P, long i0, long i1, int 
         double v[3] = {0.0, 0.0, 0.0};
         if (type == SPH_FLUID)
             sph_initial_velocity(c, x, v);
-        P->vx[i] = v[0];
-        P->vy[i] = v[1];
-        if (P->vz)
-            P->vz[i] = v[2];
-        P->rho[i] = sph_shapes_hydrostatic_density(c, x, margin);
+        const int M = P->mixed;
+        SPH_SET(M, P, vx, i, v[0]);
+        SPH_SET(M, P, vy, i, v[1]);
+        if (P->dim == 3)
+            SPH_SET(M, P, vz, i, v[2]);
+        SPH_SET(M, P, rho, i, sph_shapes_hydrostatic_density(c, x, margin));
         P->type[i] = (unsigned char)type;
         P->id[i] = (int)i;
     }

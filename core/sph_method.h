@@ -17,6 +17,12 @@
 
 typedef struct sph_sim sph_sim;
 
+/* A per-particle array and the bytes of one of its elements. */
+typedef struct sph_array {
+    void *p;
+    size_t size;
+} sph_array;
+
 typedef struct sph_method_ops {
     const char *name;    /* the case file's "method" */
     int solves_pressure; /* 1: a pressure equation per step, its figures in sph_diag (cg_*,
@@ -37,9 +43,10 @@ typedef struct sph_method_ops {
     void (*pressure)(const sph_sim *s);
     /* Fills the method's own diagnostics into s->diag after the shared ones; may be NULL. */
     void (*diag)(sph_sim *s);
-    /* The per-particle double arrays that live from one step to the next, in a fixed order
-     * (what a checkpoint saves besides type and id); returns how many (at most maxd). */
-    int (*arrays)(const sph_sim *s, double **d, int maxd);
+    /* The per-particle arrays that live from one step to the next, in a fixed order (what a
+     * checkpoint saves besides type and id), with their element sizes (double, or float under
+     * mixed precision); returns how many (at most maxd). */
+    int (*arrays)(const sph_sim *s, sph_array *d, int maxd);
     /* Frees s->mstate; may be NULL. */
     void (*destroy)(sph_sim *s);
     /* A device backend: brings the host's particles up to date with the device's (called
@@ -52,13 +59,22 @@ typedef struct sph_method_ops {
 
 /* For a method's `arrays`: copies the non-NULL arrays of all[0..nall) to d (at most maxd, in
  * order) and returns how many. */
-static inline int sph_method_arrays(double *const *all, int nall, double **d, int maxd)
+static inline int sph_method_arrays(const sph_array *all, int nall, sph_array *d, int maxd)
 {
     int n = 0;
     for (int i = 0; i < nall && n < maxd; i++)
-        if (all[i])
+        if (all[i].p)
             d[n++] = all[i];
     return n;
+}
+
+/* The bytes per particle of arrays a[0..na). */
+static inline size_t sph_method_arrays_size(const sph_array *a, int na)
+{
+    size_t b = 0;
+    for (int i = 0; i < na; i++)
+        b += a[i].size;
+    return b;
 }
 
 /* The row of method m, or NULL when m is not a particle simulation of this build. */

@@ -5,57 +5,77 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The double arrays of P, in one order: the ones every particle set has (FIELDS2), the third
- * axis's (FIELDS3: 3D only), the SPS tensors' (SPS2, and SPS3 in 3D). NULL where absent. */
-#define FIELDS2(P)                                                                                 \
-    &(P)->x, &(P)->y, &(P)->vx, &(P)->vy, &(P)->rho, &(P)->p, &(P)->pr, &(P)->ax, &(P)->ay,        \
-        &(P)->drho, &(P)->ax0, &(P)->ay0, &(P)->drho0, &(P)->scratch
-#define FIELDS3(P) &(P)->z, &(P)->vz, &(P)->az, &(P)->az0
+/* The arrays of P that hold a hot field in double or, under mixed precision, in float (one of
+ * each pair is allocated), and those that are always double: every set's (D2), the third axis's
+ * (D3: 3D only), the SPS tensors' (SPS2, and SPS3 in 3D). NULL where absent. */
+#define HOT2(P, T)                                                                                 \
+    &(P)->T vx, &(P)->T vy, &(P)->T rho, &(P)->T p, &(P)->T pr, &(P)->T ax, &(P)->T ay,            \
+        &(P)->T drho, &(P)->T ax0, &(P)->T ay0, &(P)->T drho0
+#define HOT3(P, T) &(P)->T vz, &(P)->T az, &(P)->T az0
+#define D2(P)      &(P)->x, &(P)->y, &(P)->scratch
+#define D3(P)      &(P)->z
 #define SPS2(P)    &(P)->gxx, &(P)->gxy, &(P)->gyy, &(P)->txx, &(P)->txy, &(P)->tyy
 #define SPS3(P)    &(P)->gzz, &(P)->gxz, &(P)->gyz, &(P)->tzz, &(P)->txz, &(P)->tyz
-#define N_FIELDS2  14
-#define N_FIELDS3  4
+#define N_HOT2     11
+#define N_HOT3     3
+#define N_D2       3
+#define N_D3       1
 #define N_SPS2     6
 #define N_SPS3     6
+#define N_DOUBLE   (N_HOT2 + N_HOT3 + N_D2 + N_D3 + N_SPS2 + N_SPS3)
+#define N_FLOAT    (N_HOT2 + N_HOT3)
 
-size_t sph_particles_bytes_per_particle(int dim, int sps)
+size_t sph_particles_bytes_per_particle(int dim, unsigned opts)
 {
-    /* the double arrays, type, id, cell key, the sort's outlier list, perm */
-    const size_t nd =
-        N_FIELDS2 + (dim == 3 ? N_FIELDS3 : 0) + (sps ? N_SPS2 + (dim == 3 ? N_SPS3 : 0) : 0);
-    return nd * sizeof(double) + 1 + sizeof(int) + sizeof(int) + sizeof(int) + sizeof(long);
+    const int sps = !!(opts & SPH_PARTICLES_SPS), mixed = !!(opts & SPH_PARTICLES_MIXED);
+    const size_t nhot = N_HOT2 + (dim == 3 ? N_HOT3 : 0);
+    const size_t nd = N_D2 + (dim == 3 ? N_D3 : 0) + (sps ? N_SPS2 + (dim == 3 ? N_SPS3 : 0) : 0);
+    /* the arrays, type, id, cell key, the sort's outlier list, perm */
+    return nd * sizeof(double) + nhot * (mixed ? sizeof(float) : sizeof(double)) + 1 + sizeof(int) +
+           sizeof(int) + sizeof(int) + sizeof(long);
 }
 
-/* Every double array's address in P, the absent ones included (their pointers stay NULL). */
-static int all_fields(sph_particles *P, double ***d)
+/* Every double array's address in P (d, N_DOUBLE) and every float array's (f, N_FLOAT), the
+ * absent ones included (their pointers stay NULL). */
+static void all_fields(sph_particles *P, double ***d, float ***f)
 {
-    double **all[] = {FIELDS2(P), FIELDS3(P), SPS2(P), SPS3(P)};
-    memcpy(d, all, sizeof all);
-    return (int)(sizeof all / sizeof all[0]);
+    double **ad[] = {HOT2(P, ), HOT3(P, ), D2(P), D3(P), SPS2(P), SPS3(P)};
+    float **af[] = {HOT2(P, f32.), HOT3(P, f32.)};
+    memcpy(d, ad, sizeof ad);
+    memcpy(f, af, sizeof af);
 }
 
-int sph_particles_alloc(sph_particles *P, long n, int dim, int sps)
+int sph_particles_alloc(sph_particles *P, long n, int dim, unsigned opts)
 {
     memset(P, 0, sizeof *P);
     P->n = n;
     P->cap = n;
     P->dim = dim;
-    const size_t nb = (size_t)(n > 0 ? n : 1) * sizeof(double);
-    double **d[N_FIELDS2 + N_FIELDS3 + N_SPS2 + N_SPS3];
-    all_fields(P, d);
+    P->mixed = !!(opts & SPH_PARTICLES_MIXED);
+    const int sps = !!(opts & SPH_PARTICLES_SPS);
+    const size_t nn = (size_t)(n > 0 ? n : 1);
+    double **d[N_DOUBLE];
+    float **f[N_FLOAT];
+    all_fields(P, d, f);
     /* which of them this set has, in all_fields' order */
-    const int have[4] = {N_FIELDS2, dim == 3 ? N_FIELDS3 : 0, sps ? N_SPS2 : 0,
-                         sps && dim == 3 ? N_SPS3 : 0};
-    const int group[4] = {N_FIELDS2, N_FIELDS3, N_SPS2, N_SPS3};
+    const int hot[2] = {N_HOT2, dim == 3 ? N_HOT3 : 0};
+    const int have[6] = {
+        P->mixed ? 0 : hot[0], P->mixed ? 0 : hot[1], N_D2,
+        dim == 3 ? N_D3 : 0,   sps ? N_SPS2 : 0,      sps && dim == 3 ? N_SPS3 : 0};
+    const int group[6] = {N_HOT2, N_HOT3, N_D2, N_D3, N_SPS2, N_SPS3};
     int k = 0;
-    for (int g = 0; g < 4; g++) {
+    for (int g = 0; g < 6; g++) {
         for (int i = 0; i < have[g]; i++)
-            if (!(*d[k + i] = calloc(1, nb)))
+            if (!(*d[k + i] = calloc(nn, sizeof(double))))
                 goto fail;
         k += group[g];
     }
-    P->type = calloc((size_t)(n > 0 ? n : 1), 1);
-    P->id = calloc((size_t)(n > 0 ? n : 1), sizeof(int));
+    if (P->mixed)
+        for (int i = 0; i < hot[0] + hot[1]; i++)
+            if (!(*f[i < hot[0] ? i : N_HOT2 + i - hot[0]] = calloc(nn, sizeof(float))))
+                goto fail;
+    P->type = calloc(nn, 1);
+    P->id = calloc(nn, sizeof(int));
     if (!P->type || !P->id)
         goto fail;
     return 0;
@@ -66,10 +86,13 @@ fail:
 
 void sph_particles_free(sph_particles *P)
 {
-    double **d[N_FIELDS2 + N_FIELDS3 + N_SPS2 + N_SPS3];
-    const int nd = all_fields(P, d);
-    for (int i = 0; i < nd; i++)
+    double **d[N_DOUBLE];
+    float **f[N_FLOAT];
+    all_fields(P, d, f);
+    for (int i = 0; i < N_DOUBLE; i++)
         free(*d[i]);
+    for (int i = 0; i < N_FLOAT; i++)
+        free(*f[i]);
     free(P->type);
     free(P->id);
     memset(P, 0, sizeof *P);
@@ -91,10 +114,14 @@ int sph_particles_reserve(sph_particles *P, long cap)
     const long old = P->cap > 0 ? P->cap : 1;
     if (cap <= old)
         return 0;
-    double **d[N_FIELDS2 + N_FIELDS3 + N_SPS2 + N_SPS3];
-    const int nd = all_fields(P, d);
-    for (int i = 0; i < nd; i++)
+    double **d[N_DOUBLE];
+    float **f[N_FLOAT];
+    all_fields(P, d, f);
+    for (int i = 0; i < N_DOUBLE; i++)
         if (*d[i] && grow((void **)d[i], sizeof(double), old, cap))
+            return -1;
+    for (int i = 0; i < N_FLOAT; i++)
+        if (*f[i] && grow((void **)f[i], sizeof(float), old, cap))
             return -1;
     if (grow((void **)&P->type, 1, old, cap) || grow((void **)&P->id, sizeof(int), old, cap))
         return -1;
@@ -117,6 +144,22 @@ static void permute_doubles(double **a, double **scratch, const long *perm, long
     *a = dst;
 }
 
+/* *a = old[perm] for a float array: gathered into the scratch array, then copied back. */
+static void permute_floats(float *a, double *scratch, const long *perm, long n)
+{
+    float *restrict dst = (float *)scratch;
+    const float *restrict src = a;
+#pragma omp parallel if (n >= SPH_OMP_MIN)
+    {
+#pragma omp for schedule(dynamic, SPH_OMP_CHUNK)
+        for (long i = 0; i < n; i++)
+            dst[i] = src[perm[i]];
+#pragma omp for schedule(static)
+        for (long i = 0; i < n; i++)
+            a[i] = dst[i];
+    }
+}
+
 void sph_particles_permute(sph_particles *P, const long *perm)
 {
     const long n = P->n;
@@ -127,6 +170,11 @@ void sph_particles_permute(sph_particles *P, const long *perm)
     for (size_t f = 0; f < sizeof d / sizeof d[0]; f++)
         if (*d[f])
             permute_doubles(d[f], &P->scratch, perm, n);
+    float *const fl[] = {P->f32.vx,  P->f32.vy,    P->f32.rho, P->f32.ax0,
+                         P->f32.ay0, P->f32.drho0, P->f32.vz,  P->f32.az0};
+    for (size_t f = 0; f < sizeof fl / sizeof fl[0]; f++)
+        if (fl[f])
+            permute_floats(fl[f], P->scratch, perm, n);
     /* the 1- and 4-byte fields go through the scratch buffer too (it holds n doubles); read
      * through restrict locals, since a char store may alias anything, P included */
     unsigned char *restrict t = (unsigned char *)P->scratch;
@@ -196,6 +244,10 @@ long sph_particles_remove(sph_particles *P, unsigned char type, long *perm)
     for (size_t f = 0; f < sizeof r / sizeof r[0]; f++)
         if (*r[f])
             permute_doubles(r[f], &P->scratch, perm, n);
+    float *const rf[] = {P->f32.ax, P->f32.ay, P->f32.drho, P->f32.az};
+    for (size_t f = 0; f < sizeof rf / sizeof rf[0]; f++)
+        if (rf[f])
+            permute_floats(rf[f], P->scratch, perm, n);
     P->n = kept;
     return kept;
 }

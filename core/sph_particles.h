@@ -4,6 +4,12 @@
  * a particle when the particles are reordered by cell is listed in sph_particles_permute(). The
  * third axis's arrays (z, vz, az, az0 and the SPS tensors' z components) exist in 3D only: in 2D
  * they are NULL, so 2D pays no memory for them.
+ *
+ * Mixed precision (SPH_PARTICLES_MIXED, the case's "precision": "mixed"): the positions stay in
+ * double and the other hot fields (velocity, density, pressure, p / rho^2, the rates and the
+ * previous rates) are stored in float, in P->f32; their double pointers are then NULL. Every
+ * reader goes through SPH_GET / SPH_SET, whose M (mixed) is a compile-time constant in the hot
+ * loops and P->mixed elsewhere; the arithmetic stays in double, only the storage is narrowed.
  */
 #ifndef SPH_PARTICLES_H
 #define SPH_PARTICLES_H
@@ -50,14 +56,29 @@ typedef struct sph_particles {
     unsigned char *type;     /* SPH_FLUID, SPH_BOUNDARY, SPH_LOST */
     int *id;                 /* creation index, stable across reorderings [-] */
     double *scratch;         /* n doubles for permutations */
+    int mixed;               /* 1: the fields of f32 in float, their double pointers NULL */
+    struct {
+        float *vx, *vy, *vz, *rho, *p, *pr, *ax, *ay, *az, *drho, *ax0, *ay0, *az0, *drho0;
+    } f32; /* mixed precision's storage of those fields (NULL in double) */
 } sph_particles;
 
-/* Bytes per particle the storage needs in dim dimensions (with or without the SPS arrays). */
-size_t sph_particles_bytes_per_particle(int dim, int sps);
+/* sph_particles_alloc's options. */
+enum {
+    SPH_PARTICLES_SPS = 1,  /* the SPS tensors (double only) */
+    SPH_PARTICLES_MIXED = 2 /* mixed precision: P->f32 instead of the double hot fields */
+};
 
-/* Allocates n particles (zeroed) in dim (2 or 3) dimensions. Returns 0 or -1 when out of memory
- * (then frees what it got). */
-int sph_particles_alloc(sph_particles *P, long n, int dim, int sps);
+/* Field f (vx ... drho0) of particle i as a double, and a store to it (rounded to float under
+ * mixed precision). M: 1 for mixed; a compile-time constant in the hot loops. */
+#define SPH_GET(M, P, f, i)    ((M) ? (double)(P)->f32.f[i] : (P)->f[i])
+#define SPH_SET(M, P, f, i, v) ((M) ? (void)((P)->f32.f[i] = (float)(v)) : (void)((P)->f[i] = (v)))
+
+/* Bytes per particle the storage needs in dim dimensions with the options (SPH_PARTICLES_*). */
+size_t sph_particles_bytes_per_particle(int dim, unsigned opts);
+
+/* Allocates n particles (zeroed) in dim (2 or 3) dimensions with the options (SPH_PARTICLES_SPS,
+ * SPH_PARTICLES_MIXED). Returns 0 or -1 when out of memory (then frees what it got). */
+int sph_particles_alloc(sph_particles *P, long n, int dim, unsigned opts);
 void sph_particles_free(sph_particles *P);
 
 /* Makes room for cap particles (n unchanged, the new room zeroed). Returns 0 or -1 when out of

@@ -221,6 +221,22 @@ int sph_sim_check(const sph_config *c, sph_error *err)
                              "method %d is not a particle method of this build", (int)c->method);
     if (c->dim != 2 && c->dim != 3)
         return sph_error_set(err, SPH_ERR_INVALID, "/dim", "dim must be 2 or 3");
+    if ((unsigned)c->precision >= SPH_PRECISION_COUNT)
+        return sph_error_set(err, SPH_ERR_INVALID, "/precision",
+                             "unknown precision: \"double\" or \"mixed\"");
+    if (c->precision == SPH_PRECISION_MIXED) {
+        const char *why = c->method != SPH_METHOD_WCSPH ? "the MPS method"
+                          : c->device != SPH_DEVICE_CPU ? "the GPU"
+                          : c->turb == SPH_TURB_SPS     ? "the SPS turbulence model"
+                          : c->nbodies > 0              ? "rigid bodies"
+                                                        : NULL;
+        if (why)
+            return sph_error_set(err, SPH_ERR_INVALID, "/precision",
+                                 "\"mixed\" is for WCSPH on the CPU without SPS or rigid bodies; "
+                                 "%s stores in double only: remove \"precision\" or set it to "
+                                 "\"double\"",
+                                 why);
+    }
     if (c->dim == 3 && c->method != SPH_METHOD_WCSPH)
         return sph_error_set(err, SPH_ERR_INVALID, "/dim",
                              "the %s method runs in 2D only: 3D cases take \"method\": \"wcsph\"",
@@ -353,7 +369,7 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
     s->bin_count = calloc((size_t)s->nbins, sizeof *s->bin_count);
     s->bin_max = calloc((size_t)s->nbins, sizeof *s->bin_max);
     if (!s->bin_count || !s->bin_max ||
-        sph_particles_alloc(&s->P, nf + nb, cfg->dim, cfg->turb == SPH_TURB_SPS) ||
+        sph_particles_alloc(&s->P, nf + nb, cfg->dim, sph_sim_particle_opts(cfg)) ||
         sph_particles_reserve(&s->P, cap) ||
         sph_cells_alloc(&s->cells, cfg->dim, lo, hi, s->kernel.support, cap) ||
         sph_bodies_init(&s->bodies, cfg, nf + nb - nbody)) {
@@ -395,12 +411,15 @@ static double fluid_ekin(const sph_sim *s)
 {
     const sph_particles *P = &s->P;
     double e = 0.0;
-    const double *vz = P->vz; /* NULL in 2D */
+    const int M = P->mixed;
     for (long i = 0; i < s->nactive; i++)
         if (P->type[i] == SPH_FLUID) {
-            double v2 = P->vx[i] * P->vx[i] + P->vy[i] * P->vy[i];
-            if (vz)
-                v2 += vz[i] * vz[i];
+            const double vx = SPH_GET(M, P, vx, i), vy = SPH_GET(M, P, vy, i);
+            double v2 = vx * vx + vy * vy;
+            if (P->dim == 3) {
+                const double vz = SPH_GET(M, P, vz, i);
+                v2 += vz * vz;
+            }
             e += v2;
         }
     return 0.5 * s->mass * e;
@@ -512,6 +531,11 @@ void sph_sim_particles(const sph_sim *s, sph_particle_view *v)
     v->vel[2] = s->P.vz;
     v->rho = s->P.rho;
     v->p = s->P.p;
+    v->vel32[0] = s->P.f32.vx;
+    v->vel32[1] = s->P.f32.vy;
+    v->vel32[2] = s->P.f32.vz;
+    v->rho32 = s->P.f32.rho;
+    v->p32 = s->P.f32.p;
     v->type = s->P.type;
     v->id = s->P.id;
 }

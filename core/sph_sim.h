@@ -75,9 +75,17 @@ typedef struct sph_particle_view {
     const double *vel[3];      /* velocity components [m/s] */
     const double *rho;         /* density [kg/m^3] */
     const double *p;           /* pressure [Pa] */
+    const float *vel32[3];     /* mixed precision ("precision": "mixed"): vel, rho and p in */
+    const float *rho32, *p32;  /* float, the double pointers NULL (sph_view_get reads either) */
     const unsigned char *type; /* 0 fluid, 1 boundary, 2 lost, 4 body (sph_particles.h) */
     const int *id;             /* creation index */
 } sph_particle_view;
+
+/* Element i of a view's field, stored in double (d) or, under mixed precision, in float (f). */
+static inline double sph_view_get(const double *d, const float *f, long i)
+{
+    return d ? d[i] : (double)f[i];
+}
 
 /* The types a view shows, as a units string for files and by name for clients. */
 #define SPH_PARTICLE_TYPES_DOC "0 fluid, 1 boundary, 2 lost, 4 body"

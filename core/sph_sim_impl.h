@@ -17,6 +17,13 @@
 #include "sph_sim.h"
 #include "sph_wall_ghost.h"
 
+/* The particle storage options of a configuration (sph_particles_alloc). */
+static inline unsigned sph_sim_particle_opts(const sph_config *c)
+{
+    return (c->turb == SPH_TURB_SPS ? SPH_PARTICLES_SPS : 0) |
+           (c->precision == SPH_PRECISION_MIXED ? SPH_PARTICLES_MIXED : 0);
+}
+
 struct sph_sim {
     sph_config cfg;            /* copy of the configuration */
     const sph_method_ops *ops; /* the method's table */

@@ -50,6 +50,8 @@ static const char *const turb_names[] = {"none", "sps", NULL};
 static const int turb_values[] = {SPH_TURB_NONE, SPH_TURB_SPS};
 static const char *const delta_form_names[] = {"molteni", "fourtakas", NULL};
 static const int delta_form_values[] = {SPH_DELTA_MOLTENI, SPH_DELTA_FOURTAKAS};
+static const char *const precision_names[] = {"double", "mixed", NULL};
+static const int precision_values[] = {SPH_PRECISION_DOUBLE, SPH_PRECISION_MIXED};
 static const char *const probe_names[] = {"front_x", "height_left", "ekin",  "epot",
                                           "vmax",    "penetration", "runup", NULL};
 /* ekin, epot and vmax are always in diag: accepted, no bit */
@@ -185,6 +187,12 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/device", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS, .parse = parse_device,
      .doc = "where the case runs: \"cpu\" (the default) or \"gpu\" (WCSPH with dynamic walls, "
             "continuity density, no bodies; needs a build with CUDA and a visible GPU)"},
+    {.path = "/precision", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
+     .names = precision_names, .values = precision_values, .has_def = 1, .def = 0,
+     CFG(precision),
+     .doc = "the particles' storage: double (the default), or mixed (positions in double, "
+            "velocity, density, pressure and the rates in float; the arithmetic in double): "
+            "about a third less memory; WCSPH on the CPU without SPS or bodies"},
     {.path = "/kernel", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS, .required = SPH_CF_MPS,
      .doc = "the kernel (section 1.1) and, for wcsph, the smoothing length"},
     {.path = "/kernel/type", .type = SPH_CF_ENUM, .methods = SPH_CF_SIMS,

@@ -390,13 +390,14 @@ json_t *sphd_exec_particles(const sphd_exec *x, const char *const *fields, int n
             json_t *val;
             if (strcmp(name, "pos") == 0 || strcmp(name, "vel") == 0) {
                 const double *const *c = name[0] == 'p' ? v.pos : v.vel;
+                const float *const *c32 = name[0] == 'p' ? NULL : v.vel32;
                 val = json_array(); /* [x, y], and z in 3D */
                 for (int d = 0; d < v.dim; d++)
-                    json_array_append_new(val, num(c[d][i]));
+                    json_array_append_new(val, num(sph_view_get(c[d], c32 ? c32[d] : NULL, i)));
             } else if (strcmp(name, "rho") == 0)
-                val = num(v.rho[i]);
+                val = num(sph_view_get(v.rho, v.rho32, i));
             else if (strcmp(name, "p") == 0)
-                val = num(v.p[i]);
+                val = num(sph_view_get(v.p, v.p32, i));
             else if (strcmp(name, "type") == 0) {
                 const char *tn = sph_particle_type_name(v.type[i]);
                 val = json_string(tn ? tn : "unknown");

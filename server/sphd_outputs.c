@@ -159,6 +159,16 @@ static void gather(void *dst, const void *src, const long *where, long n, size_t
         memcpy((char *)dst + (size_t)k * es, (const char *)src + (size_t)where[k] * es, es);
 }
 
+/* A view's field (double d, or float f under mixed precision) gathered into doubles. */
+static void gather_field(double *dst, const double *d, const float *f, const long *where, long n)
+{
+    if (d)
+        gather(dst, d, where, n, sizeof(double));
+    else
+        for (long k = 0; k < n; k++)
+            dst[k] = (double)f[where[k]];
+}
+
 /* The fluid's RPDF with the query's binning into *r (arrays of SPH_SIM_RPDF_BINS) for a sim of
  * nactive fluid particles (lost ones not counted). Returns 1 when there is one, 0 when there is
  * none to write (no fluid particle, or the sim has none to give: SPH_ERR_INVALID), or -1 with
@@ -228,17 +238,17 @@ json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err)
     if (want & SPH_FIELD_VEL) {
         sphd_h5_field vel = {"vel", "m/s", SPHD_H5_F64, v.dim, {0}};
         for (int k = 0; k < v.dim; k++) {
-            gather(col[c], v.vel[k], where, n, sizeof(double));
+            gather_field(col[c], v.vel[k], v.vel32[k], where, n);
             vel.comp[k] = col[c++];
         }
         f[nf++] = vel;
     }
     if (want & SPH_FIELD_RHO) {
-        gather(col[c], v.rho, where, n, sizeof(double));
+        gather_field(col[c], v.rho, v.rho32, where, n);
         f[nf++] = (sphd_h5_field){"rho", "kg/m^3", SPHD_H5_F64, 1, {col[c++]}};
     }
     if (want & SPH_FIELD_P) {
-        gather(col[c], v.p, where, n, sizeof(double));
+        gather_field(col[c], v.p, v.p32, where, n);
         f[nf++] = (sphd_h5_field){"p", "Pa", SPHD_H5_F64, 1, {col[c++]}};
     }
     if (want & SPH_FIELD_MASS) {

@@ -98,7 +98,10 @@ static long ghosts_of(const sph_wall_ghost *w, const sph_config *c, const sph_gh
 {
     const int dim = w->dim;
     double *const *pos = a->pos, *const *vel = a->vel;
+    float *const *vel32 = a->vel32;
     double *restrict rho = a->rho;
+    float *restrict rho32 = a->rho32;
+    const int mixed = a->mixed;
     unsigned char *restrict type = a->type;
     int *restrict id = a->id;
     for (long i = lo; i < hi; i++) {
@@ -112,7 +115,7 @@ static long ghosts_of(const sph_wall_ghost *w, const sph_config *c, const sph_gh
                 double x[3], v[3];
                 for (int d = 0; d < dim; d++) {
                     x[d] = pos[d][i];
-                    v[d] = vel[d][i];
+                    v[d] = mixed ? (double)vel32[d][i] : vel[d][i];
                 }
                 for (int k = 0; k < w->nwalls; k++)
                     if (sub & (1u << k)) {
@@ -121,13 +124,19 @@ static long ghosts_of(const sph_wall_ghost *w, const sph_config *c, const sph_gh
                         v[p->axis] = -v[p->axis]; /* free slip: normal reversed */
                     }
                 /* Colagrossi & Landrini 2003: hydrostatic pressure across the wall */
-                double pg = sph_eos_pressure(c, rho[i]);
+                double pg = sph_eos_pressure(c, mixed ? (double)rho32[i] : rho[i]);
                 for (int d = 0; d < dim; d++) {
                     pg += w->rho0g[d] * (x[d] - pos[d][i]);
                     pos[d][g] = x[d];
-                    vel[d][g] = v[d];
+                    if (mixed)
+                        vel32[d][g] = (float)v[d];
+                    else
+                        vel[d][g] = v[d];
                 }
-                rho[g] = sph_eos_density(c, pg);
+                if (mixed)
+                    rho32[g] = (float)sph_eos_density(c, pg);
+                else
+                    rho[g] = sph_eos_density(c, pg);
                 type[g] = SPH_GHOST;
                 id[g] = id[i];
             }

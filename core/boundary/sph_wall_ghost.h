@@ -53,6 +53,9 @@ typedef struct sph_ghost_arrays {
     double *rho;         /* density [kg/m^3] */
     unsigned char *type; /* SPH_FLUID ... SPH_GHOST */
     int *id;             /* creation index; a ghost has its fluid particle's */
+    float *vel32[3];     /* mixed precision: the velocity in float (vel NULL) */
+    float *rho32;        /* mixed precision: the density in float (rho NULL) */
+    int mixed;           /* 1: vel32 and rho32 instead of vel and rho */
 } sph_ghost_arrays;
 
 /* The walls of c's tank, mirrored within `support` [m]. Fails with SPH_ERR_INVALID at the JSON

@@ -79,7 +79,7 @@ template <int D> __global__ void k_predict(sph_particles P, step_ctx k, double d
     k.P = &P;
     unsigned long long bad = 0;
     if (i < n)
-        bad = (unsigned long long)predict_one(D, &k, dt, i);
+        bad = (unsigned long long)predict_one(D, 0, &k, dt, i);
     const unsigned long long b = reduce_u(tmp).Sum(bad);
     if (threadIdx.x == 0 && b)
         atomicAdd(&r->bad_p, b);
@@ -119,7 +119,7 @@ __global__ void k_prepare(const sph_config *cfg, sph_particles P, double smag, d
 {
     const long i = (long)blockIdx.x * BS + threadIdx.x;
     if (i < n)
-        prepare_one(D, cfg, &P, smag, blin, i);
+        prepare_one(D, 0, cfg, &P, smag, blin, i);
 }
 
 template <sph_kernel_type T, int D> __global__ void k_forces(fctx c, long n, red *r)
@@ -143,7 +143,7 @@ __global__ void k_gravity(sph_particles P, double gx, double gy, double gz, long
     const double g[3] = {gx, gy, gz};
     double a2 = 0.0;
     if (i < nactive) {
-        a2 = gravity_one(D, g, &P, i);
+        a2 = gravity_one(D, 0, g, &P, i);
     } else if (i < n) { /* as the C loop: the lost particles' rates zeroed */
         P.ax[i] = P.ay[i] = P.drho[i] = 0.0;
         if (D == 3)
@@ -163,7 +163,7 @@ template <int D> __global__ void k_correct(sph_particles P, step_ctx k, double d
     double vmax2 = 0.0, rlo = INFINITY, rhi = -INFINITY;
     unsigned long long bad = 0;
     if (i < n)
-        bad = (unsigned long long)correct_one(D, &k, dt, i, &vmax2, &rlo, &rhi);
+        bad = (unsigned long long)correct_one(D, 0, &k, dt, i, &vmax2, &rlo, &rhi);
     const double m = reduce_d(tmp).Reduce(vmax2, dmax());
     __syncthreads();
     const double lo = reduce_d(tmp).Reduce(rlo, dmin());

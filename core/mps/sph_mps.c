@@ -638,10 +638,11 @@ static void mps_diag(sph_sim *s)
 
 /* What lives from one step to the next: positions, velocities, the pressure (the warm start of
  * the next solve) and the density of the views. */
-static int mps_arrays(const sph_sim *s, double **d, int maxd)
+static int mps_arrays(const sph_sim *s, sph_array *d, int maxd)
 {
     const sph_particles *P = &s->P;
-    double *const all[] = {P->x, P->y, P->vx, P->vy, P->p, P->rho};
+    const size_t z = sizeof(double);
+    const sph_array all[] = {{P->x, z}, {P->y, z}, {P->vx, z}, {P->vy, z}, {P->p, z}, {P->rho, z}};
     return sph_method_arrays(all, (int)(sizeof all / sizeof all[0]), d, maxd);
 }
 

@@ -31,24 +31,32 @@
 #define SPH_SPS_CS 0.12   /* Smagorinsky constant, Yang et al. after Lo & Shao */
 #define SPH_SPS_CI 0.0066 /* isotropic part, Dalrymple & Rogers 2006 */
 
-/* Interactions of particle i with particles [jb, je), both sides (the symmetric loop). */
+/* Interactions of particle i with particles [jb, je), both sides (the symmetric loop); j's sums
+ * go through restrict locals of the storage's type. */
+#define SPH_INTERACT_LOOP(R, TAKE_J, A)                                                            \
+    do {                                                                                           \
+        R *restrict ax = (A)->ax, *restrict ay = (A)->ay, *restrict az = (A)->az,                  \
+                    *restrict drho = (A)->drho;                                                    \
+        for (long j = jb; j < je; j++) {                                                           \
+            sph_wcsph_pair_out o;                                                                  \
+            pair_take tk;                                                                          \
+            if (!pair_of(T, F, D, c, &q, j, &o, &tk))                                              \
+                continue;                                                                          \
+            take_i(F, D, &o, &tk, ai);                                                             \
+            TAKE_J(F, D, c, ax, ay, az, drho, j, &o, &tk);                                         \
+        }                                                                                          \
+    } while (0)
 static inline __attribute__((always_inline)) void interact(sph_kernel_type T, unsigned F,
                                                            const int D, const fctx *restrict c,
                                                            long i, long jb, long je,
                                                            acc *restrict ai)
 {
-    double *restrict ax = c->ax, *restrict ay = c->ay, *restrict az = c->az,
-                     *restrict drho = c->drho;
     pair_i q;
     pair_i_load(F, D, c, i, &q);
-    for (long j = jb; j < je; j++) {
-        sph_wcsph_pair_out o;
-        pair_take tk;
-        if (!pair_of(T, F, D, c, &q, j, &o, &tk))
-            continue;
-        take_i(F, D, &o, &tk, ai);
-        take_j(F, D, c, ax, ay, az, drho, j, &o, &tk);
-    }
+    if (F & F_MIXED)
+        SPH_INTERACT_LOOP(float, take_j_f, &c->f32);
+    else
+        SPH_INTERACT_LOOP(double, take_j, c);
 }
 
 /* The pairs of strip `strip` (the cells with cx = 1 + 2 strip and 2 + 2 strip). Returns the
@@ -207,7 +215,22 @@ typedef long (*strip_fn)(const fctx *c, int strip);
         SPH_STRIP_ROW(T, 38, 2) SPH_STRIP_ROW(T, 39, 2) SPH_STRIP_ROW(T, 48, 2) \
         SPH_STRIP_ROW(T, 50, 2) SPH_STRIP_ROW(T, 52, 2) SPH_STRIP_ROW(T, 54, 2) \
     }; \
-    static const strip_fn strips3_##T[F_COUNT] = { SPH_STRIP_COMMON_ROWS(T, 3) };
+    static const strip_fn strips3_##T[F_COUNT] = { SPH_STRIP_COMMON_ROWS(T, 3) }; \
+    SPH_STRIP_MIXED(T, 2) SPH_STRIP_MIXED(T, 3) \
+    static const strip_fn strips2m_##T[F_COUNT] = { SPH_STRIP_MIXED_ROWS(T, 2) }; \
+    static const strip_fn strips3m_##T[F_COUNT] = { SPH_STRIP_MIXED_ROWS(T, 3) };
+/* Mixed precision's (F_MIXED = 64 added to the flags): the options it takes (no SPS, no bodies:
+ * sph_sim_check), the row the flags without F_MIXED. */
+#define SPH_STRIP_MIXED(T, D) \
+    SPH_STRIP_FN(T, 64, D) SPH_STRIP_FN(T, 65, D) SPH_STRIP_FN(T, 68, D) SPH_STRIP_FN(T, 69, D) \
+    SPH_STRIP_FN(T, 72, D) SPH_STRIP_FN(T, 73, D) SPH_STRIP_FN(T, 76, D) SPH_STRIP_FN(T, 77, D) \
+    SPH_STRIP_FN(T, 80, D) SPH_STRIP_FN(T, 84, D) SPH_STRIP_FN(T, 88, D) SPH_STRIP_FN(T, 92, D)
+#define SPH_STRIP_MROW(T, FL, D) [FL - F_MIXED] = SPH_STRIP_REF(T, FL, D),
+#define SPH_STRIP_MIXED_ROWS(T, D) \
+    SPH_STRIP_MROW(T, 64, D) SPH_STRIP_MROW(T, 65, D) SPH_STRIP_MROW(T, 68, D) \
+    SPH_STRIP_MROW(T, 69, D) SPH_STRIP_MROW(T, 72, D) SPH_STRIP_MROW(T, 73, D) \
+    SPH_STRIP_MROW(T, 76, D) SPH_STRIP_MROW(T, 77, D) SPH_STRIP_MROW(T, 80, D) \
+    SPH_STRIP_MROW(T, 84, D) SPH_STRIP_MROW(T, 88, D) SPH_STRIP_MROW(T, 92, D)
 /* clang-format on */
 
 SPH_STRIP_TABLE(SPH_KERNEL_CUBIC_SPLINE)
@@ -241,6 +264,10 @@ static const strip_fn strips2_SPH_KERNEL_KOSHIZUKA[F_COUNT] = {0};
 static const strip_fn strips2_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
 static const strip_fn strips3_SPH_KERNEL_KOSHIZUKA[F_COUNT] = {0};
 static const strip_fn strips3_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
+static const strip_fn strips2m_SPH_KERNEL_KOSHIZUKA[F_COUNT] = {0};
+static const strip_fn strips2m_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
+static const strip_fn strips3m_SPH_KERNEL_KOSHIZUKA[F_COUNT] = {0};
+static const strip_fn strips3m_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
 
 void sph_wcsph_consts_of(const sph_sim *s, sph_wcsph_consts *k)
 {
@@ -250,7 +277,8 @@ void sph_wcsph_consts_of(const sph_sim *s, sph_wcsph_consts *k)
     k->flags = (cfg->visc == SPH_VISC_LAMINAR ? F_LAMINAR : 0) |
                (cfg->visc == SPH_VISC_MONAGHAN ? F_MONAGHAN : 0) |
                (cfg->turb == SPH_TURB_SPS ? F_SPS : 0) | (cfg->delta_sph > 0.0 ? F_DELTA : 0) |
-               (cfg->boundary == SPH_BOUNDARY_GHOST ? F_GHOST : 0) | (s->bodies.n > 0 ? F_BODY : 0);
+               (cfg->boundary == SPH_BOUNDARY_GHOST ? F_GHOST : 0) |
+               (s->bodies.n > 0 ? F_BODY : 0) | (s->P.mixed ? F_MIXED : 0);
     k->pc.m = s->mass;
     k->pc.h = s->h;
     k->pc.eta2 = 0.01 * s->h * s->h;
@@ -268,21 +296,43 @@ void sph_wcsph_consts_of(const sph_sim *s, sph_wcsph_consts *k)
     k->blin = 2.0 / 3.0 * SPH_SPS_CI * cfg->dx * cfg->dx;
 }
 
+/* The per-particle loops of a force evaluation, one function per dimension and storage (D and
+ * M literals there: an OpenMP loop in a function that takes them outlines its body before they
+ * are known): prepare (prepare_one) and gravity (gravity_one: the largest |a|^2 of the fluid). */
+/* clang-format off */
+#define SPH_PARTICLE_LOOPS(D, M)                                                                   \
+    static void prepare##D##M(const sph_config *cfg, sph_particles *P, long n, double smag,       \
+                              double blin)                                                         \
+    {                                                                                              \
+        _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)")         \
+        for (long i = 0; i < n; i++)                                                               \
+            prepare_one(D, M, cfg, P, smag, blin, i);                                              \
+    }                                                                                              \
+    static double gravity##D##M(const double *g, sph_particles *P, long n)                        \
+    {                                                                                              \
+        double amax2 = 0.0;                                                                        \
+        _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(max : amax2) if (n >= SPH_OMP_MIN)") \
+        for (long i = 0; i < n; i++) {                                                             \
+            const double a2 = gravity_one(D, M, g, P, i);                                          \
+            amax2 = a2 > amax2 ? a2 : amax2;                                                       \
+        }                                                                                          \
+        return amax2;                                                                              \
+    }
+/* clang-format on */
+SPH_PARTICLE_LOOPS(2, 0)
+SPH_PARTICLE_LOOPS(3, 0)
+SPH_PARTICLE_LOOPS(2, 1)
+SPH_PARTICLE_LOOPS(3, 1)
+
 static void prepare(sph_sim *s, const sph_wcsph_consts *kc)
 {
     const sph_config *cfg = &s->cfg;
     sph_particles *P = &s->P;
     const long n = s->nactive;
-    const double smag = kc->smag, blin = kc->blin;
-    if (cfg->dim == 3) {
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-        for (long i = 0; i < n; i++)
-            prepare_one(3, cfg, P, smag, blin, i);
-    } else {
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-        for (long i = 0; i < n; i++)
-            prepare_one(2, cfg, P, smag, blin, i);
-    }
+    if (P->mixed)
+        (cfg->dim == 3 ? prepare31 : prepare21)(cfg, P, n, kc->smag, kc->blin);
+    else
+        (cfg->dim == 3 ? prepare30 : prepare20)(cfg, P, n, kc->smag, kc->blin);
 }
 
 /* Gravity on the fluid particles among the first n (the others' accelerations zeroed, those of
@@ -290,26 +340,15 @@ static void prepare(sph_sim *s, const sph_wcsph_consts *kc)
 static double gravity(const sph_config *cfg, sph_particles *P, long n)
 {
     const double g[3] = {cfg->gravity[0], cfg->gravity[1], cfg->gravity[2]};
-    double amax2 = 0.0;
-    if (cfg->dim == 3) {
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(max                            \
-                                                                    : amax2) if (n >= SPH_OMP_MIN)
-        for (long i = 0; i < n; i++) {
-            const double a2 = gravity_one(3, g, P, i);
-            amax2 = a2 > amax2 ? a2 : amax2;
-        }
-    } else {
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) reduction(max                            \
-                                                                    : amax2) if (n >= SPH_OMP_MIN)
-        for (long i = 0; i < n; i++) {
-            const double a2 = gravity_one(2, g, P, i);
-            amax2 = a2 > amax2 ? a2 : amax2;
-        }
-    }
+    const double amax2 = P->mixed ? (cfg->dim == 3 ? gravity31 : gravity21)(g, P, n)
+                                  : (cfg->dim == 3 ? gravity30 : gravity20)(g, P, n);
+    const int M = P->mixed;
     for (long i = n; i < P->n; i++) {
-        P->ax[i] = P->ay[i] = P->drho[i] = 0.0;
-        if (P->az)
-            P->az[i] = 0.0;
+        SPH_SET(M, P, ax, i, 0.0);
+        SPH_SET(M, P, ay, i, 0.0);
+        SPH_SET(M, P, drho, i, 0.0);
+        if (P->dim == 3)
+            SPH_SET(M, P, az, i, 0.0);
     }
     return amax2;
 }
@@ -366,7 +405,8 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
                     const double q = sqrt(r2);
                     double dwdr;
                     const double w = sph_kernel_eval_t(s->kernel.type, &s->kernel, q, &dwdr);
-                    sph_mdbc_add(D, &sum, r, w, q > 0.0 ? dwdr / q : 0.0, m, P->rho[j]);
+                    sph_mdbc_add(D, &sum, r, w, q > 0.0 ? dwdr / q : 0.0, m,
+                                 SPH_GET(P->mixed, P, rho, j));
                 }
             }
         const double dpos[3] = {x[0] - gx[0], x[1] - gx[1], x[2] - gx[2]};
@@ -374,7 +414,7 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
     }
     /* never below rho0, as the continuity walls: a wall does not pull water in (and an
      * extrapolation from a few particles of a splash cannot send it into tension) */
-    P->rho[i] = rho > s->cfg.rho0 ? rho : s->cfg.rho0;
+    SPH_SET(P->mixed, P, rho, i, rho > s->cfg.rho0 ? rho : s->cfg.rho0);
 }
 
 /* Every wall particle's density by mDBC, before the pair loop reads it (mdbc2, mdbc3: D a
@@ -402,6 +442,9 @@ static int add_ghosts(sph_sim *s)
         const sph_ghost_arrays a = {.pos = {P->x, P->y, P->z},
                                     .vel = {P->vx, P->vy, P->vz},
                                     .rho = P->rho,
+                                    .vel32 = {P->f32.vx, P->f32.vy, P->f32.vz},
+                                    .rho32 = P->f32.rho,
+                                    .mixed = P->mixed,
                                     .type = P->type,
                                     .id = P->id};
         const long need = sph_wall_ghost_build(&s->ghost, &s->cfg, &a, n, P->cap);
@@ -454,7 +497,9 @@ static int forces(sph_sim *s, int gather)
     for (int k = 0; k < s->bodies.n; k++)
         c.from_fluid[k] = (unsigned char)s->bodies.b[k].from_fluid;
     strip_fn fn = NULL;
-#define SPH_PICK(T) fn = D == 3 ? strips3_##T[flags] : strips2_##T[flags]
+#define SPH_PICK(T)                                                                                \
+    fn = (flags & F_MIXED) ? (D == 3 ? strips3m_##T : strips2m_##T)[flags & (F_COUNT - 1)]         \
+                           : (D == 3 ? strips3_##T : strips2_##T)[flags]
     SPH_KERNEL_DISPATCH(s->kernel.type, SPH_PICK);
 #undef SPH_PICK
     if (!fn) /* an MPS weight or a refused combination: sph_sim_check refuses them first */

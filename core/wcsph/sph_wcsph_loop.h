@@ -26,6 +26,13 @@
 #define F_MONAGHAN SPH_WF_MONAGHAN
 #define F_BODY     SPH_WF_BODY
 #define F_COUNT    SPH_WF_COUNT
+/* Storage, not physics: the particles' hot fields in float (sph_particles.h, mixed precision).
+ * The loops here read and write through LD / ST with it; sph_wcsph_pair never sees it. */
+#define F_MIXED SPH_WF_COUNT
+/* Field f of particle i of a force context, as a double / a store to it. */
+#define LD(F, c, f, i) (((F)&F_MIXED) ? (double)(c)->f32.f[i] : (c)->f[i])
+#define ST(F, c, f, i, v)                                                                          \
+    (((F)&F_MIXED) ? (void)((c)->f32.f[i] = (float)(v)) : (void)((c)->f[i] = (v)))
 
 typedef struct fctx {
     const double *x, *y, *z, *vx, *vy, *vz, *rho, *pr;
@@ -36,6 +43,10 @@ typedef struct fctx {
                                                         fluid: its continuity skips fluid pairs */
     long body0;                                      /* F_BODY: id of the first body particle */
     double *ax, *ay, *az, *drho;
+    struct {
+        const float *vx, *vy, *vz, *rho, *pr;
+        float *ax, *ay, *az, *drho;
+    } f32;              /* F_MIXED: those fields in float (the double pointers NULL) */
     double *g[6];       /* SPS: the velocity gradients xx, xy, yy, zz, xz, yz (3D: all six) */
     const double *t[6]; /* SPS: the stresses / rho, the same components */
     const int *start;
@@ -79,6 +90,15 @@ SPH_HD static inline void fctx_init(fctx *c, const sph_particles *P, const sph_c
     c->ay = P->ay;
     c->az = P->az;
     c->drho = P->drho;
+    c->f32.vx = P->f32.vx;
+    c->f32.vy = P->f32.vy;
+    c->f32.vz = P->f32.vz;
+    c->f32.rho = P->f32.rho;
+    c->f32.pr = P->f32.pr;
+    c->f32.ax = P->f32.ax;
+    c->f32.ay = P->f32.ay;
+    c->f32.az = P->f32.az;
+    c->f32.drho = P->f32.drho;
     double *const gs[6] = {P->gxx, P->gxy, P->gyy, P->gzz, P->gxz, P->gyz};
     const double *const ts[6] = {P->txx, P->txy, P->tyy, P->tzz, P->txz, P->tyz};
     for (int q = 0; q < 6; q++) {
@@ -122,11 +142,11 @@ pair_i_load(unsigned F, const int D, const fctx *SPH_RESTRICT c, long i, pair_i 
     q->x[0] = c->x[i];
     q->x[1] = c->y[i];
     q->x[2] = D == 3 ? c->z[i] : 0.0;
-    q->v[0] = c->vx[i];
-    q->v[1] = c->vy[i];
-    q->v[2] = D == 3 ? c->vz[i] : 0.0;
-    q->rho = c->rho[i];
-    q->pr = c->pr[i];
+    q->v[0] = LD(F, c, vx, i);
+    q->v[1] = LD(F, c, vy, i);
+    q->v[2] = D == 3 ? LD(F, c, vz, i) : 0.0;
+    q->rho = LD(F, c, rho, i);
+    q->pr = LD(F, c, pr, i);
     for (int k = 0; k < 6; k++)
         q->t[k] = 0.0;
     if (F & F_SPS)
@@ -171,10 +191,10 @@ pair_of(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT c,
     (void)sph_kernel_eval_t(T, c->k, r, &dwdr);
     const double fw = dwdr / (r + c->tiny); /* grad_a W_ab = fw (x_a - x_b) */
     double dv[3];
-    dv[0] = q->v[0] - c->vx[j];
-    dv[1] = q->v[1] - c->vy[j];
+    dv[0] = q->v[0] - LD(F, c, vx, j);
+    dv[1] = q->v[1] - LD(F, c, vy, j);
     if (D == 3)
-        dv[2] = q->v[2] - c->vz[j];
+        dv[2] = q->v[2] - LD(F, c, vz, j);
     double tj[6] = {0};
     if (F & F_SPS)
         for (int k = 0; k < (D == 3 ? 6 : 3); k++)
@@ -185,8 +205,8 @@ pair_of(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT c,
     /* delta-SPH on fluid and ghost pairs only (a ghost's density is the hydrostatic one
      * behind the wall, dynamic particles' is not) */
     tk->delta = (F & F_GHOST) || ((F & F_BODY) ? q->f && c->type[j] == SPH_FLUID : !(q->b | bj));
-    sph_wcsph_pair(D, F, &c->pc, d, r2, fw, dv, q->rho, c->rho[j], q->pr, c->pr[j], vf, q->t, tj,
-                   tk->delta, o);
+    sph_wcsph_pair(D, F, &c->pc, d, r2, fw, dv, q->rho, LD(F, c, rho, j), q->pr, LD(F, c, pr, j),
+                   vf, q->t, tj, tk->delta, o);
     /* continuity: the same for both particles, except that the particles of a body that takes
      * its pressure from the fluid count only solid neighbours (walls, other bodies): their
      * density is the contact's */
@@ -216,34 +236,46 @@ take_i(unsigned F, const int D, const sph_wcsph_pair_out *SPH_RESTRICT o, const 
 }
 
 /* j's side of a pair in a symmetric loop (the opposite of take_i), into the arrays of the
- * caller's restrict locals (c->ax ... through them; c gives the SPS gradients). */
+ * caller's restrict locals (c->ax ... through them, of type R: double, or float with F_MIXED,
+ * where j's sum is rounded to float at each pair as the storage is; c gives the SPS gradients). */
+#define SPH_TAKE_J(R, F, D, c, ax, ay, az, drho, j, o, tk)                                         \
+    do {                                                                                           \
+        if (!(tk)->skip_j)                                                                         \
+            drho[j] = (R)(drho[j] + (o)->dd);                                                      \
+        if ((F)&F_SPS)                                                                             \
+            for (int k_ = 0; k_ < ((D) == 3 ? 6 : 3); k_++)                                        \
+                (c)->g[k_][j] += (o)->gb[k_];                                                      \
+        if (((F)&F_DELTA) && (tk)->delta)                                                          \
+            drho[j] = (R)(drho[j] - (o)->dwb);                                                     \
+        ax[j] = (R)(ax[j] - (o)->f[0]);                                                            \
+        ay[j] = (R)(ay[j] - (o)->f[1]);                                                            \
+        if ((D) == 3)                                                                              \
+            az[j] = (R)(az[j] - (o)->f[2]);                                                        \
+    } while (0)
 SPH_HD static inline __attribute__((always_inline)) void
 take_j(unsigned F, const int D, const fctx *c, double *SPH_RESTRICT ax, double *SPH_RESTRICT ay,
        double *SPH_RESTRICT az, double *SPH_RESTRICT drho, long j,
        const sph_wcsph_pair_out *SPH_RESTRICT o, const pair_take *tk)
 {
-    if (!tk->skip_j)
-        drho[j] += o->dd;
-    if (F & F_SPS)
-        for (int k = 0; k < (D == 3 ? 6 : 3); k++)
-            c->g[k][j] += o->gb[k];
-    if ((F & F_DELTA) && tk->delta)
-        drho[j] -= o->dwb;
-    ax[j] -= o->f[0];
-    ay[j] -= o->f[1];
-    if (D == 3)
-        az[j] -= o->f[2];
+    SPH_TAKE_J(double, F, D, c, ax, ay, az, drho, j, o, tk);
+}
+SPH_HD static inline __attribute__((always_inline)) void
+take_j_f(unsigned F, const int D, const fctx *c, float *SPH_RESTRICT ax, float *SPH_RESTRICT ay,
+         float *SPH_RESTRICT az, float *SPH_RESTRICT drho, long j,
+         const sph_wcsph_pair_out *SPH_RESTRICT o, const pair_take *tk)
+{
+    SPH_TAKE_J(float, F, D, c, ax, ay, az, drho, j, o, tk);
 }
 
 /* Adds particle i's sums. */
 SPH_HD static inline __attribute__((always_inline)) void
 add_acc(unsigned F, const int D, const fctx *c, long i, const acc *a)
 {
-    c->ax[i] += a->a[0];
-    c->ay[i] += a->a[1];
+    ST(F, c, ax, i, LD(F, c, ax, i) + a->a[0]);
+    ST(F, c, ay, i, LD(F, c, ay, i) + a->a[1]);
     if (D == 3)
-        c->az[i] += a->a[2];
-    c->drho[i] += a->drho;
+        ST(F, c, az, i, LD(F, c, az, i) + a->a[2]);
+    ST(F, c, drho, i, LD(F, c, drho, i) + a->drho);
     if (F & F_SPS)
         for (int q = 0; q < (D == 3 ? 6 : 3); q++)
             c->g[q][i] += a->g[q];

@@ -21,18 +21,20 @@
  * gradients; its accumulators zeroed. The loops over the particles here are written once per
  * dimension, the dimension a literal there (an OpenMP loop in a function that takes D outlines
  * its body before D is known, and tests D per particle). */
-SPH_HD static inline __attribute__((always_inline)) void
-prepare_one(const int D, const sph_config *cfg, sph_particles *P, double smag, double blin, long i)
+SPH_HD static inline __attribute__((always_inline)) void prepare_one(const int D, const int M,
+                                                                     const sph_config *cfg,
+                                                                     sph_particles *P, double smag,
+                                                                     double blin, long i)
 {
-    const double rho = P->rho[i];
+    const double rho = SPH_GET(M, P, rho, i);
     const double p = sph_eos_pressure(cfg, rho);
-    P->p[i] = p;
-    P->pr[i] = p / (rho * rho);
-    P->ax[i] = 0.0;
-    P->ay[i] = 0.0;
+    SPH_SET(M, P, p, i, p);
+    SPH_SET(M, P, pr, i, p / (rho * rho));
+    SPH_SET(M, P, ax, i, 0.0);
+    SPH_SET(M, P, ay, i, 0.0);
     if (D == 3)
-        P->az[i] = 0.0;
-    P->drho[i] = 0.0;
+        SPH_SET(M, P, az, i, 0.0);
+    SPH_SET(M, P, drho, i, 0.0);
     if (P->gxx) {
         /* stored as R / rho as eq. (15) uses it; boundary particles carry none */
         double *const gs[6] = {P->gxx, P->gxy, P->gyy, P->gzz, P->gxz, P->gyz};
@@ -51,23 +53,26 @@ prepare_one(const int D, const sph_config *cfg, sph_particles *P, double smag, d
 }
 
 /* Gravity on particle i if it is fluid (g: the gravity vector), else its acceleration zeroed;
- * returns its |a|^2 (0 for the others). */
-SPH_HD static inline __attribute__((always_inline)) double gravity_one(const int D, const double *g,
-                                                                       sph_particles *P, long i)
+ * returns its |a|^2 (0 for the others; under mixed precision, of the stored float values). */
+SPH_HD static inline __attribute__((always_inline)) double
+gravity_one(const int D, const int M, const double *g, sph_particles *P, long i)
 {
     if (P->type[i] == SPH_FLUID) {
-        P->ax[i] += g[0];
-        P->ay[i] += g[1];
-        double a2 = P->ax[i] * P->ax[i] + P->ay[i] * P->ay[i];
+        SPH_SET(M, P, ax, i, SPH_GET(M, P, ax, i) + g[0]);
+        SPH_SET(M, P, ay, i, SPH_GET(M, P, ay, i) + g[1]);
+        const double ax = SPH_GET(M, P, ax, i), ay = SPH_GET(M, P, ay, i);
+        double a2 = ax * ax + ay * ay;
         if (D == 3) {
-            P->az[i] += g[2];
-            a2 += P->az[i] * P->az[i];
+            SPH_SET(M, P, az, i, SPH_GET(M, P, az, i) + g[2]);
+            const double az = SPH_GET(M, P, az, i);
+            a2 += az * az;
         }
         return a2;
     }
-    P->ax[i] = P->ay[i] = 0.0;
+    SPH_SET(M, P, ax, i, 0.0);
+    SPH_SET(M, P, ay, i, 0.0);
     if (D == 3)
-        P->az[i] = 0.0;
+        SPH_SET(M, P, az, i, 0.0);
     return 0.0;
 }
 
@@ -88,19 +93,22 @@ typedef struct step_ctx {
  * pointers made the 2D integration 55% slower. The loops over the particles are written once per
  * dimension (predict2, predict3), the dimension a literal there: an OpenMP loop in a function
  * that takes D outlines its body before D is known, and tests D per particle. */
-SPH_HD static inline __attribute__((always_inline)) long predict_one(const int D, const step_ctx *k,
-                                                                     double dt, long i)
+SPH_HD static inline __attribute__((always_inline)) long
+predict_one(const int D, const int M, const step_ctx *k, double dt, long i)
 {
     sph_particles *P = k->P;
     long bad = 0;
     if (P->type[i] == SPH_FLUID) {
-        const double ax = P->ax0[i], ay = P->ay0[i], az = D == 3 ? P->az0[i] : 0.0;
-        double x[3] = {P->x[i] + dt * (P->vx[i] + 0.5 * dt * ax),
-                       P->y[i] + dt * (P->vy[i] + 0.5 * dt * ay), 0.0};
-        double v[3] = {P->vx[i] + dt * ax, P->vy[i] + dt * ay, 0.0};
+        const double ax = SPH_GET(M, P, ax0, i), ay = SPH_GET(M, P, ay0, i),
+                     az = D == 3 ? SPH_GET(M, P, az0, i) : 0.0;
+        const double vx = SPH_GET(M, P, vx, i), vy = SPH_GET(M, P, vy, i),
+                     vz = D == 3 ? SPH_GET(M, P, vz, i) : 0.0;
+        double x[3] = {P->x[i] + dt * (vx + 0.5 * dt * ax), P->y[i] + dt * (vy + 0.5 * dt * ay),
+                       0.0};
+        double v[3] = {vx + dt * ax, vy + dt * ay, 0.0};
         if (D == 3) {
-            x[2] = P->z[i] + dt * (P->vz[i] + 0.5 * dt * az);
-            v[2] = P->vz[i] + dt * az;
+            x[2] = P->z[i] + dt * (vz + 0.5 * dt * az);
+            v[2] = vz + dt * az;
         }
         bad = !isfinite(x[0]) || !isfinite(x[1]) || (D == 3 && !isfinite(x[2]));
         if (k->ghosts) /* a particle that crossed a free-slip wall comes back, before the domain
@@ -110,43 +118,48 @@ SPH_HD static inline __attribute__((always_inline)) long predict_one(const int D
             (D == 2 || (x[2] >= k->lo[2] && x[2] <= k->hi[2]))) {
             P->x[i] = x[0];
             P->y[i] = x[1];
-            P->vx[i] = v[0];
-            P->vy[i] = v[1];
+            SPH_SET(M, P, vx, i, v[0]);
+            SPH_SET(M, P, vy, i, v[1]);
             if (D == 3) {
                 P->z[i] = x[2];
-                P->vz[i] = v[2];
+                SPH_SET(M, P, vz, i, v[2]);
             }
         } else {
             P->type[i] = SPH_LOST; /* frozen where it left */
-            P->vx[i] = P->vy[i] = 0.0;
+            SPH_SET(M, P, vx, i, 0.0);
+            SPH_SET(M, P, vy, i, 0.0);
             if (D == 3)
-                P->vz[i] = 0.0;
+                SPH_SET(M, P, vz, i, 0.0);
         }
     }
-    P->rho[i] += dt * P->drho0[i];
+    SPH_SET(M, P, rho, i, SPH_GET(M, P, rho, i) + dt * SPH_GET(M, P, drho0, i));
     return bad;
 }
 
 /* The corrector of particle i: a fluid particle's velocity, every density (walls never below
  * rho0); its speed squared and density into the running maxima and minimum. Returns 1 when one
  * is not finite. */
-SPH_HD static inline __attribute__((always_inline)) long correct_one(const int D, const step_ctx *k,
-                                                                     double dt, long i,
-                                                                     double *vmax2, double *rlo,
-                                                                     double *rhi)
+SPH_HD static inline __attribute__((always_inline)) long correct_one(const int D, const int M,
+                                                                     const step_ctx *k, double dt,
+                                                                     long i, double *vmax2,
+                                                                     double *rlo, double *rhi)
 {
     sph_particles *P = k->P;
     long bad = 0;
-    double rho = P->rho[i] + 0.5 * dt * (P->drho[i] - P->drho0[i]);
+    double rho =
+        SPH_GET(M, P, rho, i) + 0.5 * dt * (SPH_GET(M, P, drho, i) - SPH_GET(M, P, drho0, i));
     if (P->type[i] == SPH_FLUID) {
-        const double vx = P->vx[i] + 0.5 * dt * (P->ax[i] - P->ax0[i]);
-        const double vy = P->vy[i] + 0.5 * dt * (P->ay[i] - P->ay0[i]);
-        P->vx[i] = vx;
-        P->vy[i] = vy;
+        const double vx =
+            SPH_GET(M, P, vx, i) + 0.5 * dt * (SPH_GET(M, P, ax, i) - SPH_GET(M, P, ax0, i));
+        const double vy =
+            SPH_GET(M, P, vy, i) + 0.5 * dt * (SPH_GET(M, P, ay, i) - SPH_GET(M, P, ay0, i));
+        SPH_SET(M, P, vx, i, vx);
+        SPH_SET(M, P, vy, i, vy);
         double v2 = vx * vx + vy * vy;
         if (D == 3) {
-            const double vz = P->vz[i] + 0.5 * dt * (P->az[i] - P->az0[i]);
-            P->vz[i] = vz;
+            const double vz =
+                SPH_GET(M, P, vz, i) + 0.5 * dt * (SPH_GET(M, P, az, i) - SPH_GET(M, P, az0, i));
+            SPH_SET(M, P, vz, i, vz);
             v2 += vz * vz;
         }
         *vmax2 = v2 > *vmax2 ? v2 : *vmax2;
@@ -154,7 +167,7 @@ SPH_HD static inline __attribute__((always_inline)) long correct_one(const int D
     } else if (rho < k->rho0) {
         rho = k->rho0; /* walls do not pull fluid in (as DualSPHysics does) */
     }
-    P->rho[i] = rho;
+    SPH_SET(M, P, rho, i, rho);
     bad += !isfinite(rho);
     *rlo = rho < *rlo ? rho : *rlo;
     *rhi = rho > *rhi ? rho : *rhi;

@@ -55,13 +55,21 @@ static void swap(double **a, double **b)
     *b = t;
 }
 
+static void swapf(float **a, float **b)
+{
+    float *t = *a;
+    *a = *b;
+    *b = t;
+}
+
 /* The first non-finite particle, for the message. */
 static long first_bad(const sph_particles *P, long n)
 {
+    const int M = P->mixed;
     for (long i = 0; i < n; i++)
-        if (!isfinite(P->x[i]) || !isfinite(P->y[i]) || !isfinite(P->vx[i]) ||
-            !isfinite(P->vy[i]) || !isfinite(P->rho[i]) ||
-            (P->z && (!isfinite(P->z[i]) || !isfinite(P->vz[i]))))
+        if (!isfinite(P->x[i]) || !isfinite(P->y[i]) || !isfinite(SPH_GET(M, P, vx, i)) ||
+            !isfinite(SPH_GET(M, P, vy, i)) || !isfinite(SPH_GET(M, P, rho, i)) ||
+            (P->z && (!isfinite(P->z[i]) || !isfinite(SPH_GET(M, P, vz, i)))))
             return i;
     return -1;
 }
@@ -80,28 +88,30 @@ static step_ctx step_ctx_of(sph_sim *s)
     return k;
 }
 
-/* The predictor over the first n particles, predict2 and predict3 (D a literal there); returns
- * the particles whose new position is not finite. */
+/* The predictor over the first n particles, predict<D><M> (D and M, mixed precision, literals
+ * there); returns the particles whose new position is not finite. */
 /* clang-format off */
-#define SPH_PREDICT_LOOP(D)                                                                        \
-    static long predict##D(const step_ctx *kp, double dt, long n)                                  \
+#define SPH_PREDICT_LOOP(D, M)                                                                     \
+    static long predict##D##M(const step_ctx *kp, double dt, long n)                               \
     {                                                                                              \
         const step_ctx k = *kp;                                                                    \
         long bad = 0;                                                                              \
         _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(k) reduction(+ : bad) if (n >= SPH_OMP_MIN)") \
         for (long i = 0; i < n; i++)                                                               \
-            bad += predict_one(D, &k, dt, i);                                                      \
+            bad += predict_one(D, M, &k, dt, i);                                                   \
         return bad;                                                                                \
     }
 /* clang-format on */
-SPH_PREDICT_LOOP(2)
-SPH_PREDICT_LOOP(3)
+SPH_PREDICT_LOOP(2, 0)
+SPH_PREDICT_LOOP(3, 0)
+SPH_PREDICT_LOOP(2, 1)
+SPH_PREDICT_LOOP(3, 1)
 
-/* The corrector over the first n particles, correct2 and correct3 (D a literal there): the largest
+/* The corrector over the first n particles, correct<D><M> (D and M literals there): the largest
  * fluid speed squared, the density range and the non-finite count out. */
 /* clang-format off */
-#define SPH_CORRECT_LOOP(D)                                                                        \
-    static long correct##D(const step_ctx *kp, double dt, long n, double *vmax2_out,               \
+#define SPH_CORRECT_LOOP(D, M)                                                                     \
+    static long correct##D##M(const step_ctx *kp, double dt, long n, double *vmax2_out,            \
                            double *rlo_out, double *rhi_out)                                       \
     {                                                                                              \
         const step_ctx k = *kp;                                                                    \
@@ -109,15 +119,17 @@ SPH_PREDICT_LOOP(3)
         long bad = 0;                                                                              \
         _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(k) reduction(+ : bad) reduction(max : vmax2, rhi) reduction(min : rlo) if (n >= SPH_OMP_MIN)") \
         for (long i = 0; i < n; i++)                                                               \
-            bad += correct_one(D, &k, dt, i, &vmax2, &rlo, &rhi);                                  \
+            bad += correct_one(D, M, &k, dt, i, &vmax2, &rlo, &rhi);                               \
         *vmax2_out = vmax2;                                                                        \
         *rlo_out = rlo;                                                                            \
         *rhi_out = rhi;                                                                            \
         return bad;                                                                                \
     }
 /* clang-format on */
-SPH_CORRECT_LOOP(2)
-SPH_CORRECT_LOOP(3)
+SPH_CORRECT_LOOP(2, 0)
+SPH_CORRECT_LOOP(3, 0)
+SPH_CORRECT_LOOP(2, 1)
+SPH_CORRECT_LOOP(3, 1)
 
 int sph_wcsph_step_checks(sph_sim *s, long step, double dt, long bad, double rlo, double rhi,
                           sph_error *err)
@@ -177,16 +189,25 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
         return rc;
 
     /* the latest rates become the old ones */
-    swap(&P->ax, &P->ax0);
-    swap(&P->ay, &P->ay0);
-    if (P->az)
-        swap(&P->az, &P->az0);
-    swap(&P->drho, &P->drho0);
+    if (P->mixed) {
+        swapf(&P->f32.ax, &P->f32.ax0);
+        swapf(&P->f32.ay, &P->f32.ay0);
+        if (P->f32.az)
+            swapf(&P->f32.az, &P->f32.az0);
+        swapf(&P->f32.drho, &P->f32.drho0);
+    } else {
+        swap(&P->ax, &P->ax0);
+        swap(&P->ay, &P->ay0);
+        if (P->az)
+            swap(&P->az, &P->az0);
+        swap(&P->drho, &P->drho0);
+    }
 
     /* predictor */
     const long n0 = s->nactive;
     const step_ctx k = step_ctx_of(s);
-    long bad = c->dim == 3 ? predict3(&k, dt, n0) : predict2(&k, dt, n0);
+    long bad = P->mixed ? (c->dim == 3 ? predict31 : predict21)(&k, dt, n0)
+                        : (c->dim == 3 ? predict30 : predict20)(&k, dt, n0);
     if (bad)
         return sph_wcsph_predict_failed(s, step, dt, bad, err);
     if (s->bodies.n > 0) {
@@ -211,8 +232,8 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
     const double t1 = omp_get_wtime();
     const long n = s->nactive;
     double vmax2, rlo, rhi;
-    bad = c->dim == 3 ? correct3(&k, dt, n, &vmax2, &rlo, &rhi)
-                      : correct2(&k, dt, n, &vmax2, &rlo, &rhi);
+    bad = (P->mixed ? (c->dim == 3 ? correct31 : correct21)
+                    : (c->dim == 3 ? correct30 : correct20))(&k, dt, n, &vmax2, &rlo, &rhi);
     s->vmax = sqrt(vmax2);
     if (s->bodies.n > 0) {
         const double tb = omp_get_wtime();
@@ -246,7 +267,7 @@ static int wcsph_check(const sph_config *c, sph_error *err)
 
 size_t sph_wcsph_bytes_per_particle(const sph_config *c)
 {
-    return sph_particles_bytes_per_particle(c->dim, c->turb == SPH_TURB_SPS);
+    return sph_particles_bytes_per_particle(c->dim, sph_sim_particle_opts(c));
 }
 
 static int wcsph_init(sph_sim *s, sph_error *err)
@@ -262,19 +283,29 @@ static int wcsph_init(sph_sim *s, sph_error *err)
 void sph_wcsph_pressure(const sph_sim *s)
 {
     const sph_particles *P = &s->P;
+    const int M = P->mixed;
     for (long i = 0; i < P->n; i++)
-        P->p[i] = sph_eos_pressure(&s->cfg, P->rho[i]);
+        SPH_SET(M, P, p, i, sph_eos_pressure(&s->cfg, SPH_GET(M, P, rho, i)));
 }
 
 /* What lives from one step to the next: the state and the previous rates of the corrector. */
-int sph_wcsph_arrays(const sph_sim *s, double **d, int maxd)
+int sph_wcsph_arrays(const sph_sim *s, sph_array *d, int maxd)
 {
     const sph_particles *P = &s->P;
-    /* the third axis's arrays last (NULL in 2D: the 2D list is what it was) */
-    double *const all[] = {P->x,   P->y,    P->vx,  P->vy,  P->rho,   P->p,   P->ax,
-                           P->ay,  P->drho, P->ax0, P->ay0, P->drho0, P->txx, P->txy,
-                           P->tyy, P->gxx,  P->gxy, P->gyy, P->z,     P->vz,  P->az,
-                           P->az0, P->tzz,  P->txz, P->tyz, P->gzz,   P->gxz, P->gyz};
+    const size_t z = sizeof(double), f = sizeof(float);
+    /* the third axis's arrays last (NULL in 2D: the 2D list is what it was); a hot field's
+     * double array or, under mixed precision, its float one (the other is NULL) */
+#define HOT(a)                                                                                     \
+    {P->a, z},                                                                                     \
+    {                                                                                              \
+        P->f32.a, f                                                                                \
+    }
+    const sph_array all[] = {
+        {P->x, z},   {P->y, z},   HOT(vx),     HOT(vy),     HOT(rho),    HOT(p),      HOT(ax),
+        HOT(ay),     HOT(drho),   HOT(ax0),    HOT(ay0),    HOT(drho0),  {P->txx, z}, {P->txy, z},
+        {P->tyy, z}, {P->gxx, z}, {P->gxy, z}, {P->gyy, z}, {P->z, z},   HOT(vz),     HOT(az),
+        HOT(az0),    {P->tzz, z}, {P->txz, z}, {P->tyz, z}, {P->gzz, z}, {P->gxz, z}, {P->gyz, z}};
+#undef HOT
     return sph_method_arrays(all, (int)(sizeof all / sizeof all[0]), d, maxd);
 }
 

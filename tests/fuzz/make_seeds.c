@@ -161,20 +161,21 @@ static bytes make_state(const char *text, state_layout *L)
     if (sph_sim_save(s, &buf, &r.len, &err) != 0)
         die("sph_sim_save", err.message);
     r.b = buf;
-    double *arrays[32];
-    const int na = s->ops->arrays(s, arrays, 32);
+    sph_array arrays[40];
+    const int na = s->ops->arrays(s, arrays, 40);
     const size_t n = (size_t)s->P.n, nbs = (size_t)s->bodies.n;
-    if (r.len != sizeof(sim_header) + (size_t)na * n * sizeof(double) + n * (1 + sizeof(int)) +
-                     nbs * sizeof(sph_body_state))
+    const size_t per = sph_method_arrays_size(arrays, na);
+    if (r.len !=
+        sizeof(sim_header) + per * n + n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state))
         die("sim_header", "out of date with core/sph_checkpoint.c (the state's length differs)");
     L->n = n;
     L->x = SIZE_MAX;
-    for (int i = 0; i < na; i++)
-        if (arrays[i] == s->P.x)
-            L->x = sizeof(sim_header) + (size_t)i * n * sizeof(double);
+    for (int i = 0, off = 0; i < na; off += (int)arrays[i].size, i++)
+        if (arrays[i].p == s->P.x)
+            L->x = sizeof(sim_header) + (size_t)off * n;
     if (L->x == SIZE_MAX)
         die("state", "positions are not among the saved arrays");
-    L->types = sizeof(sim_header) + (size_t)na * n * sizeof(double);
+    L->types = sizeof(sim_header) + per * n;
     L->fluid = L->body = -1;
     for (size_t i = n; i-- > 0;) {
         if (r.b[L->types + i] == SPH_FLUID)

@@ -63,7 +63,7 @@ static void test_builder(void **state)
     double rho[32] = {1001.0, 1003.0, 1000.0, 1002.0, 1004.0, 1000.0};
     unsigned char type[32] = {SPH_FLUID, SPH_FLUID, SPH_FLUID, SPH_FLUID, SPH_FLUID, SPH_BOUNDARY};
     int id[32] = {10, 11, 12, 13, 14, 15};
-    const sph_ghost_arrays a = {{x, y, NULL}, {vx, vy, NULL}, rho, type, id};
+    const sph_ghost_arrays a = {{x, y, NULL}, {vx, vy, NULL}, rho, type, id, {NULL}, NULL, 0};
     /* no room: the count alone (nothing written); too little room: nothing written past cap,
      * the count still told */
     assert_int_equal(sph_wall_ghost_build(&w, &c, &a, 6, 6), 1 + 3 + 0 + 3 + 1);
