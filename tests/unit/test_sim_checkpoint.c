@@ -27,22 +27,35 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* A case of cases/ with `--set` items (NULL-terminated). */
-static sph_config load_case(const char *name, const char *const *sets)
+/* The case file at rel (under the source tree) with `--set` items (NULL-terminated), parsed into
+ * *cfg: 0, or the parser's code with err set. */
+static int parse_case(const char *rel, const char *const *sets, sph_config *cfg, sph_error *err)
 {
     char path[4096];
     const char *src = getenv("SPH_SOURCE_DIR");
-    snprintf(path, sizeof path, "%s/cases/%s", src ? src : ".", name);
+    snprintf(path, sizeof path, "%s/%s", src ? src : ".", rel);
     json_t *root;
-    sph_error err;
-    assert_int_equal(sph_case_load(path, &root, &err), 0);
+    assert_int_equal(sph_case_load(path, &root, err), 0);
     for (; *sets; sets++)
-        assert_int_equal(sph_json_apply_set(root, *sets, &err), 0);
+        assert_int_equal(sph_json_apply_set(root, *sets, err), 0);
     sph_case *c = calloc(1, sizeof *c);
-    assert_int_equal(sph_case_from_json(root, c, &err), 0);
-    sph_config cfg = c->sim;
+    assert_non_null(c);
+    const int rc = sph_case_from_json(root, c, err);
+    if (rc == 0)
+        *cfg = c->sim;
     free(c);
     json_decref(root);
+    return rc;
+}
+
+/* A case of cases/ with `--set` items (NULL-terminated). */
+static sph_config load_case(const char *name, const char *const *sets)
+{
+    char rel[256];
+    snprintf(rel, sizeof rel, "cases/%s", name);
+    sph_config cfg;
+    sph_error err;
+    assert_int_equal(parse_case(rel, sets, &cfg, &err), 0);
     return cfg;
 }
 
@@ -159,21 +172,12 @@ static void test_mps_threads(void **state)
 static void test_mps_amg(void **state)
 {
     (void)state;
-    char path[4096];
-    const char *src = getenv("SPH_SOURCE_DIR");
-    snprintf(path, sizeof path, "%s/cases/mps_dambreak.json", src ? src : ".");
-    json_t *root;
+    static const char *const sets[] = {"dx=0.00365", "mps.preconditioner=amg", NULL};
+    sph_config cfg;
     sph_error err;
-    assert_int_equal(sph_case_load(path, &root, &err), 0);
-    assert_int_equal(sph_json_apply_set(root, "dx=0.00365", &err), 0);
-    assert_int_equal(sph_json_apply_set(root, "mps.preconditioner=amg", &err), 0);
-    sph_case *c = calloc(1, sizeof *c);
-    const int rc = sph_case_from_json(root, c, &err);
-    json_decref(root);
+    const int rc = parse_case("cases/mps_dambreak.json", sets, &cfg, &err);
 #ifdef SPH_HYPRE
     assert_int_equal(rc, 0);
-    const sph_config cfg = c->sim;
-    free(c);
     sph_sim *a = save_restore(&cfg, 100, 60);
     const sph_diag *d = sph_sim_diag(a);
     printf("amg: step %ld, CG %ld iterations, residual %.2e\n", d->step, (long)d->cg_iterations,
@@ -181,7 +185,6 @@ static void test_mps_amg(void **state)
     assert_true(d->cg_residual <= cfg.mps.tol);
     sph_sim_destroy(a);
 #else
-    free(c);
     assert_int_not_equal(rc, 0);
     assert_string_equal(err.path, "/mps/preconditioner");
     assert_non_null(strstr(err.message, "built without hypre"));
@@ -216,18 +219,11 @@ static void test_mixed_restore(void **state)
     }
     omp_set_num_threads(saved);
     /* 3D: still water with ghost walls on every side (tests/cases/ghost_still3d.json) */
-    char path[4096];
-    const char *src = getenv("SPH_SOURCE_DIR");
-    snprintf(path, sizeof path, "%s/tests/cases/ghost_still3d.json", src ? src : ".");
-    json_t *root;
+    static const char *const g3[] = {"precision=mixed", NULL};
+    sph_config c3;
     sph_error err;
-    assert_int_equal(sph_case_load(path, &root, &err), 0);
-    assert_int_equal(sph_json_apply_set(root, "precision=mixed", &err), 0);
-    sph_case *c = calloc(1, sizeof *c);
-    assert_int_equal(sph_case_from_json(root, c, &err), 0);
-    json_decref(root);
-    sph_sim_destroy(save_restore(&c->sim, 40, 30));
-    free(c);
+    assert_int_equal(parse_case("tests/cases/ghost_still3d.json", g3, &c3, &err), 0);
+    sph_sim_destroy(save_restore(&c3, 40, 30));
 }
 
 /* The front of the 2D dam break at t = 0.3 s (about 3.7 in t sqrt(2g/D)), mixed against double:
@@ -259,23 +255,16 @@ static void test_mixed_front(void **state)
  * the message naming `why`. */
 static void refused(const char *name, const char *set, const char *why)
 {
-    char path[4096];
-    const char *src = getenv("SPH_SOURCE_DIR");
-    snprintf(path, sizeof path, "%s/cases/%s", src ? src : ".", name);
-    json_t *root;
+    char rel[256];
+    snprintf(rel, sizeof rel, "cases/%s", name);
+    const char *const sets[] = {"precision=mixed", set, NULL};
+    sph_config cfg;
     sph_error err;
-    assert_int_equal(sph_case_load(path, &root, &err), 0);
-    assert_int_equal(sph_json_apply_set(root, "precision=mixed", &err), 0);
-    if (set)
-        assert_int_equal(sph_json_apply_set(root, set, &err), 0);
-    sph_case *c = calloc(1, sizeof *c);
-    assert_int_not_equal(sph_case_from_json(root, c, &err), 0);
+    assert_int_not_equal(parse_case(rel, sets, &cfg, &err), 0);
     printf("%s with %s: refused at %s: %s\n", name, set ? set : "mixed", err.path, err.message);
     assert_int_equal(err.code, SPH_ERR_INVALID);
     assert_string_equal(err.path, "/precision");
     assert_non_null(strstr(err.message, why));
-    free(c);
-    json_decref(root);
 }
 
 /* Bytes per particle of the storage (printed): mixed at most 90 in 2D and 120 in 3D (issue 24);
