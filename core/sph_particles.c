@@ -144,20 +144,17 @@ static void permute_doubles(double **a, double **scratch, const long *perm, long
     *a = dst;
 }
 
-/* *a = old[perm] for a float array: gathered into the scratch array, then copied back. */
-static void permute_floats(float *a, double *scratch, const long *perm, long n)
+/* *a = old[perm] for a float array: gathered into *scratch (a float array of n free elements,
+ * the force loop's p / rho^2: see sph_particles_permute), which then takes the field's place. */
+static void permute_floats(float **a, float **scratch, const long *perm, long n)
 {
-    float *restrict dst = (float *)scratch;
-    const float *restrict src = a;
-#pragma omp parallel if (n >= SPH_OMP_MIN)
-    {
-#pragma omp for schedule(dynamic, SPH_OMP_CHUNK)
-        for (long i = 0; i < n; i++)
-            dst[i] = src[perm[i]];
-#pragma omp for schedule(static)
-        for (long i = 0; i < n; i++)
-            a[i] = dst[i];
-    }
+    const float *src = *a;
+    float *dst = *scratch;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++)
+        dst[i] = src[perm[i]];
+    *scratch = *a;
+    *a = dst;
 }
 
 void sph_particles_permute(sph_particles *P, const long *perm)
@@ -170,11 +167,13 @@ void sph_particles_permute(sph_particles *P, const long *perm)
     for (size_t f = 0; f < sizeof d / sizeof d[0]; f++)
         if (*d[f])
             permute_doubles(d[f], &P->scratch, perm, n);
-    float *const fl[] = {P->f32.vx,  P->f32.vy,    P->f32.rho, P->f32.ax0,
-                         P->f32.ay0, P->f32.drho0, P->f32.vz,  P->f32.az0};
+    /* mixed precision's float fields swap places with p / rho^2, which holds nothing between
+     * two force evaluations (their prepare computes it, their pair loop alone reads it) */
+    float **fl[] = {&P->f32.vx,  &P->f32.vy,    &P->f32.rho, &P->f32.ax0,
+                    &P->f32.ay0, &P->f32.drho0, &P->f32.vz,  &P->f32.az0};
     for (size_t f = 0; f < sizeof fl / sizeof fl[0]; f++)
-        if (fl[f])
-            permute_floats(fl[f], P->scratch, perm, n);
+        if (*fl[f])
+            permute_floats(fl[f], &P->f32.pr, perm, n);
     /* the 1- and 4-byte fields go through the scratch buffer too (it holds n doubles); read
      * through restrict locals, since a char store may alias anything, P included */
     unsigned char *restrict t = (unsigned char *)P->scratch;
@@ -244,10 +243,10 @@ long sph_particles_remove(sph_particles *P, unsigned char type, long *perm)
     for (size_t f = 0; f < sizeof r / sizeof r[0]; f++)
         if (*r[f])
             permute_doubles(r[f], &P->scratch, perm, n);
-    float *const rf[] = {P->f32.ax, P->f32.ay, P->f32.drho, P->f32.az};
+    float **rf[] = {&P->f32.ax, &P->f32.ay, &P->f32.drho, &P->f32.az};
     for (size_t f = 0; f < sizeof rf / sizeof rf[0]; f++)
-        if (rf[f])
-            permute_floats(rf[f], P->scratch, perm, n);
+        if (*rf[f])
+            permute_floats(rf[f], &P->f32.pr, perm, n);
     P->n = kept;
     return kept;
 }

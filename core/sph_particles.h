@@ -91,7 +91,8 @@ int sph_particles_reserve(sph_particles *P, long cap);
 long sph_particles_remove(sph_particles *P, unsigned char type, long *perm);
 
 /* Reorders every persistent field by perm: new[i] = old[perm[i]]. The field arrays are swapped
- * with the scratch array, so their addresses change. */
+ * with the scratch array (under mixed precision the float ones with f32.pr, p / rho^2, which
+ * must hold nothing then: it is the force loop's scratch), so their addresses change. */
 void sph_particles_permute(sph_particles *P, const long *perm);
 
 #endif

@@ -43,7 +43,7 @@
             if (!pair_of(T, F, D, c, &q, j, &o, &tk))                                              \
                 continue;                                                                          \
             take_i(F, D, &o, &tk, ai);                                                             \
-            TAKE_J(F, D, c, ax, ay, az, drho, j, &o, &tk);                                         \
+            TAKE_J;                                                                                \
         }                                                                                          \
     } while (0)
 static inline __attribute__((always_inline)) void interact(sph_kernel_type T, unsigned F,
@@ -54,9 +54,9 @@ static inline __attribute__((always_inline)) void interact(sph_kernel_type T, un
     pair_i q;
     pair_i_load(F, D, c, i, &q);
     if (F & F_MIXED)
-        SPH_INTERACT_LOOP(float, take_j_f, &c->f32);
+        SPH_INTERACT_LOOP(float, take_j_f(F, D, ax, ay, az, drho, j, &o, &tk), &c->f32);
     else
-        SPH_INTERACT_LOOP(double, take_j, c);
+        SPH_INTERACT_LOOP(double, take_j(F, D, c, ax, ay, az, drho, j, &o, &tk), c);
 }
 
 /* The pairs of strip `strip` (the cells with cx = 1 + 2 strip and 2 + 2 strip). Returns the

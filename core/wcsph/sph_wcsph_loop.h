@@ -236,35 +236,40 @@ take_i(unsigned F, const int D, const sph_wcsph_pair_out *SPH_RESTRICT o, const 
 }
 
 /* j's side of a pair in a symmetric loop (the opposite of take_i), into the arrays of the
- * caller's restrict locals (c->ax ... through them, of type R: double, or float with F_MIXED,
- * where j's sum is rounded to float at each pair as the storage is; c gives the SPS gradients). */
-#define SPH_TAKE_J(R, F, D, c, ax, ay, az, drho, j, o, tk)                                         \
-    do {                                                                                           \
-        if (!(tk)->skip_j)                                                                         \
-            drho[j] = (R)(drho[j] + (o)->dd);                                                      \
-        if ((F)&F_SPS)                                                                             \
-            for (int k_ = 0; k_ < ((D) == 3 ? 6 : 3); k_++)                                        \
-                (c)->g[k_][j] += (o)->gb[k_];                                                      \
-        if (((F)&F_DELTA) && (tk)->delta)                                                          \
-            drho[j] = (R)(drho[j] - (o)->dwb);                                                     \
-        ax[j] = (R)(ax[j] - (o)->f[0]);                                                            \
-        ay[j] = (R)(ay[j] - (o)->f[1]);                                                            \
-        if ((D) == 3)                                                                              \
-            az[j] = (R)(az[j] - (o)->f[2]);                                                        \
-    } while (0)
+ * caller's restrict locals (c->ax ... through them; c gives the SPS gradients). */
 SPH_HD static inline __attribute__((always_inline)) void
 take_j(unsigned F, const int D, const fctx *c, double *SPH_RESTRICT ax, double *SPH_RESTRICT ay,
        double *SPH_RESTRICT az, double *SPH_RESTRICT drho, long j,
        const sph_wcsph_pair_out *SPH_RESTRICT o, const pair_take *tk)
 {
-    SPH_TAKE_J(double, F, D, c, ax, ay, az, drho, j, o, tk);
+    if (!tk->skip_j)
+        drho[j] += o->dd;
+    if (F & F_SPS)
+        for (int k = 0; k < (D == 3 ? 6 : 3); k++)
+            c->g[k][j] += o->gb[k];
+    if ((F & F_DELTA) && tk->delta)
+        drho[j] -= o->dwb;
+    ax[j] -= o->f[0];
+    ay[j] -= o->f[1];
+    if (D == 3)
+        az[j] -= o->f[2];
 }
+
+/* The same into float arrays (F_MIXED: no SPS): each contribution rounded to float and added in
+ * float, as the sums are stored (one conversion a field). */
 SPH_HD static inline __attribute__((always_inline)) void
-take_j_f(unsigned F, const int D, const fctx *c, float *SPH_RESTRICT ax, float *SPH_RESTRICT ay,
+take_j_f(unsigned F, const int D, float *SPH_RESTRICT ax, float *SPH_RESTRICT ay,
          float *SPH_RESTRICT az, float *SPH_RESTRICT drho, long j,
          const sph_wcsph_pair_out *SPH_RESTRICT o, const pair_take *tk)
 {
-    SPH_TAKE_J(float, F, D, c, ax, ay, az, drho, j, o, tk);
+    double dr = tk->skip_j ? 0.0 : o->dd;
+    if ((F & F_DELTA) && tk->delta)
+        dr -= o->dwb;
+    drho[j] += (float)dr;
+    ax[j] -= (float)o->f[0];
+    ay[j] -= (float)o->f[1];
+    if (D == 3)
+        az[j] -= (float)o->f[2];
 }
 
 /* Adds particle i's sums. */
