@@ -163,11 +163,13 @@ typedef long (*strip_fn)(const fctx *c, int strip);
  * strips<D>_<TYPE>[flags], the flags' value naming the instantiation. The combinations
  * sph_sim_check refuses (laminar with monaghan: one viscosity; ghost walls with bodies:
  * sph_body_check; bodies in 3D) have none, their entry is NULL: in 2D 36 of the 64 per kernel,
- * in 3D 24.
+ * in 3D 24. Mixed precision's, strips<D>m_<TYPE>[flags] (F_MIXED with the flags, no SPS and no
+ * bodies: sph_sim_check), 12 per kernel and dimension: 420 in all.
  * SPH_STRIPS_RUNTIME (the sanitizer and fuzz builds: CMakeLists.txt) keeps the tables but points
- * every entry at one instantiation per kernel type and dimension that reads the options at run
- * time: the same source and the same arithmetic (the options only pick branches), 10 functions
- * instead of 300; with 300 the sanitizers' instrumentation took this file 6 minutes to compile. */
+ * every entry at one instantiation per kernel type and dimension that reads the options (and
+ * F_MIXED) at run time: the same source and the same arithmetic (the options only pick
+ * branches), 10 functions instead of 420; with 300 the sanitizers' instrumentation took this file
+ * 6 minutes to compile. */
 #ifdef SPH_STRIPS_RUNTIME
 #define SPH_STRIP_FN(T, FL, D)
 #define SPH_STRIP_REF(T, FL, D) strip##D##_##T##_rt
