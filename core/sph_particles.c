@@ -57,22 +57,19 @@ int sph_particles_alloc(sph_particles *P, long n, int dim, unsigned opts)
     double **d[N_DOUBLE];
     float **f[N_FLOAT];
     all_fields(P, d, f);
-    /* which of them this set has, in all_fields' order */
-    const int hot[2] = {N_HOT2, dim == 3 ? N_HOT3 : 0};
-    const int have[6] = {
-        P->mixed ? 0 : hot[0], P->mixed ? 0 : hot[1], N_D2,
-        dim == 3 ? N_D3 : 0,   sps ? N_SPS2 : 0,      sps && dim == 3 ? N_SPS3 : 0};
+    /* which of them this set has, in all_fields' order: the hot fields in double or in float */
+    const int dd = !P->mixed, ff = P->mixed;
+    const int have[6] = {dd ? N_HOT2 : 0,  dd && dim == 3 ? N_HOT3 : 0, N_D2, dim == 3 ? N_D3 : 0,
+                         sps ? N_SPS2 : 0, sps && dim == 3 ? N_SPS3 : 0};
     const int group[6] = {N_HOT2, N_HOT3, N_D2, N_D3, N_SPS2, N_SPS3};
-    int k = 0;
-    for (int g = 0; g < 6; g++) {
+    for (int g = 0, k = 0; g < 6; k += group[g], g++)
         for (int i = 0; i < have[g]; i++)
             if (!(*d[k + i] = calloc(nn, sizeof(double))))
                 goto fail;
-        k += group[g];
-    }
-    if (P->mixed)
-        for (int i = 0; i < hot[0] + hot[1]; i++)
-            if (!(*f[i < hot[0] ? i : N_HOT2 + i - hot[0]] = calloc(nn, sizeof(float))))
+    const int fhave[2] = {ff ? N_HOT2 : 0, ff && dim == 3 ? N_HOT3 : 0};
+    for (int g = 0, k = 0; g < 2; k += group[g], g++)
+        for (int i = 0; i < fhave[g]; i++)
+            if (!(*f[k + i] = calloc(nn, sizeof(float))))
                 goto fail;
     P->type = calloc(nn, 1);
     P->id = calloc(nn, sizeof(int));
@@ -132,30 +129,24 @@ int sph_particles_reserve(sph_particles *P, long cap)
 /* Threads of sph_particles_remove's partition at most. */
 #define SPH_REMOVE_THREADS 64
 
-/* *a = old[perm]: gathered into the scratch array, which then takes the field's place. */
-static void permute_doubles(double **a, double **scratch, const long *perm, long n)
-{
-    const double *src = *a;
-    double *dst = *scratch;
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++)
-        dst[i] = src[perm[i]];
-    *scratch = *a;
-    *a = dst;
-}
-
-/* *a = old[perm] for a float array: gathered into *scratch (a float array of n free elements,
- * the force loop's p / rho^2: see sph_particles_permute), which then takes the field's place. */
-static void permute_floats(float **a, float **scratch, const long *perm, long n)
-{
-    const float *src = *a;
-    float *dst = *scratch;
-#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++)
-        dst[i] = src[perm[i]];
-    *scratch = *a;
-    *a = dst;
-}
+/* *a = old[perm]: gathered into *scratch (n free elements of the same type), which then takes
+ * the field's place: permute_doubles through the scratch array, permute_floats (mixed
+ * precision) through the force loop's p / rho^2 (see sph_particles_permute). */
+/* clang-format off */
+#define SPH_PERMUTE_FN(name, T)                                                                    \
+    static void name(T **a, T **scratch, const long *perm, long n)                                 \
+    {                                                                                              \
+        const T *src = *a;                                                                         \
+        T *dst = *scratch;                                                                         \
+        _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)")         \
+        for (long i = 0; i < n; i++)                                                               \
+            dst[i] = src[perm[i]];                                                                 \
+        *scratch = *a;                                                                             \
+        *a = dst;                                                                                  \
+    }
+/* clang-format on */
+SPH_PERMUTE_FN(permute_doubles, double)
+SPH_PERMUTE_FN(permute_floats, float)
 
 void sph_particles_permute(sph_particles *P, const long *perm)
 {

@@ -261,6 +261,19 @@ sphd_ckpt *sphd_ckpt_load(const char *dir, int *fell_back, sph_error *err)
     return NULL;
 }
 
+int sphd_ckpt_set_aside(const char *dir)
+{
+    static const char *const names[] = {"checkpoint", "checkpoint.prev"};
+    int kept = 0;
+    for (int k = 0; k < 2; k++) {
+        char from[4096], to[4200];
+        snprintf(from, sizeof from, "%s/%s", dir, names[k]);
+        snprintf(to, sizeof to, "%s.unreadable", from);
+        kept += rename(from, to) == 0;
+    }
+    return kept;
+}
+
 const void *sphd_ckpt_get(const sphd_ckpt *c, const char *name, size_t *size)
 {
     for (int i = 0; i < c->nsections; i++)

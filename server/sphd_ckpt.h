@@ -35,6 +35,11 @@ typedef struct sphd_ckpt sphd_ckpt;
  * log line). Returns NULL with SPH_ERR_IO when there is no valid checkpoint. */
 sphd_ckpt *sphd_ckpt_load(const char *dir, int *fell_back, sph_error *err);
 
+/* Renames dir's checkpoint files (the latest and the previous) to NAME.unreadable, for a run
+ * that starts afresh where they could not be loaded: they are kept, not overwritten by its first
+ * checkpoint. Returns how many were renamed. */
+int sphd_ckpt_set_aside(const char *dir);
+
 /* Verifies and loads one checkpoint file. */
 sphd_ckpt *sphd_ckpt_load_file(const char *path, sph_error *err);
 

@@ -7,6 +7,7 @@
 #include "sph_json.h"
 #include "sph_study.h"
 #include "sphd.h"
+#include "sphd_ckpt.h"
 #include "sphd_exec.h"
 
 #include <math.h>
@@ -16,7 +17,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 typedef struct emitter {
     const char *job;
@@ -148,14 +148,7 @@ int sphd_run(const sphd_run_opts *o)
         else {
             /* one this sphd cannot take (another version's state, or damaged) is kept aside,
              * not overwritten by the fresh run's first checkpoint */
-            int kept = 0;
-            static const char *const names[] = {"checkpoint", "checkpoint.prev"};
-            for (int k = 0; k < 2; k++) {
-                char from[4200], to[4300];
-                snprintf(from, sizeof from, "%s/%s", outdir, names[k]);
-                snprintf(to, sizeof to, "%s.unreadable", from);
-                kept += access(from, F_OK) == 0 && rename(from, to) == 0;
-            }
+            const int kept = sphd_ckpt_set_aside(outdir);
             fprintf(stderr, "sphd: %s: no checkpoint to resume from (%s); starting afresh%s\n", job,
                     err.message,
                     kept ? " (the checkpoint that could not be read is kept as "

@@ -27,12 +27,12 @@
 #define F_BODY     SPH_WF_BODY
 #define F_COUNT    SPH_WF_COUNT
 /* Storage, not physics: the particles' hot fields in float (sph_particles.h, mixed precision).
- * The loops here read and write through LD / ST with it; sph_wcsph_pair never sees it. */
+ * The loops here read and write through SPH_GET / SPH_SET with it; sph_wcsph_pair never sees
+ * it. */
 #define F_MIXED SPH_WF_COUNT
-/* Field f of particle i of a force context, as a double / a store to it. */
-#define LD(F, c, f, i) (((F)&F_MIXED) ? (double)(c)->f32.f[i] : (c)->f[i])
-#define ST(F, c, f, i, v)                                                                          \
-    (((F)&F_MIXED) ? (void)((c)->f32.f[i] = (float)(v)) : (void)((c)->f[i] = (v)))
+/* 1 when F stores the hot fields in float: the M of SPH_GET / SPH_SET (sph_particles.h), which
+ * read a force context's fields as they read a particle set's (the same names in f32). */
+#define MX(F) (((F)&F_MIXED) != 0)
 
 typedef struct fctx {
     const double *x, *y, *z, *vx, *vy, *vz, *rho, *pr;
@@ -142,11 +142,11 @@ pair_i_load(unsigned F, const int D, const fctx *SPH_RESTRICT c, long i, pair_i 
     q->x[0] = c->x[i];
     q->x[1] = c->y[i];
     q->x[2] = D == 3 ? c->z[i] : 0.0;
-    q->v[0] = LD(F, c, vx, i);
-    q->v[1] = LD(F, c, vy, i);
-    q->v[2] = D == 3 ? LD(F, c, vz, i) : 0.0;
-    q->rho = LD(F, c, rho, i);
-    q->pr = LD(F, c, pr, i);
+    q->v[0] = SPH_GET(MX(F), c, vx, i);
+    q->v[1] = SPH_GET(MX(F), c, vy, i);
+    q->v[2] = D == 3 ? SPH_GET(MX(F), c, vz, i) : 0.0;
+    q->rho = SPH_GET(MX(F), c, rho, i);
+    q->pr = SPH_GET(MX(F), c, pr, i);
     for (int k = 0; k < 6; k++)
         q->t[k] = 0.0;
     if (F & F_SPS)
@@ -191,10 +191,10 @@ pair_of(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT c,
     (void)sph_kernel_eval_t(T, c->k, r, &dwdr);
     const double fw = dwdr / (r + c->tiny); /* grad_a W_ab = fw (x_a - x_b) */
     double dv[3];
-    dv[0] = q->v[0] - LD(F, c, vx, j);
-    dv[1] = q->v[1] - LD(F, c, vy, j);
+    dv[0] = q->v[0] - SPH_GET(MX(F), c, vx, j);
+    dv[1] = q->v[1] - SPH_GET(MX(F), c, vy, j);
     if (D == 3)
-        dv[2] = q->v[2] - LD(F, c, vz, j);
+        dv[2] = q->v[2] - SPH_GET(MX(F), c, vz, j);
     double tj[6] = {0};
     if (F & F_SPS)
         for (int k = 0; k < (D == 3 ? 6 : 3); k++)
@@ -205,8 +205,8 @@ pair_of(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT c,
     /* delta-SPH on fluid and ghost pairs only (a ghost's density is the hydrostatic one
      * behind the wall, dynamic particles' is not) */
     tk->delta = (F & F_GHOST) || ((F & F_BODY) ? q->f && c->type[j] == SPH_FLUID : !(q->b | bj));
-    sph_wcsph_pair(D, F, &c->pc, d, r2, fw, dv, q->rho, LD(F, c, rho, j), q->pr, LD(F, c, pr, j),
-                   vf, q->t, tj, tk->delta, o);
+    sph_wcsph_pair(D, F, &c->pc, d, r2, fw, dv, q->rho, SPH_GET(MX(F), c, rho, j), q->pr,
+                   SPH_GET(MX(F), c, pr, j), vf, q->t, tj, tk->delta, o);
     /* continuity: the same for both particles, except that the particles of a body that takes
      * its pressure from the fluid count only solid neighbours (walls, other bodies): their
      * density is the contact's */
@@ -258,8 +258,8 @@ take_j(unsigned F, const int D, const fctx *c, double *SPH_RESTRICT ax, double *
 /* The same into float arrays (F_MIXED: no SPS): each contribution rounded to float and added in
  * float, as the sums are stored (one conversion a field).
  * TODO(issue 24): mixed precision's pair loop runs 20-35% slower than double's (bench_dambreak,
- * 1 thread), about 10% more instructions from these conversions and LD's; the next thing to try
- * is the pair physics in float (sph_wcsph_pair on a real type), as DualSPHysics computes. */
+ * 1 thread), about 10% more instructions from these conversions and the loads'; the next thing to
+ * try is the pair physics in float (sph_wcsph_pair on a real type), as DualSPHysics computes. */
 SPH_HD static inline __attribute__((always_inline)) void
 take_j_f(unsigned F, const int D, float *SPH_RESTRICT ax, float *SPH_RESTRICT ay,
          float *SPH_RESTRICT az, float *SPH_RESTRICT drho, long j,
@@ -279,11 +279,11 @@ take_j_f(unsigned F, const int D, float *SPH_RESTRICT ax, float *SPH_RESTRICT ay
 SPH_HD static inline __attribute__((always_inline)) void
 add_acc(unsigned F, const int D, const fctx *c, long i, const acc *a)
 {
-    ST(F, c, ax, i, LD(F, c, ax, i) + a->a[0]);
-    ST(F, c, ay, i, LD(F, c, ay, i) + a->a[1]);
+    SPH_SET(MX(F), c, ax, i, SPH_GET(MX(F), c, ax, i) + a->a[0]);
+    SPH_SET(MX(F), c, ay, i, SPH_GET(MX(F), c, ay, i) + a->a[1]);
     if (D == 3)
-        ST(F, c, az, i, LD(F, c, az, i) + a->a[2]);
-    ST(F, c, drho, i, LD(F, c, drho, i) + a->drho);
+        SPH_SET(MX(F), c, az, i, SPH_GET(MX(F), c, az, i) + a->a[2]);
+    SPH_SET(MX(F), c, drho, i, SPH_GET(MX(F), c, drho, i) + a->drho);
     if (F & F_SPS)
         for (int q = 0; q < (D == 3 ? 6 : 3); q++)
             c->g[q][i] += a->g[q];
