@@ -4,8 +4,12 @@
  * per particle; the pair loop is the gather form (gather_one), so no two threads write the same
  * particle and no atomics touch the physics; the sort by cell is CUB's stable radix sort, so a
  * run is the same from one launch to the next.
- * TODO(issue 26): never run on a GPU yet: scripts/test-gpu.sh on a lent GPU first (the issue's
- * note lists what is left: the tests, the benchmark, the device bytes per particle).
+ * First run on a GPU (an H100, 2026-11-28): every test of scripts/test-gpu.sh passed (the CPU
+ * and the GPU agree within 1e-15 m after 100 steps).
+ * TODO(issue 26): speed, 55 M particle-steps/s on DualSPHysics' case at 1M against its 255 M (the
+ * pair loop is 93% of the step); the device's 179 bytes a particle against 164 (CUB's sort
+ * allocates its own second key and value buffers: DoubleBuffer, and the free rate arrays as the
+ * permutation's scratch, would take off about 21).
  */
 #include <cub/cub.cuh>
 #include <cuda_runtime.h>
@@ -122,13 +126,23 @@ __global__ void k_prepare(const sph_config *cfg, sph_particles P, double smag, d
         prepare_one(D, 0, cfg, &P, smag, blin, i);
 }
 
-template <sph_kernel_type T, int D> __global__ void k_forces(fctx c, long n, red *r)
+/* The F of k_forces whose options are read at run time (c.flags). */
+constexpr unsigned F_RUNTIME = ~0u;
+
+/* The pair loop, a thread a particle (gather_one), for kernel T in D dimensions with the options
+ * F (SPH_WF_ flags) folded at compile time, or read at run time with F_RUNTIME. Folded, the 3D
+ * loop takes 80 registers a thread against 142-144 (ptxas -v, sm_90, delta-SPH; 8-16 bytes
+ * spilled): three blocks of BS threads on a multiprocessor instead of one.
+ * TODO(issue 26): not yet timed on a GPU (the lease that ran the tests measured the run-time
+ * options' loop: 55 M particle-steps/s on DualSPHysics' case at 1M, against 255 M). */
+template <sph_kernel_type T, int D, unsigned F>
+__global__ void __launch_bounds__(BS) k_forces(fctx c, long n, red *r)
 {
     __shared__ typename reduce_u::TempStorage tmp;
     const long i = (long)blockIdx.x * BS + threadIdx.x;
     unsigned long long pairs = 0;
     if (i < n)
-        pairs = (unsigned long long)gather_one(T, c.flags, D, &c, i);
+        pairs = (unsigned long long)gather_one(T, F == F_RUNTIME ? c.flags : F, D, &c, i);
     const unsigned long long s = reduce_u(tmp).Sum(pairs);
     if (threadIdx.x == 0)
         atomicAdd(&r->pairs, s);
@@ -381,24 +395,47 @@ static fctx fctx_of(const sph_gpu *g)
     return c;
 }
 
+/* k_forces for kernel T: an instantiation of its own for the common option sets (artificial or
+ * laminar viscosity, with or without delta-SPH), the run-time options' for the rest (SPS). */
+template <sph_kernel_type T, int D> static void launch_forces_t(sph_gpu *g, const fctx &c, long n)
+{
+    switch (c.flags) {
+    case 0:
+        k_forces<T, D, 0><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        break;
+    case F_DELTA:
+        k_forces<T, D, F_DELTA><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        break;
+    case F_LAMINAR:
+        k_forces<T, D, F_LAMINAR><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        break;
+    case F_LAMINAR | F_DELTA:
+        k_forces<T, D, F_LAMINAR | F_DELTA><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        break;
+    default:
+        k_forces<T, D, F_RUNTIME><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        break;
+    }
+}
+
 template <int D> static void launch_forces(sph_gpu *g, long n)
 {
     const fctx c = fctx_of(g);
     switch (g->su.kernel.type) {
     case SPH_KERNEL_CUBIC_SPLINE:
-        k_forces<SPH_KERNEL_CUBIC_SPLINE, D><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        launch_forces_t<SPH_KERNEL_CUBIC_SPLINE, D>(g, c, n);
         break;
     case SPH_KERNEL_GAUSSIAN:
-        k_forces<SPH_KERNEL_GAUSSIAN, D><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        launch_forces_t<SPH_KERNEL_GAUSSIAN, D>(g, c, n);
         break;
     case SPH_KERNEL_DOUBLE_COSINE:
-        k_forces<SPH_KERNEL_DOUBLE_COSINE, D><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        launch_forces_t<SPH_KERNEL_DOUBLE_COSINE, D>(g, c, n);
         break;
     case SPH_KERNEL_WENDLAND_C2:
-        k_forces<SPH_KERNEL_WENDLAND_C2, D><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        launch_forces_t<SPH_KERNEL_WENDLAND_C2, D>(g, c, n);
         break;
     case SPH_KERNEL_RENORMALIZED_GAUSSIAN:
-        k_forces<SPH_KERNEL_RENORMALIZED_GAUSSIAN, D><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        launch_forces_t<SPH_KERNEL_RENORMALIZED_GAUSSIAN, D>(g, c, n);
         break;
     default: /* the MPS weights: refused for WCSPH before a sim exists */
         break;
