@@ -13,7 +13,7 @@ sphd=$1; src=$2; seed=${3:-$RANDOM}; mode=${4:-2d}
 [ -n "$seed" ] || seed=$RANDOM
 tmp=$(mktemp -d); pid=
 trap '[ -n "$pid" ] && kill -9 $pid 2>/dev/null || true; rm -rf "$tmp"' EXIT
-PY=/usr/bin/python3
+PY=${SPH_PYTHON:-/usr/bin/python3}
 if [ "$mode" = gpu ]; then
   nvidia-smi -L >/dev/null 2>&1 || { echo "no GPU visible: skipped"; exit 77; }
   args=(--run "$src/cases/dambreak.json" --threads 1 --set dx=0.005 --set time.end=0.3
