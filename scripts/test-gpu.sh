@@ -19,7 +19,8 @@ if ! nvidia-smi -L >/dev/null 2>&1; then
 fi
 nvidia-smi -L
 scripts/setup.sh
-cmake -S . -B build-cuda -DSPH_CUDA=ON -DSPH_WERROR=ON -DCMAKE_CUDA_COMPILER="$nvcc" \
+cmake -S . -B build-cuda -DSPH_CUDA=ON -DSPH_WERROR=ON -DSPH_STRIPS_RUNTIME=OFF \
+  -DCMAKE_CUDA_COMPILER="$nvcc" \
   ${SPH_CUDA_ARCH:+-DCMAKE_CUDA_ARCHITECTURES=$SPH_CUDA_ARCH} >/dev/null
 cmake --build build-cuda -j"$(nproc)" --target test_gpu_physics test_gpu_solver test_hydrostatic sphd bench_dambreak
 rc=0

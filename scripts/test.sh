@@ -41,7 +41,8 @@ ctest --test-dir build-clang --output-on-failure -j2 -L unit
 stage "CUDA (the GPU backend: nvcc, warnings as errors; the tests that need a GPU skip here)"
 nvcc=$(command -v nvcc || echo /usr/local/cuda/bin/nvcc)
 if [ -x "$nvcc" ]; then
-  cmake -S . -B build-cuda -DSPH_CUDA=ON -DSPH_WERROR=ON -DCMAKE_CUDA_COMPILER="$nvcc" >/dev/null
+  cmake -S . -B build-cuda -DSPH_CUDA=ON -DSPH_WERROR=ON -DSPH_STRIPS_RUNTIME=ON \
+    -DCMAKE_CUDA_COMPILER="$nvcc" >/dev/null
   cmake --build build-cuda -j"$(nproc)" --target test_gpu_physics test_gpu_solver test_hydrostatic sphd bench_dambreak
   ctest --test-dir build-cuda --output-on-failure -L gpu
 else
