@@ -4,6 +4,7 @@
  * loop thread over the worker's inproc PAIR; only the loop thread publishes them. Diagnostics are
  * thinned to at most opts.diag_rate per second so that a fast job never floods the stream.
  */
+#include "sphd_ckpt.h"
 #include "sphd_daemon.h"
 #include "sph_sim.h"
 
@@ -141,14 +142,19 @@ void sphd_run_job(sphd_worker *w, sphd_link *sock, sphd_wcmd *cmd)
         if (cmd->job->resume) {
             int fell_back = 0;
             x = sphd_exec_resume(cmd->job->c, cmd->job->dir, &fell_back, &err);
-            char msg[SPH_ERROR_TEXT_MAX + 64];
+            char msg[SPH_ERROR_TEXT_MAX + 160];
             if (x && fell_back)
                 snprintf(msg, sizeof msg, "resumed from the previous checkpoint: %s", err.message);
             else if (x)
                 snprintf(msg, sizeof msg, "resumed from its latest checkpoint");
-            else
-                snprintf(msg, sizeof msg, "no checkpoint to resume from (%s): starting afresh",
-                         err.message);
+            else /* one this sphd cannot take (another version's state, or damaged) is kept
+                    aside, not overwritten by the fresh run's first checkpoint */
+                snprintf(msg, sizeof msg, "no checkpoint to resume from (%s): starting afresh%s",
+                         err.message,
+                         sphd_ckpt_set_aside(cmd->job->dir)
+                             ? " (the checkpoint that could not be read is kept as "
+                               "checkpoint.unreadable)"
+                             : "");
             sphd_log("job %s: %s", cmd->job->id, msg);
             send_event(&r, "log",
                        json_pack("{s:s, s:s}", "level", x && !fell_back ? "info" : "warning",

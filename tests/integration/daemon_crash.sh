@@ -50,6 +50,28 @@ check "it finished" jlast "$tmp/out" 'd.get("state")=="done" or d.get("status",{
 check "the log says it resumed from a checkpoint" grep -q "resumed from" "$tmp/sphd.log"
 check "snapshots and diagnostics bitwise equal to the uninterrupted run" \
   "$PY" "$(dirname "$0")/h5check.py" same "$tmp/ref/db" "$STATE/jobs/db"
+
+# a checkpoint this sphd cannot read (another version's state, or damaged): the job starts
+# afresh and the unreadable files are kept as checkpoint.unreadable, not overwritten
+expect_rc "submit a second dam break" 0 "$SPHCTL" submit "$SRC/cases/dambreak.json" --id db2 \
+  "${sets[@]}"
+for _ in $(seq 1 3000); do
+  [ -s "$STATE/jobs/db2/checkpoint" ] && break
+  sleep 0.01
+done
+kill -KILL "$sphd_pid"; wait "$sphd_pid" 2>/dev/null; sphd_pid=
+check "the second job wrote a checkpoint" test -s "$STATE/jobs/db2/checkpoint"
+for f in checkpoint checkpoint.prev; do
+  [ -e "$STATE/jobs/db2/$f" ] && echo "not a checkpoint" >"$STATE/jobs/db2/$f"
+done
+start_sphd --threads 1
+expect_rc "watch the second job to the end" 0 "$SPHCTL" --json watch db2
+check "it finished" jlast "$tmp/out" 'd.get("state")=="done" or d.get("status",{}).get("state")=="done"'
+check "the log says the unreadable checkpoint is kept" \
+  grep -q "starting afresh (the checkpoint that could not be read is kept as checkpoint.unreadable)" \
+  "$tmp/sphd.log"
+check "the unreadable checkpoint is kept as it was" \
+  grep -qx "not a checkpoint" "$STATE/jobs/db2/checkpoint.unreadable"
 stop_sphd
 echo "kills: $kills"
 finish
