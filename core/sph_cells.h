@@ -105,7 +105,7 @@ SPH_HD static inline void sph_cells_cut_margins(const sph_cells *g, double suppo
 
 /* 3D: the part of the range [*b, *e) of a column of cells along z (sorted by z: sph_cells_sort)
  * whose z lies strictly within rz of zc, by bisection; the caller's rz carries its margin. */
-static inline void sph_cells_cut_z(const double *z, double zc, double rz, long *b, long *e)
+SPH_HD static inline void sph_cells_cut_z(const double *z, double zc, double rz, long *b, long *e)
 {
     long lo = *b, hi = *e;
     while (lo < hi) { /* the first z > zc - rz */
@@ -125,6 +125,25 @@ static inline void sph_cells_cut_z(const double *z, double zc, double rz, long *
     }
     *b = lo;
     *e = lo2;
+}
+
+/* 3D: the range [*b, *e) of the column of cells (cx, cy, ...) along z (sorted by z) cut to the
+ * particles that can be within reach of point p: 0 when the whole column is out of reach across
+ * (x, y), else 1 with the range cut to the z within sqrt(reach2 - d^2) of p's, d the distance
+ * across to the column less lat. reach2 and lat from sph_cells_cut_margins: only points beyond
+ * the support go. The grid's origin (x0, y0) and cell size. */
+SPH_HD static inline int sph_cells_cut_column(double x0, double y0, double size, const double *z,
+                                              const double *p, int cx, int cy, double reach2,
+                                              double lat, long *b, long *e)
+{
+    const double xl = x0 + cx * size, yl = y0 + cy * size;
+    const double dx = fmax(fmax(xl - p[0], p[0] - (xl + size)) - lat, 0.0);
+    const double dy = fmax(fmax(yl - p[1], p[1] - (yl + size)) - lat, 0.0);
+    const double d2 = dx * dx + dy * dy;
+    if (d2 >= reach2)
+        return 0;
+    sph_cells_cut_z(z, p[2], sqrt(reach2 - d2), b, e);
+    return 1;
 }
 
 /* Particle i's cell (ncells for a lost particle, and for one outside the grid, which becomes

@@ -386,16 +386,9 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
                 if (!(wet[cell - 1] | wet[cell] | wet[cell + 1]))
                     continue; /* no fluid there: most of a tank's walls are dry */
                 long jb = g->start[cell - 1], je = g->start[cell + 2];
-                if (D == 3) {
-                    /* the mirror point's distance across to the column (0 inside it) */
-                    const double xl = g->x0 + (c[0] + a) * size, yl = g->y0 + (c[1] + b) * size;
-                    const double dx = fmax(fmax(xl - gx[0], gx[0] - (xl + size)) - lat, 0.0);
-                    const double dy = fmax(fmax(yl - gx[1], gx[1] - (yl + size)) - lat, 0.0);
-                    const double d2 = dx * dx + dy * dy;
-                    if (d2 >= reach2)
-                        continue;
-                    sph_cells_cut_z(P->z, gx[2], sqrt(reach2 - d2), &jb, &je);
-                }
+                if (D == 3 && !sph_cells_cut_column(g->x0, g->y0, size, P->z, gx, c[0] + a,
+                                                    c[1] + b, reach2, lat, &jb, &je))
+                    continue;
                 for (long j = jb; j < je; j++) {
                     if (P->type[j] != SPH_FLUID)
                         continue;
@@ -494,6 +487,7 @@ static int forces(sph_sim *s, int gather)
     const int D = cfg->dim;
     fctx c;
     fctx_init(&c, P, &s->cells, s->cells.start, &s->kernel, &kc);
+    c.zsorted = 1; /* sph_cells_sort: the gather loop may cut its columns in z */
     c.owner = s->bodies.owner;
     c.body0 = s->bodies.first;
     for (int k = 0; k < s->bodies.n; k++)
