@@ -498,6 +498,22 @@ sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_bac
     return x;
 }
 
+sphd_exec *sphd_exec_continue(const sph_case *c, const char *outdir, sphd_continued *how,
+                              sph_error *err)
+{
+    memset(how, 0, sizeof *how);
+    sph_error_clear(&how->why);
+    int fell_back = 0;
+    sphd_exec *x = sphd_exec_resume(c, outdir, &fell_back, &how->why);
+    if (x) {
+        how->from = fell_back ? SPHD_FROM_PREVIOUS : SPHD_FROM_LATEST;
+        return x;
+    }
+    how->from = SPHD_AFRESH;
+    how->kept = sphd_ckpt_set_aside(outdir);
+    return sphd_exec_new(c, outdir, err);
+}
+
 void sphd_exec_free(sphd_exec *x)
 {
     if (!x)

@@ -66,6 +66,24 @@ int sphd_exec_checkpoint(sphd_exec *x, sph_error *err);
  * valid checkpoint. */
 sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_back, sph_error *err);
 
+/* How sphd_exec_continue went: from the latest checkpoint, from the previous one (why: what was
+ * wrong with the latest), or afresh (why: no checkpoint could be read; kept: how many checkpoint
+ * files it could not read were set aside as NAME.unreadable, SPHD_CKPT_KEPT_NOTE). */
+typedef struct sphd_continued {
+    enum { SPHD_FROM_LATEST, SPHD_FROM_PREVIOUS, SPHD_AFRESH } from;
+    int kept;
+    sph_error why;
+} sphd_continued;
+#define SPHD_CKPT_KEPT_NOTE                                                                        \
+    " (the checkpoint that could not be read is kept as checkpoint.unreadable)"
+
+/* Continues a simulation from its checkpoint in outdir (sphd_exec_resume) or, when none can be
+ * read, starts it afresh (sphd_exec_new) with the checkpoint files it could not read (another
+ * version's state, or damaged) kept aside, not overwritten by the fresh run's first checkpoint.
+ * *how says which. NULL with err when the fresh start fails. */
+sphd_exec *sphd_exec_continue(const sph_case *c, const char *outdir, sphd_continued *how,
+                              sph_error *err);
+
 /* destroy(NULL) is a no-op. */
 void sphd_exec_free(sphd_exec *x);
 

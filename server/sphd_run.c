@@ -7,7 +7,6 @@
 #include "sph_json.h"
 #include "sph_study.h"
 #include "sphd.h"
-#include "sphd_ckpt.h"
 #include "sphd_exec.h"
 
 #include <math.h>
@@ -139,25 +138,18 @@ int sphd_run(const sphd_run_opts *o)
     write_json(outdir, "case.json", root);
     sphd_exec *x = NULL;
     if (o->resume && sph_case_is_sim(c)) {
-        int fell_back = 0;
-        x = sphd_exec_resume(c, outdir, &fell_back, &err);
-        if (x && fell_back)
-            fprintf(stderr, "sphd: %s\n", err.message);
-        else if (x)
+        sphd_continued how;
+        x = sphd_exec_continue(c, outdir, &how, &err);
+        if (how.from == SPHD_FROM_PREVIOUS)
+            fprintf(stderr, "sphd: %s\n", how.why.message);
+        else if (how.from == SPHD_FROM_LATEST)
             fprintf(stderr, "sphd: %s: resuming from its checkpoint\n", job);
-        else {
-            /* one this sphd cannot take (another version's state, or damaged) is kept aside,
-             * not overwritten by the fresh run's first checkpoint */
-            const int kept = sphd_ckpt_set_aside(outdir);
+        else
             fprintf(stderr, "sphd: %s: no checkpoint to resume from (%s); starting afresh%s\n", job,
-                    err.message,
-                    kept ? " (the checkpoint that could not be read is kept as "
-                           "checkpoint.unreadable)"
-                         : "");
-        }
-    }
-    if (!x)
+                    how.why.message, how.kept ? SPHD_CKPT_KEPT_NOTE : "");
+    } else {
         x = sphd_exec_new(c, outdir, &err);
+    }
     if (!x) {
         fprintf(stderr, "sphd: %s: %s: %s\n", o->case_file, sph_error_code_name(err.code),
                 err.message);

@@ -4,7 +4,6 @@
  * loop thread over the worker's inproc PAIR; only the loop thread publishes them. Diagnostics are
  * thinned to at most opts.diag_rate per second so that a fast job never floods the stream.
  */
-#include "sphd_ckpt.h"
 #include "sphd_daemon.h"
 #include "sph_sim.h"
 
@@ -140,29 +139,25 @@ void sphd_run_job(sphd_worker *w, sphd_link *sock, sphd_wcmd *cmd)
         sph_error err;
         sph_error_clear(&err);
         if (cmd->job->resume) {
-            int fell_back = 0;
-            x = sphd_exec_resume(cmd->job->c, cmd->job->dir, &fell_back, &err);
+            sphd_continued how;
+            x = sphd_exec_continue(cmd->job->c, cmd->job->dir, &how, &err);
             char msg[SPH_ERROR_TEXT_MAX + 160];
-            if (x && fell_back)
-                snprintf(msg, sizeof msg, "resumed from the previous checkpoint: %s", err.message);
-            else if (x)
+            if (how.from == SPHD_FROM_PREVIOUS)
+                snprintf(msg, sizeof msg, "resumed from the previous checkpoint: %s",
+                         how.why.message);
+            else if (how.from == SPHD_FROM_LATEST)
                 snprintf(msg, sizeof msg, "resumed from its latest checkpoint");
-            else /* one this sphd cannot take (another version's state, or damaged) is kept
-                    aside, not overwritten by the fresh run's first checkpoint */
+            else
                 snprintf(msg, sizeof msg, "no checkpoint to resume from (%s): starting afresh%s",
-                         err.message,
-                         sphd_ckpt_set_aside(cmd->job->dir)
-                             ? " (the checkpoint that could not be read is kept as "
-                               "checkpoint.unreadable)"
-                             : "");
+                         how.why.message, how.kept ? SPHD_CKPT_KEPT_NOTE : "");
             sphd_log("job %s: %s", cmd->job->id, msg);
             send_event(&r, "log",
-                       json_pack("{s:s, s:s}", "level", x && !fell_back ? "info" : "warning",
-                                 "message", msg));
-            sph_error_clear(&err);
-        }
-        if (!x)
+                       json_pack("{s:s, s:s}", "level",
+                                 how.from == SPHD_FROM_LATEST ? "info" : "warning", "message",
+                                 msg));
+        } else {
             x = sphd_exec_new(cmd->job->c, cmd->job->dir, &err);
+        }
         if (!x) {
             end.end = SPHD_END_FAILED;
             snprintf(end.reason, sizeof end.reason, "%s: %s%s%s", sph_error_code_name(err.code),
