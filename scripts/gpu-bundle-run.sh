@@ -37,9 +37,10 @@ for st in $steps; do
   memcheck) step memcheck 200 env LD_LIBRARY_PATH=$G/lib compute-sanitizer --tool memcheck --print-limit 20 $B/real/sphd \
            --run "$R/cases/dambreak.json" --threads 4 --set dx=0.02 --set time.end=0.002 \
            --set output.every=1 --set 'device="gpu"' --out /tmp/mc ;;
+  *) echo "=== $st: no such step (smoke physics solver bench hydro crash valid memcheck)"
+     summary="$summary $st=2" ;;
   esac
   if [ $st = smoke ] && [ "${summary##* }" != smoke=0 ]; then
-
     echo "smoke failed: memcheck and physics only"; bash "$0" memcheck physics; break
   fi
 done
