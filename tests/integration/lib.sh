@@ -5,6 +5,7 @@ set -u
 tmp=$(mktemp -d)
 sphd_pid=""
 cleanup() {
+  [ -n "${watchdog_pid:-}" ] && kill "$watchdog_pid" 2>/dev/null
   if [ -n "$sphd_pid" ] && kill -0 "$sphd_pid" 2>/dev/null; then
     kill -KILL "$sphd_pid" 2>/dev/null
     wait "$sphd_pid" 2>/dev/null
@@ -42,16 +43,48 @@ stop_sphd() {
 # check NAME COMMAND...: runs the command, counts a pass or a fail.
 check() {
   local name=$1; shift
+  echo "$name" >"$tmp/step"
   if "$@"; then pass=$((pass+1)); else echo "FAIL: $name"; fail=$((fail+1)); fi
 }
 
 # expect_rc NAME WANT COMMAND...: the command's exit code must be WANT.
 expect_rc() {
   local name=$1 want=$2; shift 2
+  echo "$name" >"$tmp/step"
   local rc=0
   "$@" >"$tmp/out" 2>"$tmp/err" || rc=$?
   if [ "$rc" = "$want" ]; then pass=$((pass+1)); else
     echo "FAIL: $name: exit $rc, want $want"; cat "$tmp/err"; fail=$((fail+1)); fi
+}
+
+# watchdog SECONDS: a test still running after SECONDS (set it under its ctest TIMEOUT) says
+# where it hangs instead of being killed mute: the step it is at, the daemon's log, every
+# sphd's and sphctl's threads' stacks (gdb, where installed); then it kills them, so that the
+# test goes on to fail. Ends with the test.
+watchdog() {
+  local secs=$1 me=$$
+  (
+    trap 'exit 0' TERM
+    sleep "$secs" >/dev/null 2>&1 &
+    wait $!
+    kill -0 "$me" 2>/dev/null || exit 0
+    echo "WATCHDOG: $(basename "$0") still running after $secs s, at: $(cat "$tmp/step" 2>/dev/null)"
+    echo "--- sphd log:"; tail -n 40 "$tmp/sphd.log" 2>/dev/null
+    echo "--- its processes:"; ps -o pid,stat,etime,args --ppid "$me" 2>/dev/null
+    self=$BASHPID
+    pids=$(pgrep -P "$me" | grep -vx "$self")
+    for p in $pids; do
+      cmd=$(tr '\0' ' ' </proc/"$p"/cmdline 2>/dev/null)
+      echo "--- $p: $cmd"
+      case "$cmd" in "$SPHD "* | "$SPHCTL "*) ;; *) continue ;; esac
+      if command -v gdb >/dev/null; then
+        timeout 30 gdb -p "$p" -batch -ex "thread apply all bt" 2>/dev/null | grep -E '^(Thread|#)'
+      fi
+    done
+    # shellcheck disable=SC2086
+    kill -KILL $pids 2>/dev/null
+  ) &
+  watchdog_pid=$!
 }
 
 finish() {
