@@ -6,10 +6,12 @@
  * run is the same from one launch to the next.
  * First run on a GPU (an H100, 2026-11-28): every test of scripts/test-gpu.sh passed (the CPU
  * and the GPU agree within 1e-15 m after 100 steps).
- * TODO(issue 26): speed, 55 M particle-steps/s on DualSPHysics' case at 1M against its 255 M (the
- * pair loop is 93% of the step); the device's 179 bytes a particle against 164 (CUB's sort
- * allocates its own second key and value buffers: DoubleBuffer, and the free rate arrays as the
- * permutation's scratch, would take off about 21).
+ * Second lease (an H200, 2026-11-28): the sort by z within each cell (the pair loop's columns
+ * cut in z), the sort's scratch from CUB's double buffers and the free rate arrays (179 -> 159
+ * device bytes a particle in 3D), the pair loop folded per option set in blocks of 128: every
+ * test passed; 200 M particle-steps/s on DualSPHysics' case at 1M (from 55 M).
+ * TODO(issue 26): DualSPHysics runs that case at 255 M: the pair physics in float (it computes in
+ * float; issue 24's mixed precision on the CPU) is the next step.
  */
 #include <cub/cub.cuh>
 #include <cuda_runtime.h>
@@ -105,6 +107,28 @@ template <typename T> __global__ void k_permute(const T *src, T *dst, const int 
         dst[i] = src[perm[i]];
 }
 
+/* 3D: z in the order of the cell sort (zc[k] = z[perm[k]]) and the identity (iota), the keys
+ * and values of the sort by z within each cell. The lost particles, from *nact on (the start of
+ * the lost's segment), all get the same key: they stay in the cell sort's order, as on the CPU
+ * (sph_cells_sort sorts the cells' particles only). */
+__global__ void k_zsort_in(const double *z, const int *perm, const int *nact, double *zc, int *iota,
+                           long n)
+{
+    const long k = (long)blockIdx.x * BS + threadIdx.x;
+    if (k < n) {
+        zc[k] = k < *nact ? z[perm[k]] : 0.0;
+        iota[k] = (int)k;
+    }
+}
+
+/* out[k] = perm[within[k]]: the sort by cell, then by z within each cell, as one permutation */
+__global__ void k_compose(const int *perm, const int *within, int *out, long n)
+{
+    const long k = (long)blockIdx.x * BS + threadIdx.x;
+    if (k < n)
+        out[k] = perm[within[k]];
+}
+
 /* start[c] = the first sorted particle of a cell >= c, for c in [0, ncells + 1]: each particle
  * fills the starts of the cells from the one after its predecessor's up to its own. */
 __global__ void k_starts(const int *key, int *start, long n, long ncells)
@@ -130,20 +154,36 @@ __global__ void k_prepare(const sph_config *cfg, sph_particles P, double smag, d
 constexpr unsigned F_RUNTIME = ~0u;
 
 /* The pair loop, a thread a particle (gather_one), for kernel T in D dimensions with the options
- * F (SPH_WF_ flags) folded at compile time, or read at run time with F_RUNTIME. Folded, the 3D
- * loop takes 80 registers a thread against 142-144 (ptxas -v, sm_90, delta-SPH; 8-16 bytes
- * spilled): three blocks of BS threads on a multiprocessor instead of one.
- * TODO(issue 26): not yet timed on a GPU (the lease that ran the tests measured the run-time
- * options' loop: 55 M particle-steps/s on DualSPHysics' case at 1M, against 255 M). */
-template <sph_kernel_type T, int D, unsigned F>
-__global__ void __launch_bounds__(BS) k_forces(fctx c, long n, red *r)
+ * F (SPH_WF_ flags) folded at compile time, or read at run time with F_RUNTIME, in blocks of FBS
+ * threads of which the register budget leaves room for at least MINB on a multiprocessor. The
+ * folded loops read the kernel's constants from shared memory.
+ * Timed on an H200 (2026-11-28, double, 100 steps, DualSPHysics' case at 1M particles; median of
+ * 3-5): the run-time options' loop in blocks of 256 gave 55 M particle-steps/s (H100), the
+ * folded one 158 M, with the columns cut in z (fctx.zsorted) 167 M, and in blocks of 128 with
+ * room for 8 (at most 64 registers; 6 or blocks of 64 for 12 did as well, 256 for 3 a little
+ * less) 198-202 M. A float prefilter of the candidates' distance (float4 positions) was
+ * slower. */
+template <sph_kernel_type T, int D, unsigned F, int FBS, int MINB>
+__global__ void __launch_bounds__(FBS, MINB) k_forces(fctx c, long n, red *r)
 {
-    __shared__ typename reduce_u::TempStorage tmp;
-    const long i = (long)blockIdx.x * BS + threadIdx.x;
+    typedef cub::BlockReduce<unsigned long long, FBS> reduce_f;
+    __shared__ typename reduce_f::TempStorage tmp;
+    __shared__ sph_kernel kern;
+    const long i = (long)blockIdx.x * FBS + threadIdx.x;
     unsigned long long pairs = 0;
-    if (i < n)
-        pairs = (unsigned long long)gather_one(T, F == F_RUNTIME ? c.flags : F, D, &c, i);
-    const unsigned long long s = reduce_u(tmp).Sum(pairs);
+    if constexpr (F == F_RUNTIME) {
+        if (i < n)
+            pairs = (unsigned long long)gather_one(T, c.flags, D, &c, i);
+    } else {
+        if (threadIdx.x == 0)
+            kern = *c.k;
+        __syncthreads();
+        fctx cl = c;
+        cl.k = &kern;
+        if (i < n)
+            pairs = (unsigned long long)gather_one(T, F, D, &cl, i);
+    }
+    const unsigned long long s = reduce_f(tmp).Sum(pairs);
     if (threadIdx.x == 0)
         atomicAdd(&r->pairs, s);
 }
@@ -206,15 +246,14 @@ struct sph_gpu {
     sph_gpu_setup su;
     int dim;
     long n, nactive;
-    sph_particles P;           /* device arrays */
-    double *scratch;           /* n doubles: the permutation's target */
-    unsigned char *scratch_u8; /* n */
-    int *scratch_i;            /* n */
-    sph_config *cfg;           /* device copies */
+    sph_particles P; /* device arrays */
+    sph_config *cfg; /* device copies */
     sph_kernel *kern;
-    int *key, *key_sorted, *idx, *perm, *start;
+    int *ib[4]; /* n ints each: the sorts' keys and values (CUB's double buffers), the
+                   permutation, the ids' scratch, in no fixed order from one step to the next */
+    int *start;
     void *cub_tmp;
-    size_t cub_bytes;
+    size_t cub_bytes; /* the larger of the two sorts' (by cell; 3D: by z within each cell) */
     int key_bits;
     red *r;
     red *r_host; /* pinned */
@@ -290,23 +329,29 @@ static int alloc_arrays(sph_gpu *g, const sph_particles *H, sph_error *err)
         }
     CK(cudaMalloc((void **)&P->type, n), "allocating the particles");
     CK(cudaMalloc((void **)&P->id, n * sizeof(int)), "allocating the particles");
-    CK(cudaMalloc((void **)&g->scratch, n * sizeof(double)), "allocating the sort");
-    CK(cudaMalloc((void **)&g->scratch_u8, n), "allocating the sort");
-    CK(cudaMalloc((void **)&g->scratch_i, n * sizeof(int)), "allocating the sort");
-    CK(cudaMalloc((void **)&g->key, n * sizeof(int)), "allocating the sort");
-    CK(cudaMalloc((void **)&g->key_sorted, n * sizeof(int)), "allocating the sort");
-    CK(cudaMalloc((void **)&g->idx, n * sizeof(int)), "allocating the sort");
-    CK(cudaMalloc((void **)&g->perm, n * sizeof(int)), "allocating the sort");
+    for (int k = 0; k < 4; k++)
+        CK(cudaMalloc((void **)&g->ib[k], n * sizeof(int)), "allocating the sort");
     const long ncells = g->su.grid.ncells;
     CK(cudaMalloc((void **)&g->start, (size_t)(ncells + 2) * sizeof(int)), "allocating the cells");
-    g->bytes += (double)(n * (1 + sizeof(int) + sizeof(double) + 1 + 5 * sizeof(int))) +
-                (double)(ncells + 2) * sizeof(int);
+    g->bytes +=
+        (double)(n * (1 + sizeof(int) + 4 * sizeof(int))) + (double)(ncells + 2) * sizeof(int);
     g->key_bits = 1;
     while ((1L << g->key_bits) <= ncells)
         g->key_bits++;
-    CK(cub::DeviceRadixSort::SortPairs(nullptr, g->cub_bytes, g->key, g->key_sorted, g->idx,
-                                       g->perm, (int)g->n, 0, g->key_bits, g->st),
+    /* double buffers: CUB sorts in place of them, with no copy of its own */
+    cub::DoubleBuffer<int> kb(g->ib[0], g->ib[2]), vb(g->ib[1], g->ib[3]);
+    CK(cub::DeviceRadixSort::SortPairs(nullptr, g->cub_bytes, kb, vb, (int)g->n, 0, g->key_bits,
+                                       g->st),
        "sizing the sort");
+    if (g->dim == 3) {
+        size_t zbytes = 0;
+        cub::DoubleBuffer<double> zb(P->ay, P->az);
+        CK(cub::DeviceSegmentedSort::StableSortPairs(nullptr, zbytes, zb, vb, (int)g->n,
+                                                     (int)(ncells + 1), g->start, g->start + 1,
+                                                     g->st),
+           "sizing the sort by z");
+        g->cub_bytes = zbytes > g->cub_bytes ? zbytes : g->cub_bytes;
+    }
     CK(cudaMalloc(&g->cub_tmp, g->cub_bytes ? g->cub_bytes : 1), "allocating the sort");
     g->bytes += (double)g->cub_bytes;
     CK(cudaMalloc((void **)&g->cfg, sizeof(sph_config)), "allocating the setup");
@@ -379,10 +424,10 @@ extern "C" sph_gpu *sph_gpu_create(const sph_gpu_setup *su, const sph_particles 
     return g;
 }
 
-/* *a reordered by the sort's permutation through *scratch, the two swapped. */
-template <typename T> static void permute(sph_gpu *g, T **a, T **scratch)
+/* *a reordered by the permutation perm through *scratch, the two swapped. */
+template <typename T> static void permute(sph_gpu *g, const int *perm, T **a, T **scratch)
 {
-    k_permute<T><<<blocks(g->n), BS, 0, g->st>>>(*a, *scratch, g->perm, g->n);
+    k_permute<T><<<blocks(g->n), BS, 0, g->st>>>(*a, *scratch, perm, g->n);
     T *t = *a;
     *a = *scratch;
     *scratch = t;
@@ -392,7 +437,17 @@ static fctx fctx_of(const sph_gpu *g)
 {
     fctx c;
     fctx_init(&c, &g->P, &g->su.grid, g->start, g->kern, &g->su.k);
+    c.zsorted = g->dim == 3; /* step_d sorts by z within each cell */
     return c;
+}
+
+/* The folded loops' launch shape (k_forces) */
+constexpr int FBS = 128, FMINB = 8;
+
+template <sph_kernel_type T, int D, unsigned F>
+static void launch_folded(sph_gpu *g, const fctx &c, long n)
+{
+    k_forces<T, D, F, FBS, FMINB><<<(n + FBS - 1) / FBS, FBS, 0, g->st>>>(c, n, g->r);
 }
 
 /* k_forces for kernel T: an instantiation of its own for the common option sets (artificial or
@@ -401,19 +456,19 @@ template <sph_kernel_type T, int D> static void launch_forces_t(sph_gpu *g, cons
 {
     switch (c.flags) {
     case 0:
-        k_forces<T, D, 0><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        launch_folded<T, D, 0>(g, c, n);
         break;
     case F_DELTA:
-        k_forces<T, D, F_DELTA><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        launch_folded<T, D, F_DELTA>(g, c, n);
         break;
     case F_LAMINAR:
-        k_forces<T, D, F_LAMINAR><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        launch_folded<T, D, F_LAMINAR>(g, c, n);
         break;
     case F_LAMINAR | F_DELTA:
-        k_forces<T, D, F_LAMINAR | F_DELTA><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        launch_folded<T, D, F_LAMINAR | F_DELTA>(g, c, n);
         break;
     default:
-        k_forces<T, D, F_RUNTIME><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
+        k_forces<T, D, F_RUNTIME, BS, 1><<<blocks(n), BS, 0, g->st>>>(c, n, g->r);
         break;
     }
 }
@@ -473,11 +528,31 @@ template <int D> static int step_d(sph_gpu *g, double dt, sph_gpu_step_out *o, s
         k_predict<D><<<blocks(g->nactive), BS, 0, g->st>>>(*P, k, dt, g->nactive, g->r);
     cudaEventRecord(g->ev[1], g->st);
 
-    /* the sort by cell: keys, a stable radix sort, the arrays permuted, the cells' starts */
-    k_keys<D><<<blocks(n), BS, 0, g->st>>>(*P, g->su.grid, g->key, g->idx, n);
-    CK(cub::DeviceRadixSort::SortPairs(g->cub_tmp, g->cub_bytes, g->key, g->key_sorted, g->idx,
-                                       g->perm, (int)n, 0, g->key_bits, g->st),
+    /* the sort by cell: keys, a stable radix sort, the cells' starts, the arrays permuted. The
+     * rates ax, ay and az are free until the forces rewrite them: they hold the sort by z's keys
+     * and the permutation's scratch, so no array of the particles' size is kept for them. */
+    cub::DoubleBuffer<int> kb(g->ib[0], g->ib[2]), vb(g->ib[1], g->ib[3]);
+    k_keys<D><<<blocks(n), BS, 0, g->st>>>(*P, g->su.grid, kb.Current(), vb.Current(), n);
+    CK(cub::DeviceRadixSort::SortPairs(g->cub_tmp, g->cub_bytes, kb, vb, (int)n, 0, g->key_bits,
+                                       g->st),
        "sorting by cell");
+    const long ncells = g->su.grid.ncells;
+    k_starts<<<blocks(n + 1), BS, 0, g->st>>>(kb.Current(), g->start, n, ncells);
+    int *perm = vb.Current(), *spare[3] = {kb.Current(), kb.Alternate(), vb.Alternate()};
+    if (D == 3) {
+        /* then by z within each cell (stable), as the C sort: a column of cells along z is one
+         * range sorted by z, which the pair loop cuts to the z within reach (fctx.zsorted) */
+        cub::DoubleBuffer<double> zb(P->ay, P->az);
+        cub::DoubleBuffer<int> wb(spare[0], spare[1]);
+        k_zsort_in<<<blocks(n), BS, 0, g->st>>>(P->z, perm, g->start + ncells, zb.Current(),
+                                                wb.Current(), n);
+        CK(cub::DeviceSegmentedSort::StableSortPairs(g->cub_tmp, g->cub_bytes, zb, wb, (int)n,
+                                                     (int)(ncells + 1), g->start, g->start + 1,
+                                                     g->st),
+           "sorting by z");
+        k_compose<<<blocks(n), BS, 0, g->st>>>(perm, wb.Current(), spare[2], n);
+        std::swap(perm, spare[2]); /* the composed permutation; the old one spare */
+    }
     double **arr[SPH_GPU_NARRAYS];
     double_arrays(P, arr);
     for (int a = 0; a < SPH_GPU_NARRAYS; a++) {
@@ -487,12 +562,18 @@ template <int D> static int step_d(sph_gpu *g, double dt, sph_gpu_step_out *o, s
                          f != &P->az && f != &P->drho && f != &P->txx && f != &P->txy &&
                          f != &P->tyy && f != &P->tzz && f != &P->txz && f != &P->tyz;
         if (keep)
-            permute<double>(g, f, &g->scratch);
+            permute<double>(g, perm, f, &P->ax);
     }
-    permute<unsigned char>(g, &P->type, &g->scratch_u8);
-    permute<int>(g, &P->id, &g->scratch_i);
-    const long ncells = g->su.grid.ncells;
-    k_starts<<<blocks(n + 1), BS, 0, g->st>>>(g->key_sorted, g->start, n, ncells);
+    /* the types through ax's bytes and back (a scratch of n bytes swapped in would leave an
+     * array too small for what it next holds), the ids through a spare int array */
+    k_permute<unsigned char>
+        <<<blocks(n), BS, 0, g->st>>>(P->type, reinterpret_cast<unsigned char *>(P->ax), perm, n);
+    CK(cudaMemcpyAsync(P->type, P->ax, (size_t)n, cudaMemcpyDeviceToDevice, g->st),
+       "sorting by cell");
+    permute<int>(g, perm, &P->id, &spare[0]);
+    g->ib[0] = perm;
+    for (int k = 0; k < 3; k++)
+        g->ib[k + 1] = spare[k];
     int nact = 0;
     cudaEventRecord(g->ev[2], g->st);
     CK(cudaMemcpyAsync(&nact, g->start + ncells, sizeof nact, cudaMemcpyDeviceToHost, g->st),
@@ -567,13 +648,8 @@ extern "C" void sph_gpu_destroy(sph_gpu *g)
         cudaFree(*arr[a]);
     cudaFree(g->P.type);
     cudaFree(g->P.id);
-    cudaFree(g->scratch);
-    cudaFree(g->scratch_u8);
-    cudaFree(g->scratch_i);
-    cudaFree(g->key);
-    cudaFree(g->key_sorted);
-    cudaFree(g->idx);
-    cudaFree(g->perm);
+    for (int k = 0; k < 4; k++)
+        cudaFree(g->ib[k]);
     cudaFree(g->start);
     cudaFree(g->cub_tmp);
     cudaFree(g->cfg);
