@@ -7,7 +7,15 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <zmq.h>
+
+double sphctl_mono(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 static int connect_control(sphctl *c)
 {
@@ -59,6 +67,41 @@ void sphctl_close(sphctl *c)
     c->ctx = NULL;
 }
 
+/* Sends one request. zmq_send waits while the socket has no pipe to the server, as when a
+ * handshake was refused and the connection torn down (a plain client meeting a CURVE server):
+ * the wait watches the monitor, so that a refusal is told at once, and ends at the timeout. */
+static int send_request(sphctl *c, const char *text, size_t len)
+{
+    const double until = sphctl_mono() + c->timeout;
+    for (;;) {
+        if (zmq_send(c->sock, text, len, ZMQ_DONTWAIT) >= 0)
+            return 0;
+        if (errno == EINTR)
+            continue;
+        if (errno != EAGAIN) {
+            fprintf(stderr, "sphctl: cannot send to %s: %s\n", c->endpoint, zmq_strerror(errno));
+            return SPHCTL_EX_UNAVAILABLE;
+        }
+        if (c->mon && sphctl_refused(c, c->mon, c->endpoint)) {
+            close_control(c);
+            return SPHCTL_EX_NOPERM;
+        }
+        const double left = until - sphctl_mono();
+        if (left <= 0) {
+            fprintf(stderr, "sphctl: no connection to sphd at %s within %g s (is it running?)\n",
+                    c->endpoint, c->timeout);
+            close_control(c);
+            return SPHCTL_EX_UNAVAILABLE;
+        }
+        zmq_pollitem_t it[2] = {{.socket = c->sock, .events = ZMQ_POLLOUT},
+                                {.socket = c->mon, .events = ZMQ_POLLIN}};
+        if (zmq_poll(it, c->mon ? 2 : 1, (long)(left * 1000) + 1) < 0 && errno != EINTR) {
+            fprintf(stderr, "sphctl: cannot send to %s: %s\n", c->endpoint, zmq_strerror(errno));
+            return SPHCTL_EX_SOFTWARE;
+        }
+    }
+}
+
 static int exit_code_for(const char *code)
 {
     if (strcmp(code, "invalid_case") == 0)
@@ -98,12 +141,10 @@ int sphctl_request(sphctl *c, const char *op, json_t *args, json_t **result, cha
         free(text);
         return rc;
     }
-    if (zmq_send(c->sock, text, len, 0) < 0) {
-        fprintf(stderr, "sphctl: cannot send to %s: %s\n", c->endpoint, zmq_strerror(errno));
-        free(text);
-        return SPHCTL_EX_UNAVAILABLE;
-    }
+    rc = send_request(c, text, len);
     free(text);
+    if (rc)
+        return rc;
     long wait_ms = (long)(c->timeout * 1000);
     for (;;) {
         zmq_pollitem_t it[2] = {{.socket = c->sock, .events = ZMQ_POLLIN},

@@ -24,13 +24,6 @@ typedef struct watch {
     int drawn;
 } watch;
 
-double sphctl_mono(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 int sphctl_watch_tty(const sphctl *c)
 {
     return !c->json && isatty(STDOUT_FILENO);
