@@ -63,7 +63,7 @@ int sph_cells_reserve(sph_cells *g, long n)
     if (!key)
         return -1;
     g->key = key;
-    long *perm = realloc(g->perm, (size_t)n * sizeof *perm);
+    int *perm = realloc(g->perm, (size_t)n * sizeof *perm);
     if (!perm)
         return -1;
     g->perm = perm;
@@ -101,14 +101,14 @@ static long sort_cells_by_z(sph_cells *g, const sph_particles *P)
 {
     const long n = P->n, ncells = g->ncells;
     const int *restrict start = g->start;
-    long *restrict perm = g->perm;
+    int *restrict perm = g->perm;
     const double *restrict z = P->z;
     long moved = 0;
 #pragma omp parallel for schedule(dynamic, 4096) reduction(+ : moved) if (n >= SPH_OMP_MIN)
     for (long c = 0; c < ncells; c++) {
         const long b = start[c], e = start[c + 1];
         for (long k = b + 1; k < e; k++) {
-            const long pk = perm[k];
+            const int pk = perm[k];
             const double zk = z[pk];
             long m = k;
             while (m > b && z[perm[m - 1]] > zk) {
@@ -152,7 +152,7 @@ long sph_cells_sort(sph_cells *g, sph_particles *P)
     int nt = n >= 2 * SPH_OMP_MIN ? omp_get_max_threads() : 1;
     nt = nt < SPH_CELLS_SORT_THREADS ? nt : SPH_CELLS_SORT_THREADS;
     int *restrict counts = g->counts, *restrict out = g->out;
-    long *restrict perm = g->perm;
+    int *restrict perm = g->perm;
     long bnd[SPH_CELLS_SORT_THREADS + 1], nout[SPH_CELLS_SORT_THREADS];
     long block[SPH_CELLS_SORT_THREADS];
     long moved = 0;
@@ -215,7 +215,7 @@ long sph_cells_sort(sph_cells *g, sph_particles *P)
                     const long k = key[i] + 2;
                     if (k >= blo && k < bhi) {
                         const long to = counts[k + 1]++;
-                        perm[to] = i;
+                        perm[to] = (int)i;
                         moved += to != i;
                     }
                 }

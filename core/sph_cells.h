@@ -32,7 +32,7 @@ typedef struct sph_cells {
     int *start;         /* ncells + 2 offsets: cell c holds [start[c], start[c + 1]) */
     int *counts;        /* ncells + 4: the counting sort's array, start = counts + 2 */
     int *key;           /* n: cell of each particle (ncells for lost particles) */
-    long *perm;         /* n: sorting permutation, new index -> old index */
+    int *perm;          /* n: sorting permutation, new index -> old index */
     int *out;           /* n: the sort's lists of particles outside their thread's cells */
     unsigned char *wet; /* ncells, made on first use: cells that hold fluid (sph_cells_wet) */
     long cap;           /* particles key and perm can hold */

@@ -32,7 +32,7 @@ size_t sph_particles_bytes_per_particle(int dim, unsigned opts)
     const size_t nd = N_D2 + (dim == 3 ? N_D3 : 0) + (sps ? N_SPS2 + (dim == 3 ? N_SPS3 : 0) : 0);
     /* the arrays, type, id, cell key, the sort's outlier list, perm */
     return nd * sizeof(double) + nhot * (mixed ? sizeof(float) : sizeof(double)) + 1 + sizeof(int) +
-           sizeof(int) + sizeof(int) + sizeof(long);
+           sizeof(int) + sizeof(int) + sizeof(int);
 }
 
 /* Every double array's address in P (d, N_DOUBLE) and every float array's (f, N_FLOAT), the
@@ -134,7 +134,7 @@ int sph_particles_reserve(sph_particles *P, long cap)
  * precision) through the force loop's p / rho^2 (see sph_particles_permute). */
 /* clang-format off */
 #define SPH_PERMUTE_FN(name, T)                                                                    \
-    static void name(T **a, T **scratch, const long *perm, long n)                                 \
+    static void name(T **a, T **scratch, const int *perm, long n)                                  \
     {                                                                                              \
         const T *src = *a;                                                                         \
         T *dst = *scratch;                                                                         \
@@ -148,7 +148,7 @@ int sph_particles_reserve(sph_particles *P, long cap)
 SPH_PERMUTE_FN(permute_doubles, double)
 SPH_PERMUTE_FN(permute_floats, float)
 
-void sph_particles_permute(sph_particles *P, const long *perm)
+void sph_particles_permute(sph_particles *P, const int *perm)
 {
     const long n = P->n;
     /* the persistent fields: the state and the previous rates (the SPS velocity gradients of
@@ -187,7 +187,7 @@ void sph_particles_permute(sph_particles *P, const long *perm)
     }
 }
 
-long sph_particles_remove(sph_particles *P, unsigned char type, long *perm)
+long sph_particles_remove(sph_particles *P, unsigned char type, int *perm)
 {
     const long n = P->n;
     const unsigned char *ty = P->type; /* (not restrict: permuted below) */
@@ -221,9 +221,9 @@ long sph_particles_remove(sph_particles *P, unsigned char type, long *perm)
             long k = count[t], r = kept + (lo - count[t]);
             for (long i = lo; i < hi; i++) {
                 if (ty[i] != type)
-                    perm[k++] = i;
+                    perm[k++] = (int)i;
                 else
-                    perm[r++] = i;
+                    perm[r++] = (int)i;
             }
         }
     }

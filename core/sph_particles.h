@@ -87,12 +87,12 @@ int sph_particles_reserve(sph_particles *P, long cap);
 
 /* Removes every particle of kind `type`, keeping the order of the others: the persistent fields
  * and the rates of the latest evaluation (ax, ay, az, drho) follow their particles. perm: P->n
- * longs of scratch. Returns the new P->n. */
-long sph_particles_remove(sph_particles *P, unsigned char type, long *perm);
+ * ints of scratch. Returns the new P->n. */
+long sph_particles_remove(sph_particles *P, unsigned char type, int *perm);
 
 /* Reorders every persistent field by perm: new[i] = old[perm[i]]. The field arrays are swapped
  * with the scratch array (under mixed precision the float ones with f32.pr, p / rho^2, which
  * must hold nothing then: it is the force loop's scratch), so their addresses change. */
-void sph_particles_permute(sph_particles *P, const long *perm);
+void sph_particles_permute(sph_particles *P, const int *perm);
 
 #endif

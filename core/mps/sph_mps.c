@@ -241,7 +241,7 @@ static int sort_and_list(sph_sim *s, mps_state *m, sph_error *err)
     sph_particles *P = &s->P;
     const long n = P->n;
     s->nactive = sph_cells_sort(&s->cells, P);
-    const long *perm = s->cells.perm;
+    const int *perm = s->cells.perm;
     double *p = P->scratch;
 #pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++)
