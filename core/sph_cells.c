@@ -34,11 +34,9 @@ int sph_cells_alloc(sph_cells *g, int dim, const double lo[3], const double hi[3
     g->ncells = (long)g->nx * g->ny * g->nz;
     g->counts = calloc((size_t)g->ncells + 4, sizeof *g->counts);
     g->start = g->counts ? g->counts + 2 : NULL;
-    g->key = calloc((size_t)(n > 0 ? n : 1), sizeof *g->key);
     g->perm = calloc((size_t)(n > 0 ? n : 1), sizeof *g->perm);
-    g->out = calloc((size_t)(n > 0 ? n : 1), sizeof *g->out);
     g->cap = n > 0 ? n : 1;
-    if (!g->start || !g->key || !g->perm || !g->out) {
+    if (!g->start || !g->perm) {
         sph_cells_free(g);
         return -1;
     }
@@ -48,9 +46,7 @@ int sph_cells_alloc(sph_cells *g, int dim, const double lo[3], const double hi[3
 void sph_cells_free(sph_cells *g)
 {
     free(g->counts);
-    free(g->key);
     free(g->perm);
-    free(g->out);
     free(g->wet);
     memset(g, 0, sizeof *g);
 }
@@ -59,31 +55,22 @@ int sph_cells_reserve(sph_cells *g, long n)
 {
     if (n <= g->cap)
         return 0;
-    int *key = realloc(g->key, (size_t)n * sizeof *key);
-    if (!key)
-        return -1;
-    g->key = key;
     int *perm = realloc(g->perm, (size_t)n * sizeof *perm);
     if (!perm)
         return -1;
     g->perm = perm;
-    int *out = realloc(g->out, (size_t)n * sizeof *out);
-    if (!out)
-        return -1;
-    g->out = out;
     g->cap = n;
     return 0;
 }
 
-/* Each particle's cell into g->key: cell_keys2 and cell_keys3 (D a literal there). The grid is
+/* Each particle's cell into key: cell_keys2 and cell_keys3 (D a literal there). The grid is
  * copied into each thread (firstprivate), so that its constants stay in registers: the store of
  * a lost particle's type, a char, may alias anything read through g. */
 /* clang-format off */
 #define SPH_CELL_KEYS(D)                                                                           \
-    static void cell_keys##D(sph_cells *g, sph_particles *P)                                       \
+    static void cell_keys##D(const sph_cells *g, sph_particles *P, int *restrict key)              \
     {                                                                                              \
         const long n = P->n;                                                                       \
-        int *restrict key = g->key;                                                                \
         const sph_cells grid = *g;                                                                 \
         _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) firstprivate(grid) if (n >= SPH_OMP_MIN)") \
         for (long i = 0; i < n; i++)                                                               \
@@ -128,11 +115,14 @@ static long sort_cells_by_z(sph_cells *g, const sph_particles *P)
 long sph_cells_sort(sph_cells *g, sph_particles *P)
 {
     const long n = P->n, ncells = g->ncells, nc = ncells + 4;
-    const int *restrict key = g->key;
+    /* the cells' keys and the outlier lists (n ints each) in the particles' scratch array (n
+     * doubles), free until the permutation below takes it over */
+    int *const ws = (int *)P->scratch;
+    int *restrict key = ws;
     if (g->dim == 3)
-        cell_keys3(g, P);
+        cell_keys3(g, P, key);
     else
-        cell_keys2(g, P);
+        cell_keys2(g, P, key);
     /* A stable counting sort in parallel passes, no pass over the particles or the cells left
      * serial, and no per-thread copy of the counts. With k = key + 2 (lost particles: k =
      * ncells + 2), counts[k + 1] counts cell k's particles, then holds where its next particle
@@ -151,7 +141,7 @@ long sph_cells_sort(sph_cells *g, sph_particles *P)
      * prefix sum) are split evenly among the threads, apart from the ownership. */
     int nt = n >= 2 * SPH_OMP_MIN ? omp_get_max_threads() : 1;
     nt = nt < SPH_CELLS_SORT_THREADS ? nt : SPH_CELLS_SORT_THREADS;
-    int *restrict counts = g->counts, *restrict out = g->out;
+    int *restrict counts = g->counts, *restrict out = ws + n;
     int *restrict perm = g->perm;
     long bnd[SPH_CELLS_SORT_THREADS + 1], nout[SPH_CELLS_SORT_THREADS];
     long block[SPH_CELLS_SORT_THREADS];

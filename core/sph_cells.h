@@ -31,11 +31,9 @@ typedef struct sph_cells {
     long ncells;        /* nx * ny * nz */
     int *start;         /* ncells + 2 offsets: cell c holds [start[c], start[c + 1]) */
     int *counts;        /* ncells + 4: the counting sort's array, start = counts + 2 */
-    int *key;           /* n: cell of each particle (ncells for lost particles) */
     int *perm;          /* n: sorting permutation, new index -> old index */
-    int *out;           /* n: the sort's lists of particles outside their thread's cells */
     unsigned char *wet; /* ncells, made on first use: cells that hold fluid (sph_cells_wet) */
-    long cap;           /* particles key and perm can hold */
+    long cap;           /* particles perm can hold */
 } sph_cells;
 
 /* Number of cells of the dim-dimensional grid covering [lo, hi] with cells of edge >= size
@@ -164,7 +162,9 @@ sph_cells_key(const int D, const sph_cells *g, sph_particles *P, long i)
 }
 
 /* Sorts P by cell. Particles of type SPH_LOST, or outside the grid (they become SPH_LOST), go
- * to the end. Returns the number of particles in cells (the active ones). */
+ * to the end. Returns the number of particles in cells (the active ones). The sort's keys and
+ * outlier lists live in P->scratch (n doubles), whose contents it overwrites, as the
+ * permutation of P's fields does (sph_particles_permute). */
 long sph_cells_sort(sph_cells *g, sph_particles *P);
 
 /* After a sort: for each cell, 1 if it holds a fluid particle (into g->wet, allocated on the

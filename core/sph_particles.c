@@ -30,9 +30,10 @@ size_t sph_particles_bytes_per_particle(int dim, unsigned opts)
     const int sps = !!(opts & SPH_PARTICLES_SPS), mixed = !!(opts & SPH_PARTICLES_MIXED);
     const size_t nhot = N_HOT2 + (dim == 3 ? N_HOT3 : 0);
     const size_t nd = N_D2 + (dim == 3 ? N_D3 : 0) + (sps ? N_SPS2 + (dim == 3 ? N_SPS3 : 0) : 0);
-    /* the arrays, type, id, cell key, the sort's outlier list, perm */
+    /* the arrays (the scratch array among them, which also holds the sort's cell keys and
+     * outlier lists: sph_cells_sort), type, id, the sort's permutation */
     return nd * sizeof(double) + nhot * (mixed ? sizeof(float) : sizeof(double)) + 1 + sizeof(int) +
-           sizeof(int) + sizeof(int) + sizeof(int);
+           sizeof(int);
 }
 
 /* Every double array's address in P (d, N_DOUBLE) and every float array's (f, N_FLOAT), the
