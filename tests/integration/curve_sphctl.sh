@@ -8,7 +8,7 @@
 set -u
 SPHD=$1 SPHCTL=$2 SRC=$3
 . "$(dirname "$0")/lib.sh"
-watchdog 150 # ctest's TIMEOUT is 180: a hang says where (it did once, in CI, unseen)
+watchdog 150 # under ctest's TIMEOUT of 180 s: a hang says where (one in CI was a plain sphctl blocked in a send to this CURVE server, fixed since)
 free_port() { /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'; }
 P1=$(free_port) P2=$(free_port)
 export SPHD_ENDPOINT="tcp://127.0.0.1:$P1"
