@@ -159,7 +159,7 @@ constexpr unsigned F_RUNTIME = ~0u;
  * folded loops read the kernel's constants from shared memory.
  * Timed on an H200 (2026-11-28, double, 100 steps, DualSPHysics' case at 1M particles; median of
  * 3-5): the run-time options' loop in blocks of 256 gave 55 M particle-steps/s (H100), the
- * folded one 158 M, with the columns cut in z (fctx.zsorted) 167 M, and in blocks of 128 with
+ * folded one 158 M, with the columns cut in z (gather_one) 167 M, and in blocks of 128 with
  * room for 8 (at most 64 registers; 6 or blocks of 64 for 12 did as well, 256 for 3 a little
  * less) 198-202 M. A float prefilter of the candidates' distance (float4 positions) was
  * slower. */
@@ -437,7 +437,6 @@ static fctx fctx_of(const sph_gpu *g)
 {
     fctx c;
     fctx_init(&c, &g->P, &g->su.grid, g->start, g->kern, &g->su.k);
-    c.zsorted = g->dim == 3; /* step_d sorts by z within each cell */
     return c;
 }
 
@@ -541,7 +540,7 @@ template <int D> static int step_d(sph_gpu *g, double dt, sph_gpu_step_out *o, s
     int *perm = vb.Current(), *spare[3] = {kb.Current(), kb.Alternate(), vb.Alternate()};
     if (D == 3) {
         /* then by z within each cell (stable), as the C sort: a column of cells along z is one
-         * range sorted by z, which the pair loop cuts to the z within reach (fctx.zsorted) */
+         * range sorted by z, which the pair loop cuts to the z within reach (gather_one) */
         cub::DoubleBuffer<double> zb(P->ay, P->az);
         cub::DoubleBuffer<int> wb(spare[0], spare[1]);
         k_zsort_in<<<blocks(n), BS, 0, g->st>>>(P->z, perm, g->start + ncells, zb.Current(),

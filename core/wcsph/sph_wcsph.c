@@ -487,7 +487,6 @@ static int forces(sph_sim *s, int gather)
     const int D = cfg->dim;
     fctx c;
     fctx_init(&c, P, &s->cells, s->cells.start, &s->kernel, &kc);
-    c.zsorted = 1; /* sph_cells_sort: the gather loop may cut its columns in z */
     c.owner = s->bodies.owner;
     c.body0 = s->bodies.first;
     for (int k = 0; k < s->bodies.n; k++)

@@ -58,8 +58,6 @@ typedef struct fctx {
     double tiny;             /* guards r = 0 [m] */
     double wall_visc;  /* factor on the viscous terms of fluid-wall pairs (dynamic walls) [-] */
     double reach, lat; /* 3D cuts of the cell ranges: sph_cells_cut_margins [m] */
-    int zsorted;       /* 3D: each column's particles sorted by z (the C sort, sph_cells_sort):
-                          gather_one cuts its columns to the z within reach (0: whole columns) */
     unsigned flags;    /* the SPH_WF_ options (read at run time only with SPH_STRIPS_RUNTIME) */
 } fctx;
 
@@ -319,10 +317,10 @@ half_stencil(const int D, const int *SPH_RESTRICT start, long cell, int ny, int 
 
 /* The gather form (a GPU thread's, and the C reference of it): particle i against every
  * neighbour in the 3 x 3 (x 3) cells around its own, i's side alone; no other particle's sums
- * are written, so the particles can run in any order at once. In 3D with columns sorted by z
- * (c->zsorted) each column is cut to the particles within reach of i, as the symmetric loop
- * cuts them: the same pairs in the same order, from 45% fewer candidates (Test 2's ci case, 164
- * against 300 a particle). Adds i's sums; returns its pairs. */
+ * are written, so the particles can run in any order at once. In 3D each column, sorted by z
+ * (by sph_cells_sort, or the GPU's sort), is cut to the particles within reach of i, as the
+ * symmetric loop cuts them: the same pairs in the same order, from 45% fewer candidates (Test 2's
+ * ci case, 164 against 300 a particle). Adds i's sums; returns its pairs. */
 SPH_HD static inline __attribute__((always_inline)) long
 gather_one(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT c, long i)
 {
@@ -349,10 +347,9 @@ gather_one(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT 
             const long mid =
                 D == 3 ? ((long)(cx + ox) * ny + (cy + oy)) * nz + cz : (long)(cx + ox) * ny + cy;
             long jb = c->start[mid - 1], je = c->start[mid + 2];
-            /* 3D, sorted columns: the part within reach of i (the symmetric loop's cut) */
-            if (D == 3 && c->zsorted &&
-                !sph_cells_cut_column(c->x0, c->y0, size, c->z, q.x, cx + ox, cy + oy, reach2,
-                                      c->lat, &jb, &je))
+            /* 3D: the part within reach of i (the symmetric loop's cut) */
+            if (D == 3 && !sph_cells_cut_column(c->x0, c->y0, size, c->z, q.x, cx + ox, cy + oy,
+                                                reach2, c->lat, &jb, &je))
                 continue;
             for (long j = jb; j < je; j++) {
                 pair_take tk;
