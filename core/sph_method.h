@@ -39,8 +39,11 @@ typedef struct sph_method_ops {
     /* One step of at most dt_cap [s]; updates s->t, s->step, s->dt. Returns 0 or
      * SPH_ERR_UNSTABLE (message with the step and the quantity). */
     int (*step)(sph_sim *s, double dt_cap, sph_error *err);
-    /* Brings P.p up to date for a particle view (const: the pressure is a derived field). */
-    void (*pressure)(const sph_sim *s);
+    /* The pressure for a particle view, into *p (double) or, under mixed precision, *p32
+     * (float; the other NULL): the method's stored pressure, or one it derives into the
+     * particles' scratch array, which holds nothing between two steps (const: the particles'
+     * arrays are not the sim's own state). */
+    void (*pressure)(const sph_sim *s, const double **p, const float **p32);
     /* Fills the method's own diagnostics into s->diag after the shared ones; may be NULL. */
     void (*diag)(sph_sim *s);
     /* The per-particle arrays that live from one step to the next, in a fixed order (what a

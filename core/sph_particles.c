@@ -6,29 +6,34 @@
 #include <string.h>
 
 /* The arrays of P that hold a hot field in double or, under mixed precision, in float (one of
- * each pair is allocated), and those that are always double: every set's (D2), the third axis's
- * (D3: 3D only), the SPS tensors' (SPS2, and SPS3 in 3D). NULL where absent. */
+ * each pair is allocated): every set's (HOT2), the third axis's (HOT3: 3D only), the pressure
+ * (PRES: only for a method that solves for it, SPH_PARTICLES_PRESSURE); and those that are always
+ * double: every set's (D2), the third axis's (D3), the SPS tensors' (SPS2, and SPS3 in 3D). NULL
+ * where absent. */
 #define HOT2(P, T)                                                                                 \
-    &(P)->T vx, &(P)->T vy, &(P)->T rho, &(P)->T p, &(P)->T pr, &(P)->T ax, &(P)->T ay,            \
-        &(P)->T drho, &(P)->T ax0, &(P)->T ay0, &(P)->T drho0
+    &(P)->T vx, &(P)->T vy, &(P)->T rho, &(P)->T pr, &(P)->T ax, &(P)->T ay, &(P)->T drho,         \
+        &(P)->T ax0, &(P)->T ay0, &(P)->T drho0
 #define HOT3(P, T) &(P)->T vz, &(P)->T az, &(P)->T az0
+#define PRES(P, T) &(P)->T p
 #define D2(P)      &(P)->x, &(P)->y, &(P)->scratch
 #define D3(P)      &(P)->z
 #define SPS2(P)    &(P)->gxx, &(P)->gxy, &(P)->gyy, &(P)->txx, &(P)->txy, &(P)->tyy
 #define SPS3(P)    &(P)->gzz, &(P)->gxz, &(P)->gyz, &(P)->tzz, &(P)->txz, &(P)->tyz
-#define N_HOT2     11
+#define N_HOT2     10
 #define N_HOT3     3
+#define N_PRES     1
 #define N_D2       3
 #define N_D3       1
 #define N_SPS2     6
 #define N_SPS3     6
-#define N_DOUBLE   (N_HOT2 + N_HOT3 + N_D2 + N_D3 + N_SPS2 + N_SPS3)
-#define N_FLOAT    (N_HOT2 + N_HOT3)
+#define N_GROUPS   7
+#define N_DOUBLE   (N_HOT2 + N_HOT3 + N_PRES + N_D2 + N_D3 + N_SPS2 + N_SPS3)
+#define N_FLOAT    (N_HOT2 + N_HOT3 + N_PRES)
 
 size_t sph_particles_bytes_per_particle(int dim, unsigned opts)
 {
     const int sps = !!(opts & SPH_PARTICLES_SPS), mixed = !!(opts & SPH_PARTICLES_MIXED);
-    const size_t nhot = N_HOT2 + (dim == 3 ? N_HOT3 : 0);
+    const size_t nhot = N_HOT2 + (dim == 3 ? N_HOT3 : 0) + (opts & SPH_PARTICLES_PRESSURE ? 1 : 0);
     const size_t nd = N_D2 + (dim == 3 ? N_D3 : 0) + (sps ? N_SPS2 + (dim == 3 ? N_SPS3 : 0) : 0);
     /* the arrays (the scratch array among them, which also holds the sort's cell keys and
      * outlier lists: sph_cells_sort), type, id, the sort's permutation */
@@ -40,8 +45,8 @@ size_t sph_particles_bytes_per_particle(int dim, unsigned opts)
  * absent ones included (their pointers stay NULL). */
 static void all_fields(sph_particles *P, double ***d, float ***f)
 {
-    double **ad[] = {HOT2(P, ), HOT3(P, ), D2(P), D3(P), SPS2(P), SPS3(P)};
-    float **af[] = {HOT2(P, f32.), HOT3(P, f32.)};
+    double **ad[] = {HOT2(P, ), HOT3(P, ), PRES(P, ), D2(P), D3(P), SPS2(P), SPS3(P)};
+    float **af[] = {HOT2(P, f32.), HOT3(P, f32.), PRES(P, f32.)};
     memcpy(d, ad, sizeof ad);
     memcpy(f, af, sizeof af);
 }
@@ -53,22 +58,27 @@ int sph_particles_alloc(sph_particles *P, long n, int dim, unsigned opts)
     P->cap = n;
     P->dim = dim;
     P->mixed = !!(opts & SPH_PARTICLES_MIXED);
-    const int sps = !!(opts & SPH_PARTICLES_SPS);
+    const int sps = !!(opts & SPH_PARTICLES_SPS), pres = !!(opts & SPH_PARTICLES_PRESSURE);
     const size_t nn = (size_t)(n > 0 ? n : 1);
     double **d[N_DOUBLE];
     float **f[N_FLOAT];
     all_fields(P, d, f);
     /* which of them this set has, in all_fields' order: the hot fields in double or in float */
     const int dd = !P->mixed, ff = P->mixed;
-    const int have[6] = {dd ? N_HOT2 : 0,  dd && dim == 3 ? N_HOT3 : 0, N_D2, dim == 3 ? N_D3 : 0,
-                         sps ? N_SPS2 : 0, sps && dim == 3 ? N_SPS3 : 0};
-    const int group[6] = {N_HOT2, N_HOT3, N_D2, N_D3, N_SPS2, N_SPS3};
-    for (int g = 0, k = 0; g < 6; k += group[g], g++)
+    const int have[N_GROUPS] = {dd ? N_HOT2 : 0,
+                                dd && dim == 3 ? N_HOT3 : 0,
+                                dd && pres ? N_PRES : 0,
+                                N_D2,
+                                dim == 3 ? N_D3 : 0,
+                                sps ? N_SPS2 : 0,
+                                sps && dim == 3 ? N_SPS3 : 0};
+    const int group[N_GROUPS] = {N_HOT2, N_HOT3, N_PRES, N_D2, N_D3, N_SPS2, N_SPS3};
+    for (int g = 0, k = 0; g < N_GROUPS; k += group[g], g++)
         for (int i = 0; i < have[g]; i++)
             if (!(*d[k + i] = calloc(nn, sizeof(double))))
                 goto fail;
-    const int fhave[2] = {ff ? N_HOT2 : 0, ff && dim == 3 ? N_HOT3 : 0};
-    for (int g = 0, k = 0; g < 2; k += group[g], g++)
+    const int fhave[3] = {ff ? N_HOT2 : 0, ff && dim == 3 ? N_HOT3 : 0, ff && pres ? N_PRES : 0};
+    for (int g = 0, k = 0; g < 3; k += group[g], g++)
         for (int i = 0; i < fhave[g]; i++)
             if (!(*f[k + i] = calloc(nn, sizeof(float))))
                 goto fail;

@@ -5,11 +5,15 @@
  * third axis's arrays (z, vz, az, az0 and the SPS tensors' z components) exist in 3D only: in 2D
  * they are NULL, so 2D pays no memory for them.
  *
+ * The pressure p is stored only for a method that solves for it (SPH_PARTICLES_PRESSURE: MPS);
+ * WCSPH derives it from the density by the EOS where it is read (P->p and P->f32.p NULL).
+ *
  * Mixed precision (SPH_PARTICLES_MIXED, the case's "precision": "mixed"): the positions stay in
- * double and the other hot fields (velocity, density, pressure, p / rho^2, the rates and the
- * previous rates) are stored in float, in P->f32; their double pointers are then NULL. Every
- * reader goes through SPH_GET / SPH_SET, whose M (mixed) is a compile-time constant in the hot
- * loops and P->mixed elsewhere; the arithmetic stays in double, only the storage is narrowed.
+ * double and the other hot fields (velocity, density, p / rho^2, the rates and the previous
+ * rates; the pressure where it is stored) are stored in float, in P->f32; their double pointers are
+ * then NULL. Every reader goes through SPH_GET / SPH_SET, whose M (mixed) is a compile-time
+ * constant in the hot loops and P->mixed elsewhere; the arithmetic stays in double, only the
+ * storage is narrowed.
  */
 #ifndef SPH_PARTICLES_H
 #define SPH_PARTICLES_H
@@ -43,7 +47,7 @@ typedef struct sph_particles {
     double *x, *y, *z;       /* position [m] (z: 3D only) */
     double *vx, *vy, *vz;    /* velocity [m/s] */
     double *rho;             /* density [kg/m^3] */
-    double *p;               /* pressure [Pa] */
+    double *p;               /* pressure [Pa] (SPH_PARTICLES_PRESSURE only: else NULL) */
     double *pr;              /* p / rho^2, scratch of the force loop [m^5/(kg s^2)] */
     double *ax, *ay, *az;    /* acceleration of the latest force evaluation [m/s^2] */
     double *drho;            /* density rate of the latest force evaluation [kg/(m^3 s)] */
@@ -64,8 +68,9 @@ typedef struct sph_particles {
 
 /* sph_particles_alloc's options. */
 enum {
-    SPH_PARTICLES_SPS = 1,  /* the SPS tensors (double only) */
-    SPH_PARTICLES_MIXED = 2 /* mixed precision: P->f32 instead of the double hot fields */
+    SPH_PARTICLES_SPS = 1,     /* the SPS tensors (double only) */
+    SPH_PARTICLES_MIXED = 2,   /* mixed precision: P->f32 instead of the double hot fields */
+    SPH_PARTICLES_PRESSURE = 4 /* the pressure p stored (a method that solves for it) */
 };
 
 /* Field f (vx ... drho0) of particle i as a double, and a store to it (rounded to float under

@@ -519,7 +519,6 @@ void sph_sim_timing(const sph_sim *s, sph_timing *timing)
 
 void sph_sim_particles(const sph_sim *s, sph_particle_view *v)
 {
-    s->ops->pressure(s); /* a derived field: brought up to date for the view */
     memset(v, 0, sizeof *v);
     v->n = s->P.n;
     v->dim = s->cfg.dim;
@@ -530,12 +529,11 @@ void sph_sim_particles(const sph_sim *s, sph_particle_view *v)
     v->vel[1] = s->P.vy;
     v->vel[2] = s->P.vz;
     v->rho = s->P.rho;
-    v->p = s->P.p;
     v->vel32[0] = s->P.f32.vx;
     v->vel32[1] = s->P.f32.vy;
     v->vel32[2] = s->P.f32.vz;
     v->rho32 = s->P.f32.rho;
-    v->p32 = s->P.f32.p;
+    s->ops->pressure(s, &v->p, &v->p32); /* stored, or derived for the view */
     v->type = s->P.type;
     v->id = s->P.id;
 }

@@ -21,7 +21,8 @@
 static inline unsigned sph_sim_particle_opts(const sph_config *c)
 {
     return (c->turb == SPH_TURB_SPS ? SPH_PARTICLES_SPS : 0) |
-           (c->precision == SPH_PRECISION_MIXED ? SPH_PARTICLES_MIXED : 0);
+           (c->precision == SPH_PRECISION_MIXED ? SPH_PARTICLES_MIXED : 0) |
+           (c->method == SPH_METHOD_MPS ? SPH_PARTICLES_PRESSURE : 0);
 }
 
 struct sph_sim {

@@ -107,8 +107,8 @@ void sph_bodies_correct(sph_bodies *B, double dt);
  * Serial, in the particles' order: the same whatever the number of threads. */
 void sph_bodies_gather(sph_bodies *B, const sph_particles *P, long n, double m);
 
-/* Sets the pressure, density and p / rho^2 of every body particle among P's first n (sorted
- * into the cells g, the fluid's p and rho current) from the fluid around it (Adami et al. 2012;
+/* Sets p / rho^2 of every body particle among P's first n (sorted into the cells g, the fluid's
+ * rho current) from the pressure of the fluid around it (Adami et al. 2012;
  * sph_body_pressure.c). */
 void sph_bodies_pressure(const sph_bodies *B, const sph_config *c, const sph_kernel *k,
                          const sph_cells *g, sph_particles *P, long n);

@@ -5,13 +5,13 @@
  *
  *   p_w = [ sum_f p_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf ] / sum_f W_wf
  *
- * over the fluid neighbours f of body particle w, a_w that particle's acceleration as a point of
- * the rigid body (a + alpha x r - omega^2 r, of the latest force evaluation); 0 with no fluid
- * neighbour. Contact with walls and other bodies adds the EOS pressure of the particle's own
- * density, which continuity raises over its solid neighbours only (the pair loop skips its fluid
- * pairs; rho0 when nothing solid comes near), so bodies still meet walls and each other as
- * dynamic boundary particles do. The pair loop's p / rho^2 uses the EOS density of the sum, so
- * across the body's surface it is the fluid's own. Negative pressures are
+ * over the fluid neighbours f of body particle w (p_f the EOS pressure of their density), a_w that
+ * particle's acceleration as a point of the rigid body (a + alpha x r - omega^2 r, of the latest
+ * force evaluation); 0 with no fluid neighbour. Contact with walls and other bodies adds the EOS
+ * pressure of the particle's own density, which continuity raises over its solid neighbours only
+ * (the pair loop skips its fluid pairs; rho0 when nothing solid comes near), so bodies still meet
+ * walls and each other as dynamic boundary particles do. The pair loop's p / rho^2 uses the EOS
+ * density of the sum, so across the body's surface it is the fluid's own. Negative pressures are
  * kept, as Adami et al. do (cutting them to zero moved the water entry's penetration by under 1%:
  * RMS against Greenhow & Lin 0.099 instead of 0.096 at D/dx = 22).
  *
@@ -56,15 +56,14 @@ void sph_bodies_pressure(const sph_bodies *B, const sph_config *c, const sph_ker
                     continue;
                 const double w = sph_kernel_w(k, sqrt(r2));
                 sw += w;
-                sp += P->p[j] * w;
+                sp += sph_eos_pressure(c, P->rho[j]) * w;
                 sr += P->rho[j] * (fx * dx + fy * dy) * w;
             }
         }
         /* the fluid's, plus what contact with walls and other bodies adds: the EOS pressure of
          * the particle's own density, which continuity over its solid neighbours raises */
-        const double p = (sw > 0.0 ? (sp + sr) / sw : 0.0) + P->p[i];
+        const double p = (sw > 0.0 ? (sp + sr) / sw : 0.0) + sph_eos_pressure(c, P->rho[i]);
         const double rho = sph_eos_density(c, p);
-        P->p[i] = p;
         P->pr[i] = p / (rho * rho);
     }
 }

@@ -229,7 +229,7 @@ static size_t mps_bytes_per_particle(const sph_config *c)
 {
     const double rmax = c->mps.re > c->mps.re_grad ? c->mps.re : c->mps.re_grad;
     const double nl = M_PI * rmax * rmax, np = M_PI * c->mps.re * c->mps.re;
-    return sph_particles_bytes_per_particle(2, 0) + 5 + 4 * sizeof(double) +
+    return sph_particles_bytes_per_particle(2, SPH_PARTICLES_PRESSURE) + 5 + 4 * sizeof(double) +
            (size_t)(1.25 * (nl * sizeof(int) + sizeof(long)) +
                     1.25 * (np * (sizeof(int) + 2 * sizeof(double)) + 3 * sizeof(long) +
                             8 * sizeof(double) + 3 * sizeof(int) + 1));
@@ -623,9 +623,10 @@ sph_mps_ppe *sph_mps_latest_system(sph_sim *s, const double **rhs)
 }
 
 /* P.p is the solved pressure, kept up to date by the steps. */
-static void mps_pressure(const sph_sim *s)
+static void mps_pressure(const sph_sim *s, const double **p, const float **p32)
 {
-    (void)s;
+    *p = s->P.p; /* the solved pressure, stored (MPS runs in double) */
+    *p32 = NULL;
 }
 
 static void mps_diag(sph_sim *s)

@@ -34,7 +34,7 @@ int sph_wcsph_step_checks(sph_sim *s, long step, double dt, long bad, double rlo
  * says what each does). */
 size_t sph_wcsph_bytes_per_particle(const sph_config *c);
 double sph_wcsph_dt(const sph_sim *s);
-void sph_wcsph_pressure(const sph_sim *s);
+void sph_wcsph_pressure(const sph_sim *s, const double **p, const float **p32);
 int sph_wcsph_arrays(const sph_sim *s, sph_array *d, int maxd);
 
 /* sph_wcsph_step.c: the method's row of the table; sph_wcsph_gpu.c: its row on a GPU. */

@@ -17,10 +17,10 @@
 
 #include <math.h>
 
-/* Particle i before a force evaluation: EOS, p / rho^2, SPS stresses from the previous velocity
- * gradients; its accumulators zeroed. The loops over the particles here are written once per
- * dimension, the dimension a literal there (an OpenMP loop in a function that takes D outlines
- * its body before D is known, and tests D per particle). */
+/* Particle i before a force evaluation: EOS, p / rho^2 (the pressure itself is not stored), SPS
+ * stresses from the previous velocity gradients; its accumulators zeroed. The loops over the
+ * particles here are written once per dimension, the dimension a literal there (an OpenMP loop in a
+ * function that takes D outlines its body before D is known, and tests D per particle). */
 SPH_HD static inline __attribute__((always_inline)) void prepare_one(const int D, const int M,
                                                                      const sph_config *cfg,
                                                                      sph_particles *P, double smag,
@@ -28,7 +28,6 @@ SPH_HD static inline __attribute__((always_inline)) void prepare_one(const int D
 {
     const double rho = SPH_GET(M, P, rho, i);
     const double p = sph_eos_pressure(cfg, rho);
-    SPH_SET(M, P, p, i, p);
     SPH_SET(M, P, pr, i, p / (rho * rho));
     SPH_SET(M, P, ax, i, 0.0);
     SPH_SET(M, P, ay, i, 0.0);
