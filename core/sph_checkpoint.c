@@ -20,8 +20,9 @@
  * height gauges (sph_config and sph_diag); 10: 3D (a gauge's y; the third axis's arrays);
  * 11: obstacles; 12: pressure probes (sph_config and sph_diag); 13: sph_config.diag_interval;
  * 14: sph_config.wall_density; 15: sph_config.device; 16: a pressure probe's normal
- * (sph_pressure_spec) */
-#define SIM_VERSION 18u /* 18: sph_config.precision, float arrays under mixed precision */
+ * (sph_pressure_spec); 17: sph_config.delta_form; 18: sph_config.precision, float arrays
+ * under mixed precision */
+#define SIM_VERSION 19u /* 19: WCSPH saves no pressure array (derived from the density) */
 
 typedef struct {
     char magic[8];

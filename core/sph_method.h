@@ -41,8 +41,8 @@ typedef struct sph_method_ops {
     int (*step)(sph_sim *s, double dt_cap, sph_error *err);
     /* The pressure for a particle view, into *p (double) or, under mixed precision, *p32
      * (float; the other NULL): the method's stored pressure, or one it derives into the
-     * particles' scratch array, which holds nothing between two steps (const: the particles'
-     * arrays are not the sim's own state). */
+     * particles' scratch array, which holds nothing between two steps (so the sim stays const:
+     * no state is written). */
     void (*pressure)(const sph_sim *s, const double **p, const float **p32);
     /* Fills the method's own diagnostics into s->diag after the shared ones; may be NULL. */
     void (*diag)(sph_sim *s);

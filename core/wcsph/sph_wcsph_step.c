@@ -315,10 +315,10 @@ int sph_wcsph_arrays(const sph_sim *s, sph_array *d, int maxd)
         P->f32.a, f                                                                                \
     }
     const sph_array all[] = {
-        {P->x, z},   {P->y, z},   HOT(vx),     HOT(vy),     HOT(rho),    HOT(p),      HOT(ax),
-        HOT(ay),     HOT(drho),   HOT(ax0),    HOT(ay0),    HOT(drho0),  {P->txx, z}, {P->txy, z},
-        {P->tyy, z}, {P->gxx, z}, {P->gxy, z}, {P->gyy, z}, {P->z, z},   HOT(vz),     HOT(az),
-        HOT(az0),    {P->tzz, z}, {P->txz, z}, {P->tyz, z}, {P->gzz, z}, {P->gxz, z}, {P->gyz, z}};
+        {P->x, z},   {P->y, z},   HOT(vx),     HOT(vy),     HOT(rho),    HOT(ax),     HOT(ay),
+        HOT(drho),   HOT(ax0),    HOT(ay0),    HOT(drho0),  {P->txx, z}, {P->txy, z}, {P->tyy, z},
+        {P->gxx, z}, {P->gxy, z}, {P->gyy, z}, {P->z, z},   HOT(vz),     HOT(az),     HOT(az0),
+        {P->tzz, z}, {P->txz, z}, {P->tyz, z}, {P->gzz, z}, {P->gxz, z}, {P->gyz, z}};
 #undef HOT
     return sph_method_arrays(all, (int)(sizeof all / sizeof all[0]), d, maxd);
 }
