@@ -35,7 +35,9 @@ static inline sph_config dambreak(long nfluid, int ghost)
 
 /* SPHERIC Test 2 (cases/dambreak3d.json, Kleefsman et al. 2005) at spacing dx: tank 3.22 x 1 x 1 m
  * (open roof), water 1.228 x 1 x 0.55 m against the far wall, the box obstacle; Wendland C2,
- * h = 1.414 dx, artificial viscosity 0.1, delta-SPH 0.1, c0 = 35 m/s, 3 layers of dynamic walls. */
+ * h = 1.414 dx, artificial viscosity 0.01, delta-SPH 0.1 in Fourtakas et al.'s form, c0 = 35 m/s,
+ * 3 layers of dynamic walls, as the case (alpha 0.1 and Molteni's form before 2026-11-28, when the
+ * case had changed to these: the same pairs, 3 more products in each delta-SPH pair). */
 static inline sph_config test2(double dx)
 {
     sph_config c = sph_config_default();
@@ -58,8 +60,9 @@ static inline sph_config test2(double dx)
     c.eos = SPH_EOS_LINEAR;
     c.c0 = 35.0;
     c.visc = SPH_VISC_ARTIFICIAL;
-    c.alpha = 0.1;
+    c.alpha = 0.01;
     c.delta_sph = 0.1;
+    c.delta_form = SPH_DELTA_FOURTAKAS;
     c.cfl = 0.2;
     c.t_end = 6.0;
     return c;

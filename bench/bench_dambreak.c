@@ -300,7 +300,9 @@ int main(int argc, char **argv)
     }
     if (*sizes3d || *dsph) {
         printf("\n3D, %ld steps from rest, median of %d runs: 'test2' is SPHERIC Test 2 "
-               "(cases/dambreak3d.json: Wendland C2, h = 1.414 dx, alpha = 0.1, c0 = 35 m/s); "
+               "(cases/dambreak3d.json: Wendland C2, h = 1.414 dx, alpha = 0.01, Fourtakas' "
+               "delta-SPH, "
+               "c0 = 35 m/s); "
                "'dsph01' DualSPHysics' examples/main/01_DamBreak (cubic spline, h = 1.732 dx, "
                "alpha = 0.1, Tait, c0 = 20 sqrt(g 0.3))\n",
                steps3d, repeats);
