@@ -109,9 +109,9 @@ void sph_bodies_gather(sph_bodies *B, const sph_particles *P, long n, double m);
 
 /* Sets p / rho^2 of every body particle among P's first n (sorted into the cells g, the fluid's
  * rho current) from the pressure of the fluid around it (Adami et al. 2012;
- * sph_body_pressure.c). */
+ * sph_body_pressure.c); p: every particle's EOS pressure of its current density. */
 void sph_bodies_pressure(const sph_bodies *B, const sph_config *c, const sph_kernel *k,
-                         const sph_cells *g, sph_particles *P, long n);
+                         const sph_cells *g, const double *p, sph_particles *P, long n);
 
 /* The largest speed and acceleration of a body particle [m/s], [m/s^2]. */
 double sph_bodies_vmax(const sph_bodies *B);

@@ -5,7 +5,8 @@
  *
  *   p_w = [ sum_f p_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf ] / sum_f W_wf
  *
- * over the fluid neighbours f of body particle w (p_f the EOS pressure of their density), a_w that
+ * over the fluid neighbours f of body particle w (p_f the EOS pressure of their density, which
+ * the caller derives once per evaluation: sph_wcsph_pressure), a_w that
  * particle's acceleration as a point of the rigid body (a + alpha x r - omega^2 r, of the latest
  * force evaluation); 0 with no fluid neighbour. Contact with walls and other bodies adds the EOS
  * pressure of the particle's own density, which continuity raises over its solid neighbours only
@@ -25,7 +26,7 @@
 #include <math.h>
 
 void sph_bodies_pressure(const sph_bodies *B, const sph_config *c, const sph_kernel *k,
-                         const sph_cells *g, sph_particles *P, long n)
+                         const sph_cells *g, const double *p, sph_particles *P, long n)
 {
     const double support2 = k->support * k->support;
     const double gx = c->gravity[0], gy = c->gravity[1];
@@ -56,14 +57,14 @@ void sph_bodies_pressure(const sph_bodies *B, const sph_config *c, const sph_ker
                     continue;
                 const double w = sph_kernel_w(k, sqrt(r2));
                 sw += w;
-                sp += sph_eos_pressure(c, P->rho[j]) * w;
+                sp += p[j] * w;
                 sr += P->rho[j] * (fx * dx + fy * dy) * w;
             }
         }
         /* the fluid's, plus what contact with walls and other bodies adds: the EOS pressure of
          * the particle's own density, which continuity over its solid neighbours raises */
-        const double p = (sw > 0.0 ? (sp + sr) / sw : 0.0) + sph_eos_pressure(c, P->rho[i]);
-        const double rho = sph_eos_density(c, p);
-        P->pr[i] = p / (rho * rho);
+        const double pw = (sw > 0.0 ? (sp + sr) / sw : 0.0) + p[i];
+        const double rho = sph_eos_density(c, pw);
+        P->pr[i] = pw / (rho * rho);
     }
 }

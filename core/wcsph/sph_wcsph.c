@@ -454,6 +454,29 @@ static int add_ghosts(sph_sim *s)
     }
 }
 
+/* The pressure of the current density, which the particles do not store (the force loop reads
+ * p / rho^2), into their scratch array: for a view (outputs, queries) and for the bodies'
+ * pressure within a force evaluation, after the sort. Doubles, or floats under mixed precision
+ * (the value the float storage of before held: the same bits in the outputs). */
+void sph_wcsph_pressure(const sph_sim *s, const double **p, const float **p32)
+{
+    const sph_particles *P = &s->P;
+    const long n = P->n;
+    const int M = P->mixed;
+    double *const q = P->scratch;
+    float *const q32 = (float *)P->scratch;
+#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++) {
+        const double v = sph_eos_pressure(&s->cfg, SPH_GET(M, P, rho, i));
+        if (M)
+            q32[i] = (float)v;
+        else
+            q[i] = v;
+    }
+    *p = M ? NULL : q;
+    *p32 = M ? q32 : NULL;
+}
+
 static int forces(sph_sim *s, int gather)
 {
     const sph_config *cfg = &s->cfg;
@@ -480,7 +503,10 @@ static int forces(sph_sim *s, int gather)
     prepare(s, &kc);
     if (s->bodies.n > 0) { /* the body particles' pressure from the fluid around them */
         const double tb = omp_get_wtime();
-        sph_bodies_pressure(&s->bodies, cfg, &s->kernel, &s->cells, P, s->nactive);
+        const double *p; /* (bodies run in double: sph_sim_check) */
+        const float *p32;
+        sph_wcsph_pressure(s, &p, &p32);
+        sph_bodies_pressure(&s->bodies, cfg, &s->kernel, &s->cells, p, P, s->nactive);
         s->timing.bodies += omp_get_wtime() - tb;
     }
     const unsigned flags = kc.flags;

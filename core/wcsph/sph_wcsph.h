@@ -30,11 +30,15 @@ int sph_wcsph_predict_failed(const sph_sim *s, long step, double dt, long bad, s
 int sph_wcsph_step_checks(sph_sim *s, long step, double dt, long bad, double rlo, double rhi,
                           sph_error *err);
 
+/* sph_wcsph.c: the pressure of the current density (not stored) into the particles' scratch
+ * array, *p in double or *p32 in float (mixed precision), the other NULL: the method's
+ * `pressure` entry (sph_method_ops), and the bodies' pressure's source after the sort. */
+void sph_wcsph_pressure(const sph_sim *s, const double **p, const float **p32);
+
 /* sph_wcsph_step.c: the entries of the method's row that its GPU row shares (sph_method_ops
  * says what each does). */
 size_t sph_wcsph_bytes_per_particle(const sph_config *c);
 double sph_wcsph_dt(const sph_sim *s);
-void sph_wcsph_pressure(const sph_sim *s, const double **p, const float **p32);
 int sph_wcsph_arrays(const sph_sim *s, sph_array *d, int maxd);
 
 /* sph_wcsph_step.c: the method's row of the table; sph_wcsph_gpu.c: its row on a GPU. */

@@ -278,30 +278,6 @@ static int wcsph_init(sph_sim *s, sph_error *err)
     return 0;
 }
 
-/* The pressure of the current density, which the particles do not store (the force loop
- * reads p / rho^2), into their scratch array for a view: doubles, or floats under mixed
- * precision (the value the float storage of before held: the same bits in the outputs). */
-void sph_wcsph_pressure(const sph_sim *s, const double **p, const float **p32)
-{
-    const sph_particles *P = &s->P;
-    const long n = P->n;
-    if (P->mixed) {
-        float *q = (float *)P->scratch;
-#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
-        for (long i = 0; i < n; i++)
-            q[i] = (float)sph_eos_pressure(&s->cfg, (double)P->f32.rho[i]);
-        *p = NULL;
-        *p32 = q;
-    } else {
-        double *q = P->scratch;
-#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
-        for (long i = 0; i < n; i++)
-            q[i] = sph_eos_pressure(&s->cfg, P->rho[i]);
-        *p = q;
-        *p32 = NULL;
-    }
-}
-
 /* What lives from one step to the next: the state and the previous rates of the corrector. */
 int sph_wcsph_arrays(const sph_sim *s, sph_array *d, int maxd)
 {
