@@ -381,7 +381,7 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
         sph_mdbc_sum sum;
         memset(&sum, 0, sizeof sum);
         for (int a = -1; a <= 1; a++)
-            for (int b = -1; b <= 1; b++) {
+            for (int b = (D == 3 ? -1 : 0); b <= (D == 3 ? 1 : 0); b++) {
                 const long cell = sph_cells_index(g, c[0] + a, c[1] + b, c[2]);
                 if (!(wet[cell - 1] | wet[cell] | wet[cell + 1]))
                     continue; /* no fluid there: most of a tank's walls are dry */
