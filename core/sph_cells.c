@@ -48,6 +48,7 @@ void sph_cells_free(sph_cells *g)
     free(g->counts);
     free(g->perm);
     free(g->wet);
+    free(g->walls);
     memset(g, 0, sizeof *g);
 }
 
@@ -231,20 +232,33 @@ long sph_cells_sort(sph_cells *g, sph_particles *P)
     return start[ncells];
 }
 
-const unsigned char *sph_cells_wet(sph_cells *g, const sph_particles *P)
+/* For each cell, 1 if it holds a particle of type `type`, into *buf (allocated on the first
+ * call); returns *buf, or NULL when out of memory. */
+static const unsigned char *mark(sph_cells *g, const sph_particles *P, unsigned char type,
+                                 unsigned char **buf)
 {
-    if (!g->wet && !(g->wet = malloc((size_t)g->ncells)))
+    if (!*buf && !(*buf = malloc((size_t)g->ncells)))
         return NULL;
     const long nc = g->ncells;
     const int *start = g->start;
-    const unsigned char *restrict type = P->type;
-    unsigned char *restrict wet = g->wet;
+    const unsigned char *restrict types = P->type;
+    unsigned char *restrict out = *buf;
 #pragma omp parallel for schedule(dynamic, 16 * SPH_OMP_CHUNK) if (P->n >= SPH_OMP_MIN)
     for (long c = 0; c < nc; c++) {
         unsigned char w = 0;
         for (long j = start[c]; j < start[c + 1]; j++)
-            w |= type[j] == SPH_FLUID;
-        wet[c] = w;
+            w |= types[j] == type;
+        out[c] = w;
     }
-    return wet;
+    return out;
+}
+
+const unsigned char *sph_cells_wet(sph_cells *g, const sph_particles *P)
+{
+    return mark(g, P, SPH_FLUID, &g->wet);
+}
+
+const unsigned char *sph_cells_walls(sph_cells *g, const sph_particles *P)
+{
+    return mark(g, P, SPH_BOUNDARY, &g->walls);
 }

@@ -23,17 +23,18 @@
 #define SPH_CELLS_SORT_THREADS 64
 
 typedef struct sph_cells {
-    int dim;            /* 2 or 3 */
-    double x0, y0, z0;  /* lower corner of cell (0, 0, 0), the padding cell [m] (z0: 3D) */
-    double size;        /* cell edge [m], >= support radius */
-    double inv_size;    /* 1 / size [1/m] */
-    int nx, ny, nz;     /* cells per axis, padding included [-] (nz = 1 in 2D) */
-    long ncells;        /* nx * ny * nz */
-    int *start;         /* ncells + 2 offsets: cell c holds [start[c], start[c + 1]) */
-    int *counts;        /* ncells + 4: the counting sort's array, start = counts + 2 */
-    int *perm;          /* n: sorting permutation, new index -> old index */
-    unsigned char *wet; /* ncells, made on first use: cells that hold fluid (sph_cells_wet) */
-    long cap;           /* particles perm can hold */
+    int dim;              /* 2 or 3 */
+    double x0, y0, z0;    /* lower corner of cell (0, 0, 0), the padding cell [m] (z0: 3D) */
+    double size;          /* cell edge [m], >= support radius */
+    double inv_size;      /* 1 / size [1/m] */
+    int nx, ny, nz;       /* cells per axis, padding included [-] (nz = 1 in 2D) */
+    long ncells;          /* nx * ny * nz */
+    int *start;           /* ncells + 2 offsets: cell c holds [start[c], start[c + 1]) */
+    int *counts;          /* ncells + 4: the counting sort's array, start = counts + 2 */
+    int *perm;            /* n: sorting permutation, new index -> old index */
+    unsigned char *wet;   /* ncells, made on first use: cells that hold fluid (sph_cells_wet) */
+    unsigned char *walls; /* the same for wall particles (sph_cells_walls) */
+    long cap;             /* particles perm can hold */
 } sph_cells;
 
 /* Number of cells of the dim-dimensional grid covering [lo, hi] with cells of edge >= size
@@ -170,5 +171,8 @@ long sph_cells_sort(sph_cells *g, sph_particles *P);
 /* After a sort: for each cell, 1 if it holds a fluid particle (into g->wet, allocated on the
  * first call). Returns g->wet, or NULL when out of memory. */
 const unsigned char *sph_cells_wet(sph_cells *g, const sph_particles *P);
+
+/* The same for the dynamic walls' particles (SPH_BOUNDARY), into g->walls. */
+const unsigned char *sph_cells_walls(sph_cells *g, const sph_particles *P);
 
 #endif

@@ -241,7 +241,8 @@ const sph_case_field sph_case_fields[] = {
      .doc = "how the wall particles get their density: continuity (DBC: by the continuity "
             "equation, never below rho0); mdbc (English et al. 2021: interpolated from the fluid "
             "at the particle's mirror point across the wall, first-order corrected; smoother "
-            "wall pressures, no gap at the walls)"},
+            "wall pressures, no gap at the walls; the fluid kept out of the walls by a "
+            "no-penetration control of its velocity)"},
     {.path = "/boundary/tank", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS,
      .required = SPH_CF_MPS, .parse = parse_tank, CFG(tank),
      .doc = "{\"min\", \"max\"}: inner faces of a tank with bottom, left and right walls (open "

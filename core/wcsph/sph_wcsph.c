@@ -412,20 +412,105 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
     SPH_SET(P->mixed, P, rho, i, rho > s->cfg.rho0 ? rho : s->cfg.rho0);
 }
 
-/* Every wall particle's density by mDBC, before the pair loop reads it (mdbc2, mdbc3: D a
- * literal there). Each reads the fluid only and writes itself: any number of threads gives the
- * same densities. wet[c]: 1 when cell c holds fluid. */
+/* A per-particle pass of the walls' NAME##_one over the first n particles, NAME<D> (D a literal
+ * there), with a map of the cells (mdbc: wet[c], 1 when cell c holds fluid; nopen: walls[c], 1
+ * when it holds wall particles). Each particle reads the others' positions and writes itself
+ * alone: any number of threads gives the same bits. mdbc: every wall particle's density, before
+ * the pair loop reads it. */
 /* clang-format off */
-#define SPH_MDBC_LOOP(D)                                                                           \
-    static void mdbc##D(const sph_sim *s, sph_particles *P, const unsigned char *wet, long n)      \
+#define SPH_WALL_LOOP(NAME, D)                                                                     \
+    static void NAME##D(const sph_sim *s, sph_particles *P, const unsigned char *map, long n)      \
     {                                                                                              \
         _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)")         \
         for (long i = 0; i < n; i++)                                                               \
-            mdbc_one(D, s, P, wet, i);                                                             \
+            NAME##_one(D, s, P, map, i);                                                           \
     }
 /* clang-format on */
-SPH_MDBC_LOOP(2)
-SPH_MDBC_LOOP(3)
+SPH_WALL_LOOP(mdbc, 2)
+SPH_WALL_LOOP(mdbc, 3)
+
+/* mDBC's no-penetration control (DualSPHysics 5.4's, for its mDBC slip modes): fluid particle
+ * i, closer than 1.25 dx to a wall particle of the first layer (its mirror point within 1.75 dx)
+ * and within 0.75 of that distance of it along the wall's normal n, loses the part of its
+ * velocity that approaches the wall, reversed in part the closer it is: v -= f (v.n) n, f = 2.5 -
+ * 2 max(d_n / |g - x_b|, 1/4) (1 at three quarters of the way, 2 at a quarter), averaged over the
+ * wall particles that act. The walls are fixed. walls[c]: 1 when cell c holds wall particles. */
+static inline __attribute__((always_inline)) void
+nopen_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *walls, long i)
+{
+    if (P->type[i] != SPH_FLUID)
+        return;
+    const sph_cells *g = &s->cells;
+    const double x[3] = {P->x[i], P->y[i], D == 3 ? P->z[i] : 0.0};
+    int c[3];
+    if (!sph_cells_locate(D, g, x, c))
+        return;
+    const int M = P->mixed;
+    const double dx = s->cfg.dx, near2 = 1.5625 * dx * dx, first2 = 3.0625 * dx * dx;
+    double v[3] = {SPH_GET(M, P, vx, i), SPH_GET(M, P, vy, i), D == 3 ? SPH_GET(M, P, vz, i) : 0.0};
+    double shift[3] = {0.0, 0.0, 0.0};
+    int count = 0;
+    /* 3D: each column cut to the particles within reach (as mdbc_one's) */
+    const double size = 1.0 / g->inv_size;
+    double reach, lat;
+    sph_cells_cut_margins(g, 1.25 * dx, &reach, &lat);
+    for (int a = -1; a <= 1; a++)
+        for (int b = (D == 3 ? -1 : 0); b <= (D == 3 ? 1 : 0); b++) {
+            const long cell = sph_cells_index(g, c[0] + a, c[1] + b, c[2]);
+            if (!(walls[cell - 1] | walls[cell] | walls[cell + 1]))
+                continue;
+            long jb = g->start[cell - 1], je = g->start[cell + 2];
+            if (D == 3 && !sph_cells_cut_column(g->x0, g->y0, size, P->z, x, c[0] + a, c[1] + b,
+                                                reach * reach, lat, &jb, &je))
+                continue;
+            for (long j = jb; j < je; j++) {
+                if (P->type[j] != SPH_BOUNDARY)
+                    continue;
+                const double xb[3] = {P->x[j], P->y[j], D == 3 ? P->z[j] : 0.0};
+                const double dr[3] = {x[0] - xb[0], x[1] - xb[1], x[2] - xb[2]};
+                if (dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2] >= near2)
+                    continue;
+                double gb[3];
+                sph_shapes_wall_mirror(&s->cfg, xb, gb);
+                const double bn[3] = {gb[0] - xb[0], gb[1] - xb[1], D == 3 ? gb[2] - xb[2] : 0.0};
+                const double norm2 = bn[0] * bn[0] + bn[1] * bn[1] + bn[2] * bn[2];
+                if (!(norm2 > 0.0 && norm2 < first2))
+                    continue; /* not of the first layer */
+                const double norm = sqrt(norm2);
+                const double n[3] = {bn[0] / norm, bn[1] / norm, bn[2] / norm};
+                const double dn = n[0] * dr[0] + n[1] * dr[1] + n[2] * dr[2];
+                const double vn = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
+                if (!(dn < 0.75 * norm && vn < 0.0))
+                    continue;
+                const double ratio = dn / norm > 0.25 ? dn / norm : 0.25;
+                const double f = 2.5 - 2.0 * ratio;
+                for (int d = 0; d < 3; d++)
+                    shift[d] -= f * vn * n[d];
+                count++;
+            }
+        }
+    if (!count)
+        return;
+    SPH_SET(M, P, vx, i, v[0] + shift[0] / count);
+    SPH_SET(M, P, vy, i, v[1] + shift[1] / count);
+    if (D == 3)
+        SPH_SET(M, P, vz, i, v[2] + shift[2] / count);
+}
+
+SPH_WALL_LOOP(nopen, 2)
+SPH_WALL_LOOP(nopen, 3)
+
+int sph_wcsph_no_penetration(sph_sim *s)
+{
+    const unsigned char *walls = sph_cells_walls(&s->cells, &s->P);
+    if (!walls)
+        return -1;
+    if (s->cfg.dim == 3)
+        nopen3(s, &s->P, walls, s->nactive);
+    else
+        nopen2(s, &s->P, walls, s->nactive);
+    return 0;
+}
 
 /* Appends the ghosts of the free-slip walls after the real particles (room made as needed).
  * Returns 0 or -1 when out of memory. */

@@ -20,6 +20,11 @@ int sph_wcsph_forces(sph_sim *s);
  * bit for bit). The C reference of the GPU kernels, for tests/unit/test_wcsph_gather.c. */
 int sph_wcsph_forces_gather(sph_sim *s);
 
+/* mDBC's no-penetration control after the corrector: the fluid particles moving into the first
+ * layer of wall particles lose (or reverse) that part of their velocity. Returns 0, or -1 when
+ * out of memory for the cells' wall map. */
+int sph_wcsph_no_penetration(sph_sim *s);
+
 void sph_wcsph_consts_of(const sph_sim *s, sph_wcsph_consts *k);
 
 /* sph_wcsph_step.c, shared by the CPU's step and the GPU's: the step's dt (at most dt_cap; a

@@ -235,6 +235,11 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
     bad = (P->mixed ? (c->dim == 3 ? correct31 : correct21)
                     : (c->dim == 3 ? correct30 : correct20))(&k, dt, n, &vmax2, &rlo, &rhi);
     s->vmax = sqrt(vmax2);
+    /* mDBC's walls hold no pressure against a thin layer of fast water (theirs is taken from
+     * it): its no-penetration control keeps the fluid out of them */
+    if (c->wall_density == SPH_WALL_MDBC && sph_wcsph_no_penetration(s))
+        return sph_error_set(err, SPH_ERR_NOMEM, "",
+                             "out of memory for the walls' cell map at step %ld", step);
     if (s->bodies.n > 0) {
         const double tb = omp_get_wtime();
         sph_bodies_correct(&s->bodies, dt);

@@ -1,7 +1,7 @@
 /*
  * Kernel library: every kernel in every dimension is normalised (by quadrature here, independent
- * of the closed forms in core/kernel/sph_kernel.c), zero outside its support, has a gradient equal to a
- * central finite difference of its value, and is symmetric. The MPS quartic kernel meets every
+ * of the closed forms in core/kernel/sph_kernel.c), zero outside its support, has a gradient equal
+ * to a central finite difference of its value, and is symmetric. The MPS quartic kernel meets every
  * constraint Sheu et al. state. Tolerances are stated next to each check.
  */
 #include <setjmp.h>
