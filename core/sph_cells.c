@@ -260,5 +260,5 @@ const unsigned char *sph_cells_wet(sph_cells *g, const sph_particles *P)
 
 const unsigned char *sph_cells_walls(sph_cells *g, const sph_particles *P)
 {
-    return mark(g, P, SPH_BOUNDARY, &g->walls);
+    return g->walls ? g->walls : mark(g, P, SPH_BOUNDARY, &g->walls);
 }

@@ -172,7 +172,9 @@ long sph_cells_sort(sph_cells *g, sph_particles *P);
  * first call). Returns g->wet, or NULL when out of memory. */
 const unsigned char *sph_cells_wet(sph_cells *g, const sph_particles *P);
 
-/* The same for the dynamic walls' particles (SPH_BOUNDARY), into g->walls. */
+/* The same for the dynamic walls' particles (SPH_BOUNDARY), into g->walls, built on the first
+ * call only: wall particles never move, so the cells that hold them stay the same (the sort
+ * reorders particles within and between cells, not the walls' cells). */
 const unsigned char *sph_cells_walls(sph_cells *g, const sph_particles *P);
 
 #endif

@@ -355,6 +355,24 @@ static double gravity(const sph_config *cfg, sph_particles *P, long n)
     return amax2;
 }
 
+/* The walls' scans around a point p in cell c (mdbc_one, nopen_one): the particle range of the
+ * column of 3 cells at offset (a, b) across, [*jb, *je); 0 when the column holds none of what
+ * map marks, or (3D) lies out of reach2 across, else 1 with the range cut in z to the reach
+ * (sph_cells_cut_column, its margins: only points beyond the reach go). */
+static inline __attribute__((always_inline)) int
+column_near(const int D, const sph_cells *g, const double *z, const unsigned char *map,
+            const double *p, const int *c, int a, int b, double reach2, double lat, long *jb,
+            long *je)
+{
+    const long cell = sph_cells_index(g, c[0] + a, c[1] + b, c[2]);
+    if (!(map[cell - 1] | map[cell] | map[cell + 1]))
+        return 0;
+    *jb = g->start[cell - 1];
+    *je = g->start[cell + 2];
+    return D == 2 || sph_cells_cut_column(g->x0, g->y0, 1.0 / g->inv_size, z, p, c[0] + a, c[1] + b,
+                                          reach2, lat, jb, je);
+}
+
 /* mDBC (sph_mdbc.h): wall particle i's density from the fluid around its mirror point. The
  * fluid is searched in the 3 x 3 (x 3) cells around the mirror point, a column of 3 cells at a
  * time; one that falls outside the grid's inner cells (no wall of this geometry sends it there)
@@ -374,7 +392,6 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
         const double support2 = s->kernel.support * s->kernel.support, m = s->mass;
         /* 3D: each column cut to the fluid within reach of the mirror point, in z and across (as
          * the pair loop, strip_generic, with its margins: only points beyond the support go) */
-        const double size = 1.0 / g->inv_size;
         double reach, lat;
         sph_cells_cut_margins(g, s->kernel.support, &reach, &lat);
         const double reach2 = reach * reach;
@@ -382,12 +399,8 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
         memset(&sum, 0, sizeof sum);
         for (int a = -1; a <= 1; a++)
             for (int b = (D == 3 ? -1 : 0); b <= (D == 3 ? 1 : 0); b++) {
-                const long cell = sph_cells_index(g, c[0] + a, c[1] + b, c[2]);
-                if (!(wet[cell - 1] | wet[cell] | wet[cell + 1]))
-                    continue; /* no fluid there: most of a tank's walls are dry */
-                long jb = g->start[cell - 1], je = g->start[cell + 2];
-                if (D == 3 && !sph_cells_cut_column(g->x0, g->y0, size, P->z, gx, c[0] + a,
-                                                    c[1] + b, reach2, lat, &jb, &je))
+                long jb, je; /* (most of a tank's walls are dry: their columns hold no fluid) */
+                if (!column_near(D, g, P->z, wet, gx, c, a, b, reach2, lat, &jb, &je))
                     continue;
                 for (long j = jb; j < je; j++) {
                     if (P->type[j] != SPH_FLUID)
@@ -450,18 +463,13 @@ nopen_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *
     double v[3] = {SPH_GET(M, P, vx, i), SPH_GET(M, P, vy, i), D == 3 ? SPH_GET(M, P, vz, i) : 0.0};
     double shift[3] = {0.0, 0.0, 0.0};
     int count = 0;
-    /* 3D: each column cut to the particles within reach (as mdbc_one's) */
-    const double size = 1.0 / g->inv_size;
     double reach, lat;
     sph_cells_cut_margins(g, 1.25 * dx, &reach, &lat);
+    const double reach2 = reach * reach;
     for (int a = -1; a <= 1; a++)
         for (int b = (D == 3 ? -1 : 0); b <= (D == 3 ? 1 : 0); b++) {
-            const long cell = sph_cells_index(g, c[0] + a, c[1] + b, c[2]);
-            if (!(walls[cell - 1] | walls[cell] | walls[cell + 1]))
-                continue;
-            long jb = g->start[cell - 1], je = g->start[cell + 2];
-            if (D == 3 && !sph_cells_cut_column(g->x0, g->y0, size, P->z, x, c[0] + a, c[1] + b,
-                                                reach * reach, lat, &jb, &je))
+            long jb, je;
+            if (!column_near(D, g, P->z, walls, x, c, a, b, reach2, lat, &jb, &je))
                 continue;
             for (long j = jb; j < je; j++) {
                 if (P->type[j] != SPH_BOUNDARY)
