@@ -36,14 +36,19 @@ static inline __attribute__((always_inline)) void sph_mdbc_add(const int D, sph_
 {
     const double v = m / rho;
     double row[4] = {v * w, 0.0, 0.0, 0.0};
+    /* (unrolled: the sums stay in registers, not in a loop over memory) */
+#pragma GCC unroll 4
     for (int d = 0; d < D; d++)
         row[d + 1] = v * f * r[d];
+#pragma GCC unroll 4
     for (int e = 0; e <= D; e++) {
         s->a[e][0] += row[e];
+#pragma GCC unroll 4
         for (int d = 0; d < D; d++)
             s->a[e][d + 1] += row[e] * r[d];
     }
     s->b[0] += m * w;
+#pragma GCC unroll 4
     for (int d = 0; d < D; d++)
         s->b[d + 1] += m * f * r[d];
 }

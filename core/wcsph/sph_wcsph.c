@@ -373,10 +373,35 @@ column_near(const int D, const sph_cells *g, const double *z, const unsigned cha
                                           reach2, lat, jb, je);
 }
 
+/* Whether a fluid particle lies within support2 of point p in cell c (wet: the cells that hold
+ * fluid; reach2, lat: the 3D cut of the columns, as column_near). */
+static inline __attribute__((always_inline)) int
+fluid_within(const int D, const sph_cells *g, const sph_particles *P, const unsigned char *wet,
+             const double *p, const int *c, double support2, double reach2, double lat)
+{
+    for (int a = -1; a <= 1; a++)
+        for (int b = (D == 3 ? -1 : 0); b <= (D == 3 ? 1 : 0); b++) {
+            long jb, je;
+            if (!column_near(D, g, P->z, wet, p, c, a, b, reach2, lat, &jb, &je))
+                continue;
+            for (long j = jb; j < je; j++) {
+                if (P->type[j] != SPH_FLUID)
+                    continue;
+                const double r[3] = {p[0] - P->x[j], p[1] - P->y[j], D == 3 ? p[2] - P->z[j] : 0.0};
+                if (r[0] * r[0] + r[1] * r[1] + (D == 3 ? r[2] * r[2] : 0.0) < support2)
+                    return 1;
+            }
+        }
+    return 0;
+}
+
 /* mDBC (sph_mdbc.h): wall particle i's density from the fluid around its mirror point. The
  * fluid is searched in the 3 x 3 (x 3) cells around the mirror point, a column of 3 cells at a
  * time; one that falls outside the grid's inner cells (no wall of this geometry sends it there)
- * leaves rho0. */
+ * leaves rho0. A wall particle with no fluid within its own support takes part in no pair
+ * (wall-wall pairs are skipped; without bodies, nothing else pairs with it), so its density is
+ * not sought: rho0 (the third layer under still water, each layer of a dry wall). The fluid
+ * evolves the same, bit for bit. */
 static inline __attribute__((always_inline)) void
 mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *wet, long i)
 {
@@ -384,17 +409,22 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
         return;
     const sph_cells *g = &s->cells;
     const double x[3] = {P->x[i], P->y[i], D == 3 ? P->z[i] : 0.0};
+    const double support2 = s->kernel.support * s->kernel.support, m = s->mass;
+    /* 3D: each column cut to the fluid within reach of the point, in z and across (as the pair
+     * loop, strip_generic, with its margins: only points beyond the support go) */
+    double reach, lat;
+    sph_cells_cut_margins(g, s->kernel.support, &reach, &lat);
+    const double reach2 = reach * reach;
+    int c[3];
+    if (s->bodies.n == 0 && sph_cells_locate(D, g, x, c) &&
+        !fluid_within(D, g, P, wet, x, c, support2, reach2, lat)) {
+        SPH_SET(P->mixed, P, rho, i, s->cfg.rho0);
+        return;
+    }
     double gx[3];
     sph_shapes_wall_mirror(&s->cfg, x, gx);
     double rho = s->cfg.rho0;
-    int c[3];
     if (sph_cells_locate(D, g, gx, c)) {
-        const double support2 = s->kernel.support * s->kernel.support, m = s->mass;
-        /* 3D: each column cut to the fluid within reach of the mirror point, in z and across (as
-         * the pair loop, strip_generic, with its margins: only points beyond the support go) */
-        double reach, lat;
-        sph_cells_cut_margins(g, s->kernel.support, &reach, &lat);
-        const double reach2 = reach * reach;
         sph_mdbc_sum sum;
         memset(&sum, 0, sizeof sum);
         for (int a = -1; a <= 1; a++)
