@@ -13,7 +13,7 @@
  * by fluid particle-steps per second (the ghosts, rebuilt every step, are in the time, and their
  * pairs in the neighbour count).
  *
- * 3D rows (issue 23), --steps3d steps from rest each: SPHERIC Test 2's geometry
+ * 3D rows (issue 23), --steps3d steps each: SPHERIC Test 2's geometry
  * (cases/dambreak3d.json) at about 100k, 400k and 1.6M particles (fluid and walls), and
  * DualSPHysics' own 3D dam break (examples/main/01_DamBreak) at dx = 7.4 mm (about 250k particles),
  * the case DualSPHysics 5.4's CPU build ran side by side on this machine at 486k particle-steps/s
@@ -27,6 +27,10 @@
  *                       [--sizes3d "100000 400000 1600000"] [--dsph "0.0074"] [--device cpu]
  *                       [--precision double]
  * --precision mixed: every row with the particles' hot fields in float (positions in double).
+ * --start flowing (the default since 2026-11-28): the fluid moving at sqrt(g H) along x
+ * (start_flowing), so that the particles cross cells and the neighbour search reorders the arrays
+ * in every step, as in a flowing run; --start rest: the case's start, at rest (the figures before
+ * that date), where no particle changes cells in a benchmark's steps.
  * An empty list ("") leaves its rows out.
  *
  * "serial %": the share of the timed steps spent outside every OpenMP parallel region (set-up
@@ -41,6 +45,7 @@
 #define _GNU_SOURCE /* RTLD_NEXT */
 #include "bench_cases.h"
 #include "sph_sim.h"
+#include "sph_sim_impl.h" /* the particles, for the flowing start */
 
 #include <dlfcn.h>
 
@@ -140,6 +145,27 @@ typedef struct run {
 static sph_device device = SPH_DEVICE_CPU;
 /* --precision: the particles' storage (sph_config.precision) */
 static sph_precision precision = SPH_PRECISION_DOUBLE;
+/* --start: 1 flowing (the default), 0 the case's start, at rest */
+static int flowing = 1;
+
+/* The flowing start: every fluid particle moving at sqrt(g H) along x, towards the tank's middle
+ * (H the depth of the first fluid box: a dam break's speed). From rest no particle leaves its cell
+ * in a benchmark's steps, so the neighbour search never reorders the arrays, which a flowing run
+ * does every step; at this speed a step moves the particles 0.1-0.5% of a cell, and some cross in
+ * every step. The pairs, and their physics, are those of the water at rest. */
+static void start_flowing(sph_sim *s)
+{
+    const sph_config *c = &s->cfg;
+    const int up = c->dim - 1;
+    const double g = fabs(c->gravity[up]), depth = c->fluid[0].max[up] - c->fluid[0].min[up];
+    const double mid = 0.5 * (c->tank.min[0] + c->tank.max[0]);
+    const double u =
+        copysign(sqrt(g * depth), mid - 0.5 * (c->fluid[0].min[0] + c->fluid[0].max[0]));
+    sph_particles *P = &s->P;
+    for (long i = 0; i < P->n; i++)
+        if (P->type[i] == SPH_FLUID)
+            SPH_SET(P->mixed, P, vx, i, u);
+}
 
 static int one(const sph_config *cfg, int threads, long steps, run *r)
 {
@@ -156,6 +182,8 @@ static int one(const sph_config *cfg, int threads, long steps, run *r)
         fprintf(stderr, "bench_dambreak: %s (at %s)\n", err.message, err.path);
         return -1;
     }
+    if (flowing)
+        start_flowing(s);
     /* the GPU's first step copies the particles to the device: not timed */
     if (device == SPH_DEVICE_GPU && sph_sim_step(s, 1, &err)) {
         fprintf(stderr, "bench_dambreak: %s\n", err.message);
@@ -255,12 +283,15 @@ int main(int argc, char **argv)
                  (strcmp(argv[i + 1], "double") == 0 || strcmp(argv[i + 1], "mixed") == 0))
             precision =
                 strcmp(argv[i + 1], "mixed") == 0 ? SPH_PRECISION_MIXED : SPH_PRECISION_DOUBLE;
+        else if (strcmp(opt, "--start") == 0 &&
+                 (strcmp(argv[i + 1], "rest") == 0 || strcmp(argv[i + 1], "flowing") == 0))
+            flowing = strcmp(argv[i + 1], "flowing") == 0;
         else {
             fprintf(
                 stderr,
                 "usage: %s [--steps N] [--repeats R] [--threads LIST] [--sizes LIST] "
                 "[--walls LIST] [--steps3d N] [--sizes3d LIST] [--dsph LIST] [--device cpu|gpu] "
-                "[--precision double|mixed]\n",
+                "[--precision double|mixed] [--start flowing|rest]\n",
                 argv[0]);
             return 64;
         }
@@ -272,9 +303,10 @@ int main(int argc, char **argv)
     /* every large array gets its own mapping and returns it when freed, so that the resident
      * size measured around a run is that run's */
     mallopt(M_MMAP_THRESHOLD, 64 * 1024);
-    printf("dam break, Wendland C2, h = 1.414 dx, alpha = 0.01, c0 = 25 m/s, %ld steps, median of "
-           "%d runs, %s precision\n",
-           steps, repeats, precision == SPH_PRECISION_MIXED ? "mixed" : "double");
+    const char *start = flowing ? "from a flowing start" : "from rest";
+    printf("dam break, Wendland C2, h = 1.414 dx, alpha = 0.01, c0 = 25 m/s, %ld steps %s, median "
+           "of %d runs, %s precision\n",
+           steps, start, repeats, precision == SPH_PRECISION_MIXED ? "mixed" : "double");
     printf("%8s %8s %8s %7s %6s %10s %11s %9s %8s %8s %8s %8s %8s %9s\n", "walls", "fluid", "total",
            "threads", "neigh", "Mpart-st/s", "Mfluid-st/s", "ms/step", "nb ms", "inter ms",
            "integ ms", "serial %", "RSS B/p", "store B/p");
@@ -299,13 +331,13 @@ int main(int argc, char **argv)
         }
     }
     if (*sizes3d || *dsph) {
-        printf("\n3D, %ld steps from rest, median of %d runs: 'test2' is SPHERIC Test 2 "
+        printf("\n3D, %ld steps %s, median of %d runs: 'test2' is SPHERIC Test 2 "
                "(cases/dambreak3d.json: Wendland C2, h = 1.414 dx, alpha = 0.01, Fourtakas' "
                "delta-SPH, "
                "c0 = 35 m/s); "
                "'dsph01' DualSPHysics' examples/main/01_DamBreak (cubic spline, h = 1.732 dx, "
                "alpha = 0.1, Tait, c0 = 20 sqrt(g 0.3))\n",
-               steps3d, repeats);
+               steps3d, start, repeats);
         printf("%8s %8s %8s %7s %6s %10s %11s %9s %8s %8s %8s %8s %8s %9s\n", "case", "fluid",
                "total", "threads", "neigh", "Mpart-st/s", "Mfluid-st/s", "ms/step", "nb ms",
                "inter ms", "integ ms", "serial %", "RSS B/p", "store B/p");
