@@ -373,24 +373,34 @@ column_near(const int D, const sph_cells *g, const double *z, const unsigned cha
                                           reach2, lat, jb, je);
 }
 
+/* The columns of 3 cells around point p in cell c that hold what map marks (column_near, in its
+ * order: a, then b), as particle ranges [jb[k], je[k]); returns their count (at most 9). */
+static inline __attribute__((always_inline)) int
+columns_near(const int D, const sph_cells *g, const double *z, const unsigned char *map,
+             const double *p, const int *c, double reach2, double lat, long *jb, long *je)
+{
+    int n = 0;
+    for (int a = -1; a <= 1; a++)
+        for (int b = (D == 3 ? -1 : 0); b <= (D == 3 ? 1 : 0); b++)
+            n += column_near(D, g, z, map, p, c, a, b, reach2, lat, &jb[n], &je[n]);
+    return n;
+}
+
 /* Whether a fluid particle lies within support2 of point p in cell c (wet: the cells that hold
  * fluid; reach2, lat: the 3D cut of the columns, as column_near). */
 static inline __attribute__((always_inline)) int
 fluid_within(const int D, const sph_cells *g, const sph_particles *P, const unsigned char *wet,
              const double *p, const int *c, double support2, double reach2, double lat)
 {
-    for (int a = -1; a <= 1; a++)
-        for (int b = (D == 3 ? -1 : 0); b <= (D == 3 ? 1 : 0); b++) {
-            long jb, je;
-            if (!column_near(D, g, P->z, wet, p, c, a, b, reach2, lat, &jb, &je))
+    long jb[9], je[9];
+    const int nc = columns_near(D, g, P->z, wet, p, c, reach2, lat, jb, je);
+    for (int k = 0; k < nc; k++)
+        for (long j = jb[k]; j < je[k]; j++) {
+            if (P->type[j] != SPH_FLUID)
                 continue;
-            for (long j = jb; j < je; j++) {
-                if (P->type[j] != SPH_FLUID)
-                    continue;
-                const double r[3] = {p[0] - P->x[j], p[1] - P->y[j], D == 3 ? p[2] - P->z[j] : 0.0};
-                if (r[0] * r[0] + r[1] * r[1] + (D == 3 ? r[2] * r[2] : 0.0) < support2)
-                    return 1;
-            }
+            const double r[3] = {p[0] - P->x[j], p[1] - P->y[j], D == 3 ? p[2] - P->z[j] : 0.0};
+            if (r[0] * r[0] + r[1] * r[1] + (D == 3 ? r[2] * r[2] : 0.0) < support2)
+                return 1;
         }
     return 0;
 }
@@ -427,25 +437,22 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
     if (sph_cells_locate(D, g, gx, c)) {
         sph_mdbc_sum sum;
         memset(&sum, 0, sizeof sum);
-        for (int a = -1; a <= 1; a++)
-            for (int b = (D == 3 ? -1 : 0); b <= (D == 3 ? 1 : 0); b++) {
-                long jb, je; /* (most of a tank's walls are dry: their columns hold no fluid) */
-                if (!column_near(D, g, P->z, wet, gx, c, a, b, reach2, lat, &jb, &je))
+        long jb[9], je[9]; /* (most of a tank's walls are dry: their columns hold no fluid) */
+        const int nc = columns_near(D, g, P->z, wet, gx, c, reach2, lat, jb, je);
+        for (int k = 0; k < nc; k++)
+            for (long j = jb[k]; j < je[k]; j++) {
+                if (P->type[j] != SPH_FLUID)
                     continue;
-                for (long j = jb; j < je; j++) {
-                    if (P->type[j] != SPH_FLUID)
-                        continue;
-                    const double r[3] = {gx[0] - P->x[j], gx[1] - P->y[j],
-                                         D == 3 ? gx[2] - P->z[j] : 0.0};
-                    const double r2 = r[0] * r[0] + r[1] * r[1] + (D == 3 ? r[2] * r[2] : 0.0);
-                    if (r2 >= support2)
-                        continue;
-                    const double q = sqrt(r2);
-                    double dwdr;
-                    const double w = sph_kernel_eval_t(s->kernel.type, &s->kernel, q, &dwdr);
-                    sph_mdbc_add(D, &sum, r, w, q > 0.0 ? dwdr / q : 0.0, m,
-                                 SPH_GET(P->mixed, P, rho, j));
-                }
+                const double r[3] = {gx[0] - P->x[j], gx[1] - P->y[j],
+                                     D == 3 ? gx[2] - P->z[j] : 0.0};
+                const double r2 = r[0] * r[0] + r[1] * r[1] + (D == 3 ? r[2] * r[2] : 0.0);
+                if (r2 >= support2)
+                    continue;
+                const double q = sqrt(r2);
+                double dwdr;
+                const double w = sph_kernel_eval_t(s->kernel.type, &s->kernel, q, &dwdr);
+                sph_mdbc_add(D, &sum, r, w, q > 0.0 ? dwdr / q : 0.0, m,
+                             SPH_GET(P->mixed, P, rho, j));
             }
         const double dpos[3] = {x[0] - gx[0], x[1] - gx[1], x[2] - gx[2]};
         rho = sph_mdbc_density(D, &sum, dpos, s->cfg.rho0);
@@ -496,36 +503,33 @@ nopen_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *
     double reach, lat;
     sph_cells_cut_margins(g, 1.25 * dx, &reach, &lat);
     const double reach2 = reach * reach;
-    for (int a = -1; a <= 1; a++)
-        for (int b = (D == 3 ? -1 : 0); b <= (D == 3 ? 1 : 0); b++) {
-            long jb, je;
-            if (!column_near(D, g, P->z, walls, x, c, a, b, reach2, lat, &jb, &je))
+    long jb[9], je[9];
+    const int nc = columns_near(D, g, P->z, walls, x, c, reach2, lat, jb, je);
+    for (int k = 0; k < nc; k++)
+        for (long j = jb[k]; j < je[k]; j++) {
+            if (P->type[j] != SPH_BOUNDARY)
                 continue;
-            for (long j = jb; j < je; j++) {
-                if (P->type[j] != SPH_BOUNDARY)
-                    continue;
-                const double xb[3] = {P->x[j], P->y[j], D == 3 ? P->z[j] : 0.0};
-                const double dr[3] = {x[0] - xb[0], x[1] - xb[1], x[2] - xb[2]};
-                if (dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2] >= near2)
-                    continue;
-                double gb[3];
-                sph_shapes_wall_mirror(&s->cfg, xb, gb);
-                const double bn[3] = {gb[0] - xb[0], gb[1] - xb[1], D == 3 ? gb[2] - xb[2] : 0.0};
-                const double norm2 = bn[0] * bn[0] + bn[1] * bn[1] + bn[2] * bn[2];
-                if (!(norm2 > 0.0 && norm2 < first2))
-                    continue; /* not of the first layer */
-                const double norm = sqrt(norm2);
-                const double n[3] = {bn[0] / norm, bn[1] / norm, bn[2] / norm};
-                const double dn = n[0] * dr[0] + n[1] * dr[1] + n[2] * dr[2];
-                const double vn = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
-                if (!(dn < 0.75 * norm && vn < 0.0))
-                    continue;
-                const double ratio = dn / norm > 0.25 ? dn / norm : 0.25;
-                const double f = 2.5 - 2.0 * ratio;
-                for (int d = 0; d < 3; d++)
-                    shift[d] -= f * vn * n[d];
-                count++;
-            }
+            const double xb[3] = {P->x[j], P->y[j], D == 3 ? P->z[j] : 0.0};
+            const double dr[3] = {x[0] - xb[0], x[1] - xb[1], x[2] - xb[2]};
+            if (dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2] >= near2)
+                continue;
+            double gb[3];
+            sph_shapes_wall_mirror(&s->cfg, xb, gb);
+            const double bn[3] = {gb[0] - xb[0], gb[1] - xb[1], D == 3 ? gb[2] - xb[2] : 0.0};
+            const double norm2 = bn[0] * bn[0] + bn[1] * bn[1] + bn[2] * bn[2];
+            if (!(norm2 > 0.0 && norm2 < first2))
+                continue; /* not of the first layer */
+            const double norm = sqrt(norm2);
+            const double n[3] = {bn[0] / norm, bn[1] / norm, bn[2] / norm};
+            const double dn = n[0] * dr[0] + n[1] * dr[1] + n[2] * dr[2];
+            const double vn = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
+            if (!(dn < 0.75 * norm && vn < 0.0))
+                continue;
+            const double ratio = dn / norm > 0.25 ? dn / norm : 0.25;
+            const double f = 2.5 - 2.0 * ratio;
+            for (int d = 0; d < 3; d++)
+                shift[d] -= f * vn * n[d];
+            count++;
         }
     if (!count)
         return;
