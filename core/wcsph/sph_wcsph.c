@@ -411,7 +411,10 @@ fluid_within(const int D, const sph_cells *g, const sph_particles *P, const unsi
  * leaves rho0. A wall particle with no fluid within its own support takes part in no pair
  * (wall-wall pairs are skipped; without bodies, nothing else pairs with it), so its density is
  * not sought: rho0 (the third layer under still water, each layer of a dry wall). The fluid
- * evolves the same, bit for bit. */
+ * evolves the same, bit for bit.
+ * TODO(issue 23): at 30 over the depth on Test 2 the water that first runs up the box's face is
+ * in tension at P3 for 25 ms, which puts its first impact 26 ms late (README, mDBC); DualSPHysics'
+ * mDBC2 switches off a wall particle whose ghost node is dry, where this clamps to rho0. */
 static inline __attribute__((always_inline)) void
 mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *wet, long i)
 {
