@@ -355,14 +355,28 @@ static double gravity(const sph_config *cfg, sph_particles *P, long n)
     return amax2;
 }
 
-/* The walls' scans around a point p in cell c (mdbc_one, nopen_one): the particle range of the
- * column of 3 cells at offset (a, b) across, [*jb, *je); 0 when the column holds none of what
- * map marks, or (3D) lies out of reach2 across, else 1 with the range cut in z to the reach
- * (sph_cells_cut_column, its margins: only points beyond the reach go). */
+/* The reach of a walls' scan (mdbc_one's and fluid_within's: the support; nopen_one's: 1.25 dx),
+ * squared, and the margin across of the 3D cut to it (sph_cells_cut_margins: only points beyond
+ * the reach go). The same for every particle of a pass: found once, by the pass. */
+typedef struct wall_cut {
+    double reach2, lat;
+} wall_cut;
+
+static wall_cut wall_cut_of(const sph_cells *g, double reach)
+{
+    wall_cut k;
+    sph_cells_cut_margins(g, reach, &reach, &k.lat);
+    k.reach2 = reach * reach;
+    return k;
+}
+
+/* The walls' scans around a point p in cell c (columns_near): the particle range of the column of
+ * 3 cells at offset (a, b) across, [*jb, *je); 0 when the column holds none of what map marks, or
+ * (3D) lies out of the reach across, else 1 with the range cut in z to the reach
+ * (sph_cells_cut_column). */
 static inline __attribute__((always_inline)) int
 column_near(const int D, const sph_cells *g, const double *z, const unsigned char *map,
-            const double *p, const int *c, int a, int b, double reach2, double lat, long *jb,
-            long *je)
+            const double *p, const int *c, int a, int b, const wall_cut *k, long *jb, long *je)
 {
     const long cell = sph_cells_index(g, c[0] + a, c[1] + b, c[2]);
     if (!(map[cell - 1] | map[cell] | map[cell + 1]))
@@ -370,30 +384,30 @@ column_near(const int D, const sph_cells *g, const double *z, const unsigned cha
     *jb = g->start[cell - 1];
     *je = g->start[cell + 2];
     return D == 2 || sph_cells_cut_column(g->x0, g->y0, 1.0 / g->inv_size, z, p, c[0] + a, c[1] + b,
-                                          reach2, lat, jb, je);
+                                          k->reach2, k->lat, jb, je);
 }
 
 /* The columns of 3 cells around point p in cell c that hold what map marks (column_near, in its
  * order: a, then b), as particle ranges [jb[k], je[k]); returns their count (at most 9). */
 static inline __attribute__((always_inline)) int
 columns_near(const int D, const sph_cells *g, const double *z, const unsigned char *map,
-             const double *p, const int *c, double reach2, double lat, long *jb, long *je)
+             const double *p, const int *c, const wall_cut *k, long *jb, long *je)
 {
     int n = 0;
     for (int a = -1; a <= 1; a++)
         for (int b = (D == 3 ? -1 : 0); b <= (D == 3 ? 1 : 0); b++)
-            n += column_near(D, g, z, map, p, c, a, b, reach2, lat, &jb[n], &je[n]);
+            n += column_near(D, g, z, map, p, c, a, b, k, &jb[n], &je[n]);
     return n;
 }
 
 /* Whether a fluid particle lies within support2 of point p in cell c (wet: the cells that hold
- * fluid; reach2, lat: the 3D cut of the columns, as column_near). */
+ * fluid; k: the cut of the columns to the support). */
 static inline __attribute__((always_inline)) int
 fluid_within(const int D, const sph_cells *g, const sph_particles *P, const unsigned char *wet,
-             const double *p, const int *c, double support2, double reach2, double lat)
+             const double *p, const int *c, double support2, const wall_cut *k)
 {
     long jb[9], je[9];
-    const int nc = columns_near(D, g, P->z, wet, p, c, reach2, lat, jb, je);
+    const int nc = columns_near(D, g, P->z, wet, p, c, k, jb, je);
     for (int k = 0; k < nc; k++)
         for (long j = jb[k]; j < je[k]; j++) {
             if (P->type[j] != SPH_FLUID)
@@ -415,22 +429,19 @@ fluid_within(const int D, const sph_cells *g, const sph_particles *P, const unsi
  * TODO(issue 23): at 30 over the depth on Test 2 the water that first runs up the box's face is
  * in tension at P3 for 25 ms, which puts its first impact 26 ms late (README, mDBC); DualSPHysics'
  * mDBC2 switches off a wall particle whose ghost node is dry, where this clamps to rho0. */
-static inline __attribute__((always_inline)) void
-mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *wet, long i)
+static inline __attribute__((always_inline)) void mdbc_one(const int D, const sph_sim *s,
+                                                           sph_particles *P,
+                                                           const unsigned char *wet,
+                                                           const wall_cut *k, long i)
 {
     if (P->type[i] != SPH_BOUNDARY)
         return;
     const sph_cells *g = &s->cells;
     const double x[3] = {P->x[i], P->y[i], D == 3 ? P->z[i] : 0.0};
     const double support2 = s->kernel.support * s->kernel.support, m = s->mass;
-    /* 3D: each column cut to the fluid within reach of the point, in z and across (as the pair
-     * loop, strip_generic, with its margins: only points beyond the support go) */
-    double reach, lat;
-    sph_cells_cut_margins(g, s->kernel.support, &reach, &lat);
-    const double reach2 = reach * reach;
     int c[3];
     if (s->bodies.n == 0 && sph_cells_locate(D, g, x, c) &&
-        !fluid_within(D, g, P, wet, x, c, support2, reach2, lat)) {
+        !fluid_within(D, g, P, wet, x, c, support2, k)) {
         SPH_SET(P->mixed, P, rho, i, s->cfg.rho0);
         return;
     }
@@ -441,7 +452,7 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
         sph_mdbc_sum sum;
         memset(&sum, 0, sizeof sum);
         long jb[9], je[9]; /* (most of a tank's walls are dry: their columns hold no fluid) */
-        const int nc = columns_near(D, g, P->z, wet, gx, c, reach2, lat, jb, je);
+        const int nc = columns_near(D, g, P->z, wet, gx, c, k, jb, je);
         for (int k = 0; k < nc; k++)
             for (long j = jb[k]; j < je[k]; j++) {
                 if (P->type[j] != SPH_FLUID)
@@ -472,11 +483,12 @@ mdbc_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *w
  * the pair loop reads it. */
 /* clang-format off */
 #define SPH_WALL_LOOP(NAME, D)                                                                     \
-    static void NAME##D(const sph_sim *s, sph_particles *P, const unsigned char *map, long n)      \
+    static void NAME##D(const sph_sim *s, sph_particles *P, const unsigned char *map,             \
+                        wall_cut k, long n)                                                        \
     {                                                                                              \
         _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)")         \
         for (long i = 0; i < n; i++)                                                               \
-            NAME##_one(D, s, P, map, i);                                                           \
+            NAME##_one(D, s, P, map, &k, i);                                                       \
     }
 /* clang-format on */
 SPH_WALL_LOOP(mdbc, 2)
@@ -488,8 +500,10 @@ SPH_WALL_LOOP(mdbc, 3)
  * velocity that approaches the wall, reversed in part the closer it is: v -= f (v.n) n, f = 2.5 -
  * 2 max(d_n / |g - x_b|, 1/4) (1 at three quarters of the way, 2 at a quarter), averaged over the
  * wall particles that act. The walls are fixed. walls[c]: 1 when cell c holds wall particles. */
-static inline __attribute__((always_inline)) void
-nopen_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *walls, long i)
+static inline __attribute__((always_inline)) void nopen_one(const int D, const sph_sim *s,
+                                                            sph_particles *P,
+                                                            const unsigned char *walls,
+                                                            const wall_cut *k, long i)
 {
     if (P->type[i] != SPH_FLUID)
         return;
@@ -503,11 +517,8 @@ nopen_one(const int D, const sph_sim *s, sph_particles *P, const unsigned char *
     double v[3] = {SPH_GET(M, P, vx, i), SPH_GET(M, P, vy, i), D == 3 ? SPH_GET(M, P, vz, i) : 0.0};
     double shift[3] = {0.0, 0.0, 0.0};
     int count = 0;
-    double reach, lat;
-    sph_cells_cut_margins(g, 1.25 * dx, &reach, &lat);
-    const double reach2 = reach * reach;
     long jb[9], je[9];
-    const int nc = columns_near(D, g, P->z, walls, x, c, reach2, lat, jb, je);
+    const int nc = columns_near(D, g, P->z, walls, x, c, k, jb, je);
     for (int k = 0; k < nc; k++)
         for (long j = jb[k]; j < je[k]; j++) {
             if (P->type[j] != SPH_BOUNDARY)
@@ -550,10 +561,11 @@ int sph_wcsph_no_penetration(sph_sim *s)
     const unsigned char *walls = sph_cells_walls(&s->cells, &s->P);
     if (!walls)
         return -1;
+    const wall_cut k = wall_cut_of(&s->cells, 1.25 * s->cfg.dx); /* nopen_one's reach */
     if (s->cfg.dim == 3)
-        nopen3(s, &s->P, walls, s->nactive);
+        nopen3(s, &s->P, walls, k, s->nactive);
     else
-        nopen2(s, &s->P, walls, s->nactive);
+        nopen2(s, &s->P, walls, k, s->nactive);
     return 0;
 }
 
@@ -623,10 +635,11 @@ static int forces(sph_sim *s, int gather)
         const unsigned char *wet = sph_cells_wet(&s->cells, P);
         if (!wet)
             return -1;
+        const wall_cut k = wall_cut_of(&s->cells, s->kernel.support);
         if (cfg->dim == 3)
-            mdbc3(s, P, wet, s->nactive);
+            mdbc3(s, P, wet, k, s->nactive);
         else
-            mdbc2(s, P, wet, s->nactive);
+            mdbc2(s, P, wet, k, s->nactive);
     }
     sph_wcsph_consts kc;
     sph_wcsph_consts_of(s, &kc);
