@@ -140,20 +140,41 @@ int sph_particles_reserve(sph_particles *P, long cap)
 /* Threads of sph_particles_remove's partition at most. */
 #define SPH_REMOVE_THREADS 64
 
-/* *a = old[perm]: gathered into *scratch (n free elements of the same type), which then takes
- * the field's place: permute_doubles through the scratch array, permute_floats (mixed
- * precision) through the force loop's p / rho^2 (see sph_particles_permute). */
+/* The most fields one permutation moves (sph_particles_permute's doubles). */
+#define SPH_PERMUTE_FIELDS 17
+
+/* Each field *a[f] (those not NULL, nf at most SPH_PERMUTE_FIELDS) = old[perm], all in one
+ * parallel region: the first field gathered into *scratch (n free elements of the same type),
+ * each next one into the array the field before it left, and *scratch ends as the last one's
+ * old array; so one spare array serves them all. Each loop's barrier keeps a thread from
+ * writing an array another still reads. permute_doubles goes through the scratch array,
+ * permute_floats (mixed precision) through the force loop's p / rho^2 (see
+ * sph_particles_permute). The static split: each thread writes the same range in every field. */
 /* clang-format off */
 #define SPH_PERMUTE_FN(name, T)                                                                    \
-    static void name(T **a, T **scratch, const int *perm, long n)                                  \
+    static void name(T **a[], size_t nf, T **scratch, const int *perm, long n)                     \
     {                                                                                              \
-        const T *src = *a;                                                                         \
-        T *dst = *scratch;                                                                         \
-        _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)")         \
-        for (long i = 0; i < n; i++)                                                               \
-            dst[i] = src[perm[i]];                                                                 \
-        *scratch = *a;                                                                             \
-        *a = dst;                                                                                  \
+        T *src[SPH_PERMUTE_FIELDS], *dst[SPH_PERMUTE_FIELDS], *buf = *scratch;                     \
+        T **to[SPH_PERMUTE_FIELDS];                                                                \
+        int k = 0;                                                                                 \
+        for (size_t f = 0; f < nf; f++)                                                            \
+            if (*a[f]) {                                                                           \
+                to[k] = a[f];                                                                      \
+                src[k] = *a[f];                                                                    \
+                dst[k] = buf;                                                                      \
+                buf = src[k++];                                                                    \
+            }                                                                                      \
+        _Pragma("omp parallel if (n >= SPH_OMP_MIN)")                                              \
+        for (int f = 0; f < k; f++) {                                                              \
+            const T *restrict from = src[f];                                                       \
+            T *restrict into = dst[f];                                                             \
+            _Pragma("omp for schedule(static)")                                                    \
+            for (long i = 0; i < n; i++)                                                           \
+                into[i] = from[perm[i]];                                                           \
+        }                                                                                          \
+        for (int f = 0; f < k; f++)                                                                \
+            *to[f] = dst[f];                                                                       \
+        *scratch = buf;                                                                            \
     }
 /* clang-format on */
 SPH_PERMUTE_FN(permute_doubles, double)
@@ -166,16 +187,12 @@ void sph_particles_permute(sph_particles *P, const int *perm)
      * the latest evaluation too: the next one's stresses come from them) */
     double **d[] = {&P->x,   &P->y,   &P->vx, &P->vy, &P->rho, &P->ax0, &P->ay0, &P->drho0, &P->gxx,
                     &P->gxy, &P->gyy, &P->z,  &P->vz, &P->az0, &P->gzz, &P->gxz, &P->gyz};
-    for (size_t f = 0; f < sizeof d / sizeof d[0]; f++)
-        if (*d[f])
-            permute_doubles(d[f], &P->scratch, perm, n);
+    permute_doubles(d, sizeof d / sizeof d[0], &P->scratch, perm, n);
     /* mixed precision's float fields swap places with p / rho^2, which holds nothing between
      * two force evaluations (their prepare computes it, their pair loop alone reads it) */
     float **fl[] = {&P->f32.vx,  &P->f32.vy,    &P->f32.rho, &P->f32.ax0,
                     &P->f32.ay0, &P->f32.drho0, &P->f32.vz,  &P->f32.az0};
-    for (size_t f = 0; f < sizeof fl / sizeof fl[0]; f++)
-        if (*fl[f])
-            permute_floats(fl[f], &P->f32.pr, perm, n);
+    permute_floats(fl, sizeof fl / sizeof fl[0], &P->f32.pr, perm, n);
     /* the 1- and 4-byte fields go through the scratch buffer too (it holds n doubles); read
      * through restrict locals, since a char store may alias anything, P included */
     unsigned char *restrict t = (unsigned char *)P->scratch;
@@ -242,13 +259,9 @@ long sph_particles_remove(sph_particles *P, unsigned char type, int *perm)
         return n;
     sph_particles_permute(P, perm);
     double **r[] = {&P->ax, &P->ay, &P->drho, &P->az};
-    for (size_t f = 0; f < sizeof r / sizeof r[0]; f++)
-        if (*r[f])
-            permute_doubles(r[f], &P->scratch, perm, n);
+    permute_doubles(r, sizeof r / sizeof r[0], &P->scratch, perm, n);
     float **rf[] = {&P->f32.ax, &P->f32.ay, &P->f32.drho, &P->f32.az};
-    for (size_t f = 0; f < sizeof rf / sizeof rf[0]; f++)
-        if (*rf[f])
-            permute_floats(rf[f], &P->f32.pr, perm, n);
+    permute_floats(rf, sizeof rf / sizeof rf[0], &P->f32.pr, perm, n);
     P->n = kept;
     return kept;
 }
