@@ -187,11 +187,13 @@ void sph_particles_permute(sph_particles *P, const int *perm)
      * the latest evaluation too: the next one's stresses come from them) */
     double **d[] = {&P->x,   &P->y,   &P->vx, &P->vy, &P->rho, &P->ax0, &P->ay0, &P->drho0, &P->gxx,
                     &P->gxy, &P->gyy, &P->z,  &P->vz, &P->az0, &P->gzz, &P->gxz, &P->gyz};
+    _Static_assert(sizeof d / sizeof d[0] <= SPH_PERMUTE_FIELDS, "SPH_PERMUTE_FIELDS too small");
     permute_doubles(d, sizeof d / sizeof d[0], &P->scratch, perm, n);
     /* mixed precision's float fields swap places with p / rho^2, which holds nothing between
      * two force evaluations (their prepare computes it, their pair loop alone reads it) */
     float **fl[] = {&P->f32.vx,  &P->f32.vy,    &P->f32.rho, &P->f32.ax0,
                     &P->f32.ay0, &P->f32.drho0, &P->f32.vz,  &P->f32.az0};
+    _Static_assert(sizeof fl / sizeof fl[0] <= SPH_PERMUTE_FIELDS, "SPH_PERMUTE_FIELDS too small");
     permute_floats(fl, sizeof fl / sizeof fl[0], &P->f32.pr, perm, n);
     /* the 1- and 4-byte fields go through the scratch buffer too (it holds n doubles); read
      * through restrict locals, since a char store may alias anything, P included */
