@@ -376,7 +376,7 @@ static wall_cut wall_cut_of(const sph_cells *g, double reach)
  * (sph_cells_cut_column). */
 static inline __attribute__((always_inline)) int
 column_near(const int D, const sph_cells *g, const double *z, const unsigned char *map,
-            const double *p, const int *c, int a, int b, const wall_cut *k, long *jb, long *je)
+            const double *p, const int *c, int a, int b, const wall_cut *cut, long *jb, long *je)
 {
     const long cell = sph_cells_index(g, c[0] + a, c[1] + b, c[2]);
     if (!(map[cell - 1] | map[cell] | map[cell + 1]))
@@ -384,30 +384,30 @@ column_near(const int D, const sph_cells *g, const double *z, const unsigned cha
     *jb = g->start[cell - 1];
     *je = g->start[cell + 2];
     return D == 2 || sph_cells_cut_column(g->x0, g->y0, 1.0 / g->inv_size, z, p, c[0] + a, c[1] + b,
-                                          k->reach2, k->lat, jb, je);
+                                          cut->reach2, cut->lat, jb, je);
 }
 
 /* The columns of 3 cells around point p in cell c that hold what map marks (column_near, in its
  * order: a, then b), as particle ranges [jb[k], je[k]); returns their count (at most 9). */
 static inline __attribute__((always_inline)) int
 columns_near(const int D, const sph_cells *g, const double *z, const unsigned char *map,
-             const double *p, const int *c, const wall_cut *k, long *jb, long *je)
+             const double *p, const int *c, const wall_cut *cut, long *jb, long *je)
 {
     int n = 0;
     for (int a = -1; a <= 1; a++)
         for (int b = (D == 3 ? -1 : 0); b <= (D == 3 ? 1 : 0); b++)
-            n += column_near(D, g, z, map, p, c, a, b, k, &jb[n], &je[n]);
+            n += column_near(D, g, z, map, p, c, a, b, cut, &jb[n], &je[n]);
     return n;
 }
 
 /* Whether a fluid particle lies within support2 of point p in cell c (wet: the cells that hold
- * fluid; k: the cut of the columns to the support). */
+ * fluid; cut: the columns' cut to the support). */
 static inline __attribute__((always_inline)) int
 fluid_within(const int D, const sph_cells *g, const sph_particles *P, const unsigned char *wet,
-             const double *p, const int *c, double support2, const wall_cut *k)
+             const double *p, const int *c, double support2, const wall_cut *cut)
 {
     long jb[9], je[9];
-    const int nc = columns_near(D, g, P->z, wet, p, c, k, jb, je);
+    const int nc = columns_near(D, g, P->z, wet, p, c, cut, jb, je);
     for (int k = 0; k < nc; k++)
         for (long j = jb[k]; j < je[k]; j++) {
             if (P->type[j] != SPH_FLUID)
@@ -432,7 +432,7 @@ fluid_within(const int D, const sph_cells *g, const sph_particles *P, const unsi
 static inline __attribute__((always_inline)) void mdbc_one(const int D, const sph_sim *s,
                                                            sph_particles *P,
                                                            const unsigned char *wet,
-                                                           const wall_cut *k, long i)
+                                                           const wall_cut *cut, long i)
 {
     if (P->type[i] != SPH_BOUNDARY)
         return;
@@ -441,7 +441,7 @@ static inline __attribute__((always_inline)) void mdbc_one(const int D, const sp
     const double support2 = s->kernel.support * s->kernel.support, m = s->mass;
     int c[3];
     if (s->bodies.n == 0 && sph_cells_locate(D, g, x, c) &&
-        !fluid_within(D, g, P, wet, x, c, support2, k)) {
+        !fluid_within(D, g, P, wet, x, c, support2, cut)) {
         SPH_SET(P->mixed, P, rho, i, s->cfg.rho0);
         return;
     }
@@ -452,7 +452,7 @@ static inline __attribute__((always_inline)) void mdbc_one(const int D, const sp
         sph_mdbc_sum sum;
         memset(&sum, 0, sizeof sum);
         long jb[9], je[9]; /* (most of a tank's walls are dry: their columns hold no fluid) */
-        const int nc = columns_near(D, g, P->z, wet, gx, c, k, jb, je);
+        const int nc = columns_near(D, g, P->z, wet, gx, c, cut, jb, je);
         for (int k = 0; k < nc; k++)
             for (long j = jb[k]; j < je[k]; j++) {
                 if (P->type[j] != SPH_FLUID)
@@ -484,11 +484,11 @@ static inline __attribute__((always_inline)) void mdbc_one(const int D, const sp
 /* clang-format off */
 #define SPH_WALL_LOOP(NAME, D)                                                                     \
     static void NAME##D(const sph_sim *s, sph_particles *P, const unsigned char *map,             \
-                        wall_cut k, long n)                                                        \
+                        wall_cut cut, long n)                                                      \
     {                                                                                              \
         _Pragma("omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)")         \
         for (long i = 0; i < n; i++)                                                               \
-            NAME##_one(D, s, P, map, &k, i);                                                       \
+            NAME##_one(D, s, P, map, &cut, i);                                                     \
     }
 /* clang-format on */
 SPH_WALL_LOOP(mdbc, 2)
@@ -503,7 +503,7 @@ SPH_WALL_LOOP(mdbc, 3)
 static inline __attribute__((always_inline)) void nopen_one(const int D, const sph_sim *s,
                                                             sph_particles *P,
                                                             const unsigned char *walls,
-                                                            const wall_cut *k, long i)
+                                                            const wall_cut *cut, long i)
 {
     if (P->type[i] != SPH_FLUID)
         return;
@@ -518,7 +518,7 @@ static inline __attribute__((always_inline)) void nopen_one(const int D, const s
     double shift[3] = {0.0, 0.0, 0.0};
     int count = 0;
     long jb[9], je[9];
-    const int nc = columns_near(D, g, P->z, walls, x, c, k, jb, je);
+    const int nc = columns_near(D, g, P->z, walls, x, c, cut, jb, je);
     for (int k = 0; k < nc; k++)
         for (long j = jb[k]; j < je[k]; j++) {
             if (P->type[j] != SPH_BOUNDARY)
