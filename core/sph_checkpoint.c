@@ -21,8 +21,8 @@
  * 11: obstacles; 12: pressure probes (sph_config and sph_diag); 13: sph_config.diag_interval;
  * 14: sph_config.wall_density; 15: sph_config.device; 16: a pressure probe's normal
  * (sph_pressure_spec); 17: sph_config.delta_form; 18: sph_config.precision, float arrays
- * under mixed precision */
-#define SIM_VERSION 19u /* 19: WCSPH saves no pressure array (derived from the density) */
+ * under mixed precision; 19: WCSPH saves no pressure array (derived from the density) */
+#define SIM_VERSION 20u /* 20: the geometry list (sph_config.geometry) */
 
 typedef struct {
     char magic[8];
@@ -115,6 +115,8 @@ static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
     /* a solitary wave saved before its "order" option has 0 in that slot: the first order it ran */
     if (h.cfg.initial.type == SPH_INITIAL_SOLITARY_WAVE && h.cfg.initial.param[2] == 0.0)
         h.cfg.initial.param[2] = SPH_SOL_ORDER_DEFAULT;
+    for (int k = 0; k < SPH_CONFIG_MAX_GEOMETRY; k++) /* a saved address means nothing here */
+        h.cfg.geometry[k].mesh = NULL;
     if (device >= 0) /* the state's layout is the same on every device */
         h.cfg.device = (sph_device)device;
     /* the configuration's particles are the state's: checked before they are allocated */

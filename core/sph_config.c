@@ -3,10 +3,11 @@
  *
  * Layer 0 of the set-up pipeline (DESIGN.md section 2): the configuration every layer reads. May
  * call: the kernels' and the MPS method's defaults (sph_kernel_spec_default,
- * sph_mps_config_default) only.
+ * sph_mps_config_default) and the kernels' support parameters (sph_kernel.h), libm.
  */
 #include "sph_config.h"
 
+#include <math.h>
 #include <string.h>
 
 sph_config sph_config_default(void)
@@ -51,4 +52,32 @@ double sph_config_viscosity_nu(const sph_config *c)
     if (c->visc == SPH_VISC_ARTIFICIAL)
         return c->alpha * c->h_over_dx * c->dx * c->c0 / (2.0 * (c->dim + 2));
     return c->nu;
+}
+
+double sph_config_support(const sph_config *c)
+{
+    const sph_kernel_spec *k = &c->kernel;
+    if (sph_kernel_is_mps(k->type)) /* MPS weights: the larger of the two effective radii */
+        return (c->mps.re > c->mps.re_grad ? c->mps.re : c->mps.re_grad) * c->dx;
+    double q = 2.0;
+    if (k->type == SPH_KERNEL_DOUBLE_COSINE)
+        q = k->kappa;
+    else if (k->type == SPH_KERNEL_GAUSSIAN)
+        q = k->radius;
+    return q * c->h_over_dx * c->dx;
+}
+
+double sph_config_h(const sph_config *c)
+{
+    return sph_kernel_is_mps(c->kernel.type) ? 0.5 * sph_config_support(c) : c->h_over_dx * c->dx;
+}
+
+void sph_config_pressure_point(const sph_config *c, const sph_pressure_spec *q, double x[3])
+{
+    double n2 = 0.0;
+    for (int d = 0; d < c->dim; d++)
+        n2 += q->normal[d] * q->normal[d];
+    const double f = n2 > 0.0 ? SPH_PROBE_OFFSET_H * sph_config_h(c) / sqrt(n2) : 0.0;
+    for (int d = 0; d < 3; d++)
+        x[d] = d < c->dim ? q->at[d] + f * q->normal[d] : 0.0;
 }

@@ -9,13 +9,15 @@
 #include "sph_initial_spec.h"
 #include "sph_kernel.h"
 
-#define SPH_CONFIG_MAX_BOXES  16
-#define SPH_CONFIG_MAX_BODIES 8
-#define SPH_BODY_NAME_MAX     32
-#define SPH_CONFIG_MAX_GAUGES 8
-#define SPH_GAUGE_NAME_MAX    32
-#define SPH_H_OVER_DX_MIN     0.5 /* smoothing length range, in units of dx */
-#define SPH_H_OVER_DX_MAX     4.5
+#define SPH_CONFIG_MAX_BOXES    16
+#define SPH_CONFIG_MAX_BODIES   8
+#define SPH_BODY_NAME_MAX       32
+#define SPH_CONFIG_MAX_GAUGES   8
+#define SPH_CONFIG_MAX_GEOMETRY 32
+#define SPH_GEOMETRY_FILE_MAX   128
+#define SPH_GAUGE_NAME_MAX      32
+#define SPH_H_OVER_DX_MIN       0.5 /* smoothing length range, in units of dx */
+#define SPH_H_OVER_DX_MAX       4.5
 
 /* An axis-aligned box; components beyond dim are ignored. */
 typedef struct sph_box {
@@ -78,6 +80,52 @@ enum {
 /* Shapes of rigid bodies (boundary/sph_body.h). */
 typedef enum { SPH_SHAPE_CIRCLE = 0, SPH_SHAPE_BOX } sph_shape_type;
 
+/* The kinds of a case's "geometry" items (core/scene/sph_scene.h). */
+typedef enum {
+    SPH_GEOM_BOX = 0,
+    SPH_GEOM_CYLINDER,
+    SPH_GEOM_SPHERE,
+    SPH_GEOM_POLYGON,
+    SPH_GEOM_MESH,
+    SPH_GEOM_KIND_COUNT
+} sph_geom_kind;
+
+/* What a geometry item does: fluid fills its inside; wall puts `layers` rows of wall particles
+ * inside its surface; void carves fluid out; obstacle is a wall that also carves fluid. */
+typedef enum {
+    SPH_ROLE_FLUID = 0,
+    SPH_ROLE_WALL,
+    SPH_ROLE_VOID,
+    SPH_ROLE_OBSTACLE,
+    SPH_ROLE_COUNT
+} sph_geom_role;
+
+/* x -> translate + Rz Ry Rx (scale x): scaled, rotated about x, then y, then z (degrees), moved. */
+typedef struct sph_transform {
+    double scale;        /* > 0 [-] */
+    double rotate[3];    /* about x, y, z [degrees] (2D: z only) */
+    double translate[3]; /* [m] */
+} sph_transform;
+
+struct sph_mesh;
+
+/* One item of a case's "geometry" list. */
+typedef struct sph_geometry_spec {
+    sph_geom_kind kind;
+    sph_geom_role role;
+    int layers;              /* wall, obstacle: rows of wall particles inside the surface [-] */
+    sph_transform transform; /* applied to the shape as given */
+    double min[3], max[3];   /* box: corners [m] */
+    double center[3];        /* cylinder, sphere: centre [m] (a cylinder's, half way along it) */
+    double radius;           /* cylinder, sphere [m] */
+    double length;           /* cylinder (3D): along its axis [m] */
+    int axis;                /* cylinder (3D): 0, 1, 2 for x, y, z */
+    char file[SPH_GEOMETRY_FILE_MAX]; /* mesh: the file's name as the case gives it */
+    const struct sph_mesh *mesh;      /* polygon, mesh: the surface, owned by the case that
+                                         read it; needed by sph_sim_create only (NULL in a
+                                         restored state, whose particles are saved) */
+} sph_geometry_spec;
+
 /* Where a rigid body's particles take their pressure from (boundary/sph_body_pressure.c). */
 typedef enum {
     SPH_BODY_PRESSURE_FLUID = 0, /* the fluid around them (Adami, Hu & Adams 2012) */
@@ -99,7 +147,7 @@ typedef struct sph_gauge_spec {
 /* A pressure probe: the pressure at a point (a sensor on a wall), interpolated from the fluid
  * particles within a kernel support with a Shepard correction, sampled with the diagnostics
  * (sph_diag.c); 0 where no fluid is within reach (a dry sensor). With a normal, it reads
- * SPH_PROBE_OFFSET_H smoothing lengths off the wall along it (sph_sim_pressure_point). */
+ * SPH_PROBE_OFFSET_H smoothing lengths off the wall along it (sph_config_pressure_point). */
 typedef struct sph_pressure_spec {
     char name[SPH_GAUGE_NAME_MAX]; /* its key in diag events and its series in diag.h5 */
     double at[3];                  /* the point [m] */
@@ -205,6 +253,10 @@ typedef struct sph_config {
     int nbodies;
     sph_body_spec bodies[SPH_CONFIG_MAX_BODIES];
 
+    /* the "geometry" list: shapes with roles, applied in order (core/scene/sph_scene.h) */
+    int ngeometry;
+    sph_geometry_spec geometry[SPH_CONFIG_MAX_GEOMETRY];
+
     sph_device device;       /* where the steps run: the CPU (default) or a GPU (WCSPH only) */
     sph_precision precision; /* the particles' storage: double (default) or mixed */
 } sph_config;
@@ -220,5 +272,14 @@ double sph_config_monaghan_alpha(const sph_config *c);
 /* The kinematic viscosity a config's viscous term models [m^2/s]: nu itself for the laminar and
  * Monaghan terms, alpha h c0 / (2 (d + 2)) for the artificial one (its inverse). */
 double sph_config_viscosity_nu(const sph_config *c);
+
+/* The kernel's support radius [m]: q_max h, or for MPS weights the larger effective radius. */
+double sph_config_support(const sph_config *c);
+/* The smoothing length h [m]; MPS weights have support 2h = re (sph_kernel.h). */
+double sph_config_h(const sph_config *c);
+
+/* Where pressure probe q of configuration c reads: its point, or with a normal the point moved
+ * SPH_PROBE_OFFSET_H smoothing lengths along the normal's direction into the fluid. */
+void sph_config_pressure_point(const sph_config *c, const sph_pressure_spec *q, double x[3]);
 
 #endif

@@ -175,7 +175,7 @@ void sph_diag_compute(sph_sim *s)
     d->npressure = c->npressure;
     for (int k = 0; k < c->npressure; k++) {
         double x[3];
-        sph_sim_pressure_point(c, &c->pressure[k], x);
+        sph_config_pressure_point(c, &c->pressure[k], x);
         d->pressure[k] = pressure_at(s, x);
     }
     if (s->ops->diag)

@@ -14,35 +14,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static double support_of(const sph_config *c)
-{
-    const sph_kernel_spec *k = &c->kernel;
-    if (sph_kernel_is_mps(k->type)) /* MPS weights: the larger of the two effective radii */
-        return (c->mps.re > c->mps.re_grad ? c->mps.re : c->mps.re_grad) * c->dx;
-    double q = 2.0;
-    if (k->type == SPH_KERNEL_DOUBLE_COSINE)
-        q = k->kappa;
-    else if (k->type == SPH_KERNEL_GAUSSIAN)
-        q = k->radius;
-    return q * c->h_over_dx * c->dx;
-}
-
-/* The smoothing length h; MPS weights have support 2h = re (sph_kernel.h). */
-static double smoothing_length(const sph_config *c)
-{
-    return sph_kernel_is_mps(c->kernel.type) ? 0.5 * support_of(c) : c->h_over_dx * c->dx;
-}
-
-void sph_sim_pressure_point(const sph_config *c, const sph_pressure_spec *q, double x[3])
-{
-    double n2 = 0.0;
-    for (int d = 0; d < c->dim; d++)
-        n2 += q->normal[d] * q->normal[d];
-    const double f = n2 > 0.0 ? SPH_PROBE_OFFSET_H * smoothing_length(c) / sqrt(n2) : 0.0;
-    for (int d = 0; d < 3; d++)
-        x[d] = d < c->dim ? q->at[d] + f * q->normal[d] : 0.0;
-}
-
 /* The box the cell grid covers: the domain and the tank with its walls (dynamic particles or
  * the band of ghosts, one support plus a spacing wide). */
 static void grid_bounds(const sph_config *c, double lo[3], double hi[3])
@@ -53,7 +24,7 @@ static void grid_bounds(const sph_config *c, double lo[3], double hi[3])
         hi[d] = c->domain.max[d];
         if (c->has_tank && c->boundary != SPH_BOUNDARY_NONE) {
             const double w = c->boundary == SPH_BOUNDARY_DYNAMIC ? (c->layers + 1) * c->dx
-                                                                 : support_of(c) + c->dx;
+                                                                 : sph_config_support(c) + c->dx;
             lo[d] = fmin(lo[d], c->tank.min[d] - w);
             hi[d] = fmax(hi[d], c->tank.max[d] + w);
         }
@@ -63,7 +34,7 @@ static void grid_bounds(const sph_config *c, double lo[3], double hi[3])
 /* Ghosts the walls need for the initial lattice (a ghost-wall tank; 0 otherwise). */
 static long ghosts_estimate(const sph_config *c)
 {
-    return sph_fill_ghosts_estimate(c, support_of(c));
+    return sph_fill_ghosts_estimate(c, sph_config_support(c));
 }
 
 static long nbins_of(const sph_config *c)
@@ -93,7 +64,7 @@ double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nbounda
         return 0.0;
     double lo[3], hi[3];
     grid_bounds(cfg, lo, hi);
-    const double cells = sph_cells_count(cfg->dim, lo, hi, support_of(cfg));
+    const double cells = sph_cells_count(cfg->dim, lo, hi, sph_config_support(cfg));
     const sph_method_ops *ops = sph_method_ops_for(cfg);
     const double per = ops ? (double)ops->bytes_per_particle(cfg) : 0.0;
     double span = fmax(hi[0] - lo[0], hi[1] - lo[1]);
@@ -192,7 +163,7 @@ static int gauge_check(const sph_config *c, sph_error *err)
             }
         static const char axis[] = "xyz";
         double x[3];
-        sph_sim_pressure_point(c, q, x);
+        sph_config_pressure_point(c, q, x);
         for (int d = 0; d < c->dim; d++)
             if (!(x[d] >= c->domain.min[d] && x[d] <= c->domain.max[d])) {
                 snprintf(path, sizeof path, "/diagnostics/pressure/%d/normal", k);
@@ -275,7 +246,7 @@ int sph_sim_check(const sph_config *c, sph_error *err)
         return sph_error_set(err, SPH_ERR_INVALID, "/physics/rho0", "rho0 must be positive");
     if (c->boundary == SPH_BOUNDARY_GHOST) {
         sph_wall_ghost w;
-        if (sph_wall_ghost_init(&w, c, support_of(c), err))
+        if (sph_wall_ghost_init(&w, c, sph_config_support(c), err))
             return err ? err->code : SPH_ERR_INVALID;
     }
     if (c->visc == SPH_VISC_MONAGHAN && c->method != SPH_METHOD_WCSPH)
@@ -341,7 +312,7 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
     }
     s->cfg = *cfg;
     s->ops = sph_method_ops_for(cfg);
-    s->h = smoothing_length(cfg);
+    s->h = sph_config_h(cfg);
     s->mass = cfg->rho0 * cfg->dx * cfg->dx;
     if (cfg->dim == 3)
         s->mass *= cfg->dx;

@@ -124,10 +124,6 @@ int sph_sim_has_method(sph_method m);
  * and the method's own (err->path names the case field). */
 int sph_sim_check(const sph_config *cfg, sph_error *err);
 
-/* Where pressure probe q of configuration c reads: its point, or with a normal the point moved
- * SPH_PROBE_OFFSET_H smoothing lengths along the normal's direction into the fluid. */
-void sph_sim_pressure_point(const sph_config *c, const sph_pressure_spec *q, double x[3]);
-
 /* Creates the simulation: builds the particles, the cell list and the initial forces. Fails with
  * SPH_ERR_INVALID (bad configuration, path names the case field), SPH_ERR_NOMEM ("too_large": the
  * case needs more than cfg->max_bytes, or memory ran out). */

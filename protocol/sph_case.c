@@ -655,3 +655,47 @@ json_t *sph_case_fields_json(void)
     }
     return rows;
 }
+
+void sph_case_clear(sph_case *c)
+{
+    if (!c)
+        return;
+    for (int k = 0; k < SPH_CONFIG_MAX_GEOMETRY; k++) {
+        if (c->meshes[k]) {
+            sph_mesh_free(c->meshes[k]);
+            free(c->meshes[k]);
+            c->meshes[k] = NULL;
+        }
+        c->sim.geometry[k].mesh = NULL;
+    }
+}
+
+int sph_case_file_names(const json_t *root, const char **names, int max)
+{
+    const json_t *geo = json_is_object(root) ? json_object_get(root, "geometry") : NULL;
+    if (!json_is_array(geo))
+        return 0;
+    int n = 0;
+    for (size_t k = 0; k < json_array_size(geo); k++) {
+        const json_t *f = json_object_get(json_array_get(geo, k), "mesh");
+        if (!json_is_string(f))
+            continue;
+        if (n < max)
+            names[n] = json_string_value(f);
+        n++;
+    }
+    return n;
+}
+
+int sph_case_load_meshes(sph_case *c, const char *dir, const sph_mesh_limits *lim, sph_error *err)
+{
+    (void)dir;
+    (void)lim;
+    for (int k = 0; k < c->sim.ngeometry; k++)
+        if (c->sim.geometry[k].kind == SPH_GEOM_MESH) {
+            char path[64];
+            snprintf(path, sizeof path, "/geometry/%d/mesh", k);
+            return sph_error_set(err, SPH_ERR_INVALID, path, "meshes are not read yet");
+        }
+    return 0;
+}

@@ -7,6 +7,7 @@
 #define SPH_CASE_H
 
 #include "sph_config.h"
+#include "sph_mesh.h"
 #include "sph_error.h"
 #include "sph_study.h"
 
@@ -37,6 +38,9 @@ typedef struct sph_case {
     sph_study_config study;   /* method == SPH_METHOD_KERNEL_STUDY */
     sph_config sim;           /* a particle simulation (sph_case_is_sim) */
     sph_output_config output; /* a particle simulation */
+    /* the surfaces of the geometry items (polygons, from the case; meshes, from
+     * sph_case_load_meshes), owned: sph_case_clear frees them */
+    sph_mesh *meshes[SPH_CONFIG_MAX_GEOMETRY];
 } sph_case;
 
 /* Reads a case file into a new JSON object (*root, new reference). SPH_ERR_IO if the file cannot
@@ -45,6 +49,21 @@ int sph_case_load(const char *file, json_t **root, sph_error *err);
 
 /* Validates root and fills out. root is borrowed. */
 int sph_case_from_json(const json_t *root, sph_case *out, sph_error *err);
+
+/* Frees what c owns (its surfaces) and clears the config's references to them; c may be a
+ * zeroed struct. Every sph_case_from_json needs one once c is no longer used (a case without
+ * geometry owns nothing, and then it is a no-op). */
+void sph_case_clear(sph_case *c);
+
+/* Reads the mesh files c's geometry names ("mesh": "FILE"), each relative to dir (the case
+ * file's directory; the job's files directory in sphd), within lim (NULL: the defaults), and
+ * points the config's items at them. SPH_ERR_INVALID at the item's path (/geometry/K/mesh) for a
+ * missing, unreadable, unknown-format, too large or broken file. A case with no mesh: 0. */
+int sph_case_load_meshes(sph_case *c, const char *dir, const sph_mesh_limits *lim, sph_error *err);
+
+/* The files a case (JSON, unchecked) names: each geometry item's "mesh" string, in order, into
+ * names[0 .. max) (borrowed from root). Returns how many there are (more than max possible). */
+int sph_case_file_names(const json_t *root, const char **names, int max);
 
 /* Case-file name of a method. */
 const char *sph_method_name(sph_method m);

@@ -6,7 +6,7 @@
 Reads the object files (*.o) under each OBJDIR with `nm`, links each undefined symbol to the
 object that defines it, and looks for cycles in that file-level call graph. Prints the floors
 (bottom first: each file calls only files on floors below it) and exits 0, or prints each
-circle found and exits 1. The test suite runs it over server/ and client/ (DESIGN.md section 2,
+circle found and exits 1. The test suite runs it over core/, server/ and client/ (DESIGN.md section 2,
 "the server as it grows").
 """
 import os
