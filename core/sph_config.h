@@ -256,6 +256,11 @@ typedef struct sph_config {
     /* the "geometry" list: shapes with roles, applied in order (core/scene/sph_scene.h) */
     int ngeometry;
     sph_geometry_spec geometry[SPH_CONFIG_MAX_GEOMETRY];
+    /* what the fill made of them, set by sph_sim_create (so a restored state, whose surfaces
+     * are not at hand, knows its counts and its grid's reach): filled 1 once set */
+    int geometry_filled;
+    long geometry_fluid, geometry_wall; /* particles of the geometry items' fluid and walls */
+    double geometry_lo[3], geometry_hi[3]; /* the box the geometry's particles lie in [m] */
 
     sph_device device;       /* where the steps run: the CPU (default) or a GPU (WCSPH only) */
     sph_precision precision; /* the particles' storage: double (default) or mixed */

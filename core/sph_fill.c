@@ -1,7 +1,8 @@
 /*
  * sph_fill: the particles of a case from its shapes (sph_fill.h).
  *
- * Layer 4 of the set-up pipeline. May call: sph_shapes.h, sph_body_shape.h, sph_initial.h (the
+ * Layer 4 of the set-up pipeline. May call: sph_shapes.h, sph_scene.h (a case with a geometry
+ * list: every shape, the built-in ones too, on one lattice), sph_body_shape.h, sph_initial.h (the
  * velocity), sph_lattice.h, libm. Never sph_body.c or sph_sim.c.
  */
 #include "sph_fill.h"
@@ -9,17 +10,53 @@
 #include "sph_body_shape.h"
 #include "sph_initial.h"
 #include "sph_lattice.h"
+#include "sph_scene.h"
 #include "sph_shapes.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 static int has_walls(const sph_config *c)
 {
     return c->has_tank && c->boundary == SPH_BOUNDARY_DYNAMIC;
 }
 
+int sph_fill_prepare(sph_config *c, sph_error *err)
+{
+    if (c->ngeometry == 0 || c->geometry_filled)
+        return 0;
+    sph_scene *sc = sph_scene_create(c, err);
+    if (!sc)
+        return err ? err->code : SPH_ERR_INVALID;
+    sph_scene_counts n;
+    const int rc = sph_scene_fill(sc, c, &n, NULL, NULL, err);
+    sph_scene_destroy(sc);
+    if (rc)
+        return rc;
+    c->geometry_filled = 1;
+    c->geometry_fluid = n.fluid;
+    c->geometry_wall = n.wall;
+    for (int d = 0; d < 3; d++) {
+        c->geometry_lo[d] = n.lo[d];
+        c->geometry_hi[d] = n.hi[d];
+    }
+    return 0;
+}
+
 void sph_fill_count(const sph_config *c, sph_fill_counts *n)
 {
+    if (c->ngeometry > 0) { /* the scene holds the built-in shapes too */
+        sph_config tmp;
+        const sph_config *f = c;
+        if (!c->geometry_filled) {
+            tmp = *c;
+            f = sph_fill_prepare(&tmp, NULL) == 0 ? &tmp : NULL;
+        }
+        n->fluid = f ? f->geometry_fluid : 0;
+        n->wall = f ? f->geometry_wall : 0;
+        n->body = sph_body_count(c);
+        return;
+    }
     n->fluid = 0;
     for (int b = 0; b < c->nfluid; b++)
         n->fluid += sph_shapes_fluid_points(c, &c->fluid[b], NULL);
@@ -50,8 +87,38 @@ static void settle(const sph_config *c, sph_particles *P, long i0, long i1, int 
     }
 }
 
+/* The geometry's particles (the built-in shapes among them) from its scene; 0, or -1 when the
+ * scene cannot be built or filled (a restored state's surfaces are not at hand: its particles
+ * come from the state). */
+static int fill_scene(const sph_config *c, sph_particles *P)
+{
+    sph_scene *sc = sph_scene_create(c, NULL);
+    if (!sc)
+        return -1;
+    const long n = c->geometry_fluid + c->geometry_wall;
+    double *rho = malloc((size_t)(n > 0 ? n : 1) * sizeof *rho);
+    double *const at[3] = {P->x, P->y, P->z};
+    sph_scene_counts cnt;
+    int rc = rho ? sph_scene_fill(sc, c, &cnt, at, rho, NULL) : -1;
+    sph_scene_destroy(sc);
+    if (rc == 0 && (cnt.fluid != c->geometry_fluid || cnt.wall != c->geometry_wall))
+        rc = -1;
+    if (rc == 0) {
+        settle(c, P, 0, cnt.fluid, SPH_FLUID, 0.0);
+        settle(c, P, cnt.fluid, n, SPH_BOUNDARY, 0.0);
+        for (long i = 0; i < n; i++)
+            SPH_SET(P->mixed, P, rho, i, rho[i]);
+    }
+    free(rho);
+    return rc;
+}
+
 void sph_fill(const sph_config *c, sph_particles *P)
 {
+    if (c->ngeometry > 0) {
+        fill_scene(c, P);
+        return;
+    }
     long i = 0;
     for (int b = 0; b < c->nfluid; b++) {
         double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};

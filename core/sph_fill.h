@@ -15,6 +15,7 @@
 #define SPH_FILL_H
 
 #include "sph_config.h"
+#include "sph_error.h"
 #include "sph_particles.h"
 
 /* The particles of a case, counted without being built. */
@@ -23,6 +24,12 @@ typedef struct sph_fill_counts {
     long wall;  /* boundary particles of the tank's walls (dynamic walls; 0 with ghosts) */
     long body;  /* particles of the rigid bodies */
 } sph_fill_counts;
+
+/* A case with a geometry list (sph_scene.h): builds its scene and counts its particles into
+ * c's geometry_* fields (sph_config.h), which sph_fill_count and the cell grid then read. A
+ * no-op without geometry or once done. SPH_ERR_INVALID (an item's path) when the scene cannot be
+ * built, SPH_ERR_NOMEM when its lattice is too large. */
+int sph_fill_prepare(sph_config *c, sph_error *err);
 
 /* Counts the particles of c. */
 void sph_fill_count(const sph_config *c, sph_fill_counts *n);

@@ -28,6 +28,10 @@ static void grid_bounds(const sph_config *c, double lo[3], double hi[3])
             lo[d] = fmin(lo[d], c->tank.min[d] - w);
             hi[d] = fmax(hi[d], c->tank.max[d] + w);
         }
+        if (c->geometry_filled && c->geometry_lo[d] <= c->geometry_hi[d]) {
+            lo[d] = fmin(lo[d], c->geometry_lo[d] - c->dx);
+            hi[d] = fmax(hi[d], c->geometry_hi[d] + c->dx);
+        }
     }
 }
 
@@ -47,8 +51,15 @@ static long nbins_of(const sph_config *c)
     return (long)ceil(span / c->dx) + 2;
 }
 
-double sph_sim_estimate_bytes(const sph_config *cfg, long *nfluid, long *nboundary)
+double sph_sim_estimate_bytes(const sph_config *cfg_in, long *nfluid, long *nboundary)
 {
+    sph_config prepared;
+    const sph_config *cfg = cfg_in;
+    if (cfg_in->ngeometry > 0 && !cfg_in->geometry_filled && cfg_in->dx > 0.0) {
+        prepared = *cfg_in; /* the geometry's counts and reach, found once */
+        if (sph_fill_prepare(&prepared, NULL) == 0)
+            cfg = &prepared;
+    }
     long nf = 0, nb = 0;
     if (cfg->dx > 0.0) {
         sph_fill_counts n;
@@ -181,6 +192,47 @@ static int gauge_check(const sph_config *c, sph_error *err)
 /* The checks of a configuration that the table of the case parser cannot make, and the ones it
  * makes repeated for direct API users and for a configuration read back from a saved state
  * (sph_checkpoint.c), which no parser has seen. */
+/* The geometry list's rules that need no surface (the scene checks the rest when it is built). */
+static int geometry_check(const sph_config *c, sph_error *err)
+{
+    if (c->ngeometry < 0 || c->ngeometry > SPH_CONFIG_MAX_GEOMETRY)
+        return sph_error_set(err, SPH_ERR_INVALID, "/geometry", "at most %d geometry items",
+                             SPH_CONFIG_MAX_GEOMETRY);
+    if (c->ngeometry == 0)
+        return 0;
+    if (c->method != SPH_METHOD_WCSPH)
+        return sph_error_set(err, SPH_ERR_INVALID, "/geometry",
+                             "a geometry list needs the wcsph method in this version");
+    if (c->boundary == SPH_BOUNDARY_GHOST)
+        return sph_error_set(err, SPH_ERR_INVALID, "/geometry",
+                             "a geometry list needs \"dynamic\" walls (or none): ghost walls "
+                             "mirror a tank's box only");
+    for (int k = 0; k < c->ngeometry; k++) {
+        const sph_geometry_spec *g = &c->geometry[k];
+        char path[64];
+        snprintf(path, sizeof path, "/geometry/%d", k);
+        if ((unsigned)g->kind >= SPH_GEOM_KIND_COUNT || (unsigned)g->role >= SPH_ROLE_COUNT)
+            return sph_error_set(err, SPH_ERR_INVALID, path, "unknown kind or role");
+        const int walls = g->role == SPH_ROLE_WALL || g->role == SPH_ROLE_OBSTACLE;
+        if (walls && c->boundary != SPH_BOUNDARY_DYNAMIC)
+            return sph_error_set(err, SPH_ERR_INVALID, path,
+                                 "a wall or obstacle is made of dynamic wall particles: it needs "
+                                 "boundary.type \"dynamic\"");
+        if (walls && c->wall_density == SPH_WALL_MDBC)
+            return sph_error_set(err, SPH_ERR_INVALID, path,
+                                 "mDBC walls from the geometry list are not in this version (their "
+                                 "mirror points need the surface's normals): use "
+                                 "boundary.density \"continuity\"");
+        if (walls && !(g->layers >= 1))
+            return sph_error_set(err, SPH_ERR_INVALID, path, "a wall needs at least one layer");
+        if (!(g->transform.scale > 0.0) || !isfinite(g->transform.scale)) {
+            snprintf(path, sizeof path, "/geometry/%d/transform/scale", k);
+            return sph_error_set(err, SPH_ERR_INVALID, path, "the scale must be positive");
+        }
+    }
+    return 0;
+}
+
 int sph_sim_check(const sph_config *c, sph_error *err)
 {
     const sph_method_ops *ops = sph_method_ops_for(c);
@@ -273,6 +325,8 @@ int sph_sim_check(const sph_config *c, sph_error *err)
                 return sph_error_set(err, SPH_ERR_INVALID, path,
                                      "an obstacle's max must exceed its min");
             }
+    if (geometry_check(c, err))
+        return SPH_ERR_INVALID;
     if (c->dim == 3 && c->nbodies > 0)
         return sph_error_set(err, SPH_ERR_INVALID, "/bodies",
                              "rigid bodies are available in 2D only in this version (dim = 2)");
@@ -283,10 +337,18 @@ int sph_sim_check(const sph_config *c, sph_error *err)
     return ops->check(c, err);
 }
 
-sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
+sph_sim *sph_sim_create(const sph_config *cfg_in, sph_error *err)
 {
-    if (sph_sim_check(cfg, err))
+    if (sph_sim_check(cfg_in, err))
         return NULL;
+    sph_config prepared;
+    const sph_config *cfg = cfg_in;
+    if (cfg_in->ngeometry > 0 && !cfg_in->geometry_filled) {
+        prepared = *cfg_in; /* the scene's counts and reach, in the sim's copy of the config */
+        if (sph_fill_prepare(&prepared, err))
+            return NULL;
+        cfg = &prepared;
+    }
     long nf, nb;
     const double bytes = sph_sim_estimate_bytes(cfg, &nf, &nb);
     if (nf <= 0 && cfg->nbodies == 0) {
@@ -349,6 +411,8 @@ sph_sim *sph_sim_create(const sph_config *cfg, sph_error *err)
         return NULL;
     }
     sph_fill(cfg, &s->P); /* fluid and walls, then the bodies' particles from their state */
+    for (int k = 0; k < SPH_CONFIG_MAX_GEOMETRY; k++) /* the case's surfaces, not the sim's */
+        s->cfg.geometry[k].mesh = NULL;
     sph_bodies_fill(&s->bodies, cfg, &s->P);
     s->vmax = sph_bodies_vmax(&s->bodies); /* the first step respects the bodies' speed */
     if (s->ops->init(s, err)) {

@@ -589,7 +589,14 @@ int sph_case_from_json(const json_t *root, sph_case *out, sph_error *err)
                                      "method '%s' is not available in this version of sphd yet",
                                      method);
             out->method = (sph_method)m;
-            return sph_case_parse_sim(root, out->method, &out->sim, &out->output, err);
+            const int rc = sph_case_parse_sim(root, out->method, &out->sim, &out->output, err);
+            /* the polygons the geometry list made are the case's to free */
+            for (int k = 0; k < out->sim.ngeometry; k++)
+                if (out->sim.geometry[k].kind == SPH_GEOM_POLYGON)
+                    out->meshes[k] = (sph_mesh *)out->sim.geometry[k].mesh;
+            if (rc)
+                sph_case_clear(out);
+            return rc;
         }
     return sph_error_set(err, SPH_ERR_INVALID, "/method",
                          "unknown method '%s' (known: kernel_study, wcsph, mps)", method);

@@ -8,6 +8,7 @@
 #include "sph_json.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define CFG(member)                                                                                \
@@ -165,6 +166,249 @@ static int parse_tank(const json_t *v, const char *path, sph_config *c, sph_outp
     return 0;
 }
 
+/* ---- "geometry": shapes with roles (core/scene/sph_scene.h) ---- */
+
+static const char *const role_names[] = {"fluid", "wall", "void", "obstacle", NULL};
+static const char *const axis_names[] = {"x", "y", "z", NULL};
+
+static int name_index(const char *s, const char *const *names)
+{
+    for (int k = 0; s && names[k]; k++)
+        if (strcmp(s, names[k]) == 0)
+            return k;
+    return -1;
+}
+
+/* "transform": {"scale", "rotate", "translate"} of item g. */
+static int parse_transform(const json_t *v, const char *base, int dim, sph_geometry_spec *g,
+                           sph_error *err)
+{
+    static const char *const keys[] = {"scale", "rotate", "translate", NULL};
+    if (!json_is_object(v))
+        return sph_error_set(
+            err, SPH_ERR_INVALID, base,
+            "'transform' must be an object {\"scale\", \"rotate\", \"translate\"}");
+    if (sph_json_check_keys(v, base, keys, err) ||
+        sph_json_number(v, base, "scale", 0, 0.0, 1e6, &g->transform.scale, err) ||
+        sph_json_vector(v, base, "translate", 0, dim, g->transform.translate, err))
+        return SPH_ERR_INVALID;
+    char path[SPH_ERROR_PATH_MAX];
+    snprintf(path, sizeof path, "%s/scale", base);
+    if (!(g->transform.scale > 0.0))
+        return sph_error_set(err, SPH_ERR_INVALID, path,
+                             "the scale must be positive (a zero scale has no inside)");
+    const json_t *r = json_object_get(v, "rotate");
+    if (r && dim == 2) { /* about z: a number, degrees */
+        snprintf(path, sizeof path, "%s/rotate", base);
+        if (!json_is_number(r))
+            return sph_error_set(err, SPH_ERR_INVALID, path,
+                                 "in 2D 'rotate' is one angle about z [degrees], not %s",
+                                 sph_json_type_name(r));
+        g->transform.rotate[2] = json_number_value(r);
+    } else if (r && sph_json_vector(v, base, "rotate", 1, 3, g->transform.rotate, err)) {
+        return SPH_ERR_INVALID;
+    }
+    for (int d = 0; d < 3; d++)
+        if (!isfinite(g->transform.rotate[d]) || fabs(g->transform.rotate[d]) > 36000.0) {
+            snprintf(path, sizeof path, "%s/rotate", base);
+            return sph_error_set(err, SPH_ERR_INVALID, path, "angles are degrees, within 36000");
+        }
+    return 0;
+}
+
+/* A primitive's object at base: box {"min", "max"}, sphere {"center", "radius"}, cylinder
+ * {"center", "radius"} in 2D (a circle), {"center", "radius", "axis", "length"} in 3D. */
+static int parse_primitive(const json_t *v, const char *base, int dim, sph_geometry_spec *g,
+                           sph_error *err)
+{
+    if (g->kind == SPH_GEOM_BOX) {
+        sph_box b;
+        if (sph_case_parse_box(v, base, dim, &b, err))
+            return SPH_ERR_INVALID;
+        memcpy(g->min, b.min, sizeof b.min);
+        memcpy(g->max, b.max, sizeof b.max);
+        return 0;
+    }
+    static const char *const sphere_keys[] = {"center", "radius", NULL};
+    static const char *const cyl_keys[] = {"center", "radius", "axis", "length", NULL};
+    const int cyl3 = g->kind == SPH_GEOM_CYLINDER && dim == 3;
+    if (!json_is_object(v))
+        return sph_error_set(err, SPH_ERR_INVALID, base, "must be an object, not %s",
+                             sph_json_type_name(v));
+    if (sph_json_check_keys(v, base, cyl3 ? cyl_keys : sphere_keys, err) ||
+        sph_json_vector(v, base, "center", 1, dim, g->center, err) ||
+        sph_json_number(v, base, "radius", 1, 0.0, 1e6, &g->radius, err))
+        return SPH_ERR_INVALID;
+    char path[SPH_ERROR_PATH_MAX];
+    snprintf(path, sizeof path, "%s/radius", base);
+    if (!(g->radius > 0.0))
+        return sph_error_set(err, SPH_ERR_INVALID, path, "the radius must be positive");
+    if (cyl3) {
+        const char *axis = "z";
+        if (sph_json_string(v, base, "axis", 0, &axis, err) ||
+            sph_json_number(v, base, "length", 1, 0.0, 1e6, &g->length, err))
+            return SPH_ERR_INVALID;
+        g->axis = name_index(axis, axis_names);
+        snprintf(path, sizeof path, "%s/axis", base);
+        if (g->axis < 0)
+            return sph_error_set(err, SPH_ERR_INVALID, path, "the axis is \"x\", \"y\" or \"z\"");
+        snprintf(path, sizeof path, "%s/length", base);
+        if (!(g->length > 0.0))
+            return sph_error_set(err, SPH_ERR_INVALID, path, "the length must be positive");
+    }
+    return 0;
+}
+
+/* "polygon": [[x, y], ...] (2D), into a new surface at g->mesh. */
+static int parse_polygon(const json_t *v, const char *base, int dim, sph_geometry_spec *g,
+                         sph_error *err)
+{
+    if (dim != 2)
+        return sph_error_set(err, SPH_ERR_INVALID, base,
+                             "a polygon is a 2D shape: in 3D give a mesh (\"mesh\": FILE)");
+    const size_t n = json_array_size(v);
+    if (!json_is_array(v) || n < 3 || n > (size_t)SPH_POLYGON_MAX_POINTS)
+        return sph_error_set(err, SPH_ERR_INVALID, base,
+                             "'polygon' must be an array of 3 to %ld points [x, y]",
+                             SPH_POLYGON_MAX_POINTS);
+    double *xy = malloc(2 * n * sizeof *xy);
+    sph_mesh *m = calloc(1, sizeof *m);
+    if (!xy || !m) {
+        free(xy);
+        free(m);
+        return sph_error_set(err, SPH_ERR_NOMEM, base, "out of memory");
+    }
+    for (size_t i = 0; i < n; i++) {
+        const json_t *p = json_array_get(v, i);
+        const json_t *px = json_array_get(p, 0), *py = json_array_get(p, 1);
+        if (!json_is_array(p) || json_array_size(p) != 2 || !json_is_number(px) ||
+            !json_is_number(py)) {
+            char path[SPH_ERROR_PATH_MAX];
+            snprintf(path, sizeof path, "%s/%zu", base, i);
+            free(xy);
+            free(m);
+            return sph_error_set(err, SPH_ERR_INVALID, path, "a point is [x, y], two numbers");
+        }
+        xy[2 * i] = json_number_value(px);
+        xy[2 * i + 1] = json_number_value(py);
+    }
+    const int rc = sph_mesh_polygon(m, xy, (long)n, base, err);
+    free(xy);
+    if (rc) {
+        free(m);
+        return rc;
+    }
+    g->mesh = m;
+    return 0;
+}
+
+/* Frees the polygons that parse_geometry made (a mesh item's surface is not read there). */
+static void free_polygons(sph_config *c)
+{
+    for (int k = 0; k < c->ngeometry; k++)
+        if (c->geometry[k].kind == SPH_GEOM_POLYGON && c->geometry[k].mesh) {
+            sph_mesh *m = (sph_mesh *)c->geometry[k].mesh;
+            sph_mesh_free(m);
+            free(m);
+            c->geometry[k].mesh = NULL;
+        }
+}
+
+static int parse_geometry_item(const json_t *v, const char *base, sph_config *c,
+                               sph_geometry_spec *g, sph_error *err)
+{
+    static const char *const keys[] = {"mesh", "polygon", "box",       "cylinder", "sphere",
+                                       "role", "layers",  "transform", NULL};
+    static const char *const kinds[] = {"box", "cylinder", "sphere", "polygon", "mesh", NULL};
+    char path[SPH_ERROR_PATH_MAX];
+    if (!json_is_object(v))
+        return sph_error_set(err, SPH_ERR_INVALID, base,
+                             "a geometry item must be an object, not %s", sph_json_type_name(v));
+    if (sph_json_check_keys(v, base, keys, err))
+        return SPH_ERR_INVALID;
+    int kind = -1;
+    for (int k = 0; kinds[k]; k++)
+        if (json_object_get(v, kinds[k])) {
+            if (kind >= 0)
+                return sph_error_set(err, SPH_ERR_INVALID, base,
+                                     "an item is one shape: both \"%s\" and \"%s\" given",
+                                     kinds[kind], kinds[k]);
+            kind = k;
+        }
+    if (kind < 0)
+        return sph_error_set(err, SPH_ERR_INVALID, base,
+                             "an item needs a shape: \"mesh\", \"polygon\", \"box\", \"cylinder\" "
+                             "or \"sphere\"");
+    memset(g, 0, sizeof *g);
+    g->kind = (sph_geom_kind)kind;
+    g->transform.scale = 1.0;
+    g->layers = c->layers > 0 ? c->layers : 3;
+    const char *role = NULL;
+    long layers = g->layers;
+    if (sph_json_string(v, base, "role", 1, &role, err) ||
+        sph_json_integer(v, base, "layers", 0, 1, 64, &layers, err))
+        return SPH_ERR_INVALID;
+    g->layers = (int)layers;
+    const int r = name_index(role, role_names);
+    snprintf(path, sizeof path, "%.39s/role", base);
+    if (r < 0)
+        return sph_error_set(
+            err, SPH_ERR_INVALID, path,
+            "the role is \"fluid\", \"wall\", \"void\" or \"obstacle\", not \"%s\"", role);
+    g->role = (sph_geom_role)r;
+    const json_t *t = json_object_get(v, "transform");
+    char sub[64];
+    snprintf(sub, sizeof sub, "%.39s/transform", base);
+    if (t && parse_transform(t, sub, c->dim, g, err))
+        return SPH_ERR_INVALID;
+    const json_t *shape = json_object_get(v, kinds[kind]);
+    snprintf(sub, sizeof sub, "%.39s/%s", base, kinds[kind]);
+    memcpy(path, sub, sizeof sub);
+    switch (g->kind) {
+    case SPH_GEOM_MESH: {
+        const char *f = json_string_value(shape);
+        const size_t len = f ? strlen(f) : 0;
+        if (!f || len == 0 || len >= sizeof g->file || f[0] == '/' || strstr(f, "..") ||
+            strchr(f, '\\'))
+            return sph_error_set(err, SPH_ERR_INVALID, path,
+                                 "'mesh' is a file name relative to the case file (1-%zu "
+                                 "characters, no leading '/', no \"..\")",
+                                 sizeof g->file - 1);
+        memcpy(g->file, f, len + 1);
+        if (c->dim != 3)
+            return sph_error_set(err, SPH_ERR_INVALID, path,
+                                 "a mesh is a 3D surface: in 2D give a \"polygon\"");
+        return 0;
+    }
+    case SPH_GEOM_POLYGON:
+        return parse_polygon(shape, sub, c->dim, g, err);
+    default:
+        return parse_primitive(shape, sub, c->dim, g, err);
+    }
+}
+
+/* "geometry": 0 to SPH_CONFIG_MAX_GEOMETRY items, in order. */
+static int parse_geometry(const json_t *v, const char *path, sph_config *c, sph_output_config *o,
+                          sph_error *err)
+{
+    (void)o;
+    if (!json_is_array(v) || json_array_size(v) > SPH_CONFIG_MAX_GEOMETRY)
+        return sph_error_set(err, SPH_ERR_INVALID, path,
+                             "'geometry' must be an array of 0 to %d items",
+                             SPH_CONFIG_MAX_GEOMETRY);
+    c->ngeometry = 0;
+    for (size_t i = 0; i < json_array_size(v); i++) {
+        char base[40];
+        snprintf(base, sizeof base, "/geometry/%zu", i);
+        if (parse_geometry_item(json_array_get(v, i), base, c, &c->geometry[i], err)) {
+            free_polygons(c);
+            return SPH_ERR_INVALID;
+        }
+        c->ngeometry = (int)i + 1;
+    }
+    return 0;
+}
+
 /* The case-file name of a viscous term (physics.viscosity.type). */
 const char *sph_visc_name(int visc)
 {
@@ -216,10 +460,10 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/domain", .type = SPH_CF_BOX, .methods = SPH_CF_SIMS, .required = SPH_CF_SIMS,
      .lo = -1e6, .hi = 1e6, CFG(domain),
      .doc = "{\"min\": [x, y], \"max\": [x, y]} [m]: fluid that leaves it is lost"},
-    {.path = "/fluid", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS, .required = SPH_CF_SIMS,
+    {.path = "/fluid", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS, .required = SPH_CF_MPS,
      .parse = parse_fluid, CFG(fluid),
      .doc = "array of 1-16 {\"box\": {\"min\", \"max\"}}: blocks of water at spacing dx, inside "
-            "the domain"},
+            "the domain (wcsph: or fluid items of the geometry list)"},
     {.path = "/boundary", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS, .required = SPH_CF_MPS,
      .doc = "the walls; absent: none (mps needs a tank of dynamic walls)"},
     {.path = "/boundary/type", .type = SPH_CF_ENUM, .methods = SPH_CF_SIMS,
@@ -251,6 +495,12 @@ const sph_case_field sph_case_fields[] = {
      .when = "/boundary/type=dynamic", .parse = parse_obstacles, CFG(obstacles),
      .doc = "array of 0-16 {\"box\": {\"min\", \"max\"}}: fixed obstacles, each box filled "
             "with wall particles at spacing dx, inside the domain; fluid leaves their place"},
+    {.path = "/geometry", .type = SPH_CF_CUSTOM, .methods = SPH_CF_WCSPH,
+     .parse = parse_geometry, CFG(geometry),
+     .doc = "array of 0-32 shapes with roles, applied in order (section 1.6): each one of "
+            "\"mesh\" (a file: STL, OBJ, PLY; 3D), \"polygon\" ([[x, y], ...]; 2D), \"box\", "
+            "\"cylinder\", \"sphere\"; \"role\": fluid, wall, void or obstacle; \"layers\"; "
+            "\"transform\": {\"scale\", \"rotate\", \"translate\"}"},
     {.path = "/bodies", .type = SPH_CF_ARRAY, .methods = SPH_CF_WCSPH, .lo = 0,
      .hi = SPH_CONFIG_MAX_BODIES, CFG(bodies), .stride = sizeof(sph_body_spec),
      .count_off = offsetof(sph_config, nbodies),

@@ -8,6 +8,8 @@ pkgs=(gcc make cmake pkg-config libzmq3-dev libjansson-dev libhdf5-dev zlib1g-de
       python3-meshio python3-matplotlib paraview python3-paraview xvfb xauth)
 # the second compiler of CI, its OpenMP and libFuzzer
 pkgs+=(clang libomp-dev libclang-rt-dev)
+# meshes: read with assimp, queried over Embree's hierarchies (core/scene, protocol/sph_mesh_io.c)
+pkgs+=(libassimp-dev libembree-dev)
 # the CURVE test captures loopback traffic
 pkgs+=(tcpdump)
 # the Slurm executor's test runs a one-node Slurm cluster (scripts/slurm-local.sh)

@@ -1,0 +1,356 @@
+/*
+ * The geometry list (core/scene/sph_scene.h) through the case parser and the sim: fills against
+ * exact volumes (a sphere of radius 20 dx, a torus given as a mesh, the same scaled and rotated;
+ * tolerance 1% of the mass, the issue's bound), a 720-sided polygon against the circle it is
+ * inscribed in (the same lattice points), the wall shells, and the bad inputs that must be
+ * refused at their paths.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+
+#include <cmocka.h>
+
+#include "sph_case.h"
+#include "sph_fill.h"
+#include "sph_mesh.h"
+#include "sph_scene.h"
+#include "sph_sim.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+
+/* A case from JSON text; NULL (err filled) when the parser refuses it. */
+static sph_case *parse(const char *text, sph_error *err)
+{
+    json_error_t je;
+    json_t *root = json_loads(text, 0, &je);
+    if (!root)
+        fail_msg("bad JSON in the test at %d: %s", je.line, je.text);
+    sph_case *c = calloc(1, sizeof *c);
+    assert_non_null(c);
+    const int rc = sph_case_from_json(root, c, err);
+    json_decref(root);
+    if (rc) {
+        free(c);
+        return NULL;
+    }
+    return c;
+}
+
+static void drop(sph_case *c)
+{
+    sph_case_clear(c);
+    free(c);
+}
+
+/* A 3D case around the geometry items GEO (JSON array text), dx 0.01 m, no tank. */
+static char *case3d(const char *geo, const char *extra)
+{
+    static char buf[8192];
+    snprintf(
+        buf, sizeof buf,
+        "{\"name\": \"g\", \"method\": \"wcsph\", \"dim\": 3, \"dx\": 0.01,"
+        " \"domain\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]},"
+        " \"physics\": {\"gravity\": [0, 0, -9.81], \"eos\": {\"type\": \"linear\", \"c0\": 20}},"
+        " \"time\": {\"end\": 0.1}, \"geometry\": %s %s}",
+        geo, extra ? extra : "");
+    return buf;
+}
+
+static long fluid_count(sph_config *c)
+{
+    sph_error err;
+    if (sph_fill_prepare(c, &err))
+        fail_msg("%s: %s", err.path, err.message);
+    return c->geometry_fluid;
+}
+
+/* The fluid's mass against rho0 times the exact volume: within 1%. */
+static void check_volume(const char *geo, double volume)
+{
+    sph_error err;
+    sph_case *c = parse(case3d(geo, NULL), &err);
+    if (!c)
+        fail_msg("%s: %s", err.path, err.message);
+    const long n = fluid_count(&c->sim);
+    const double filled = (double)n * 1e-6;
+    const double rel = filled / volume - 1.0;
+    printf("  %ld particles: %.6g m^3 against %.6g (%+.3f%%)\n", n, filled, volume, 100.0 * rel);
+    assert_true(fabs(rel) < 0.01);
+    drop(c);
+}
+
+static void sphere_volume(void **state)
+{
+    (void)state;
+    const double r = 0.2; /* 20 dx */
+    check_volume("[{\"sphere\": {\"center\": [0.013, -0.007, 0.021], \"radius\": 0.2}, "
+                 "\"role\": \"fluid\"}]",
+                 4.0 / 3.0 * PI * r * r * r);
+    /* radius 10 dx, scaled by 2 and turned: the same sphere */
+    check_volume("[{\"sphere\": {\"center\": [0, 0, 0], \"radius\": 0.1}, \"role\": \"fluid\","
+                 " \"transform\": {\"scale\": 2, \"rotate\": [30, 45, 60], "
+                 "\"translate\": [0.013, -0.007, 0.021]}}]",
+                 4.0 / 3.0 * PI * r * r * r);
+    /* a cylinder along x, turned about z by 90 degrees */
+    check_volume("[{\"cylinder\": {\"center\": [0, 0, 0], \"radius\": 0.2, \"axis\": \"x\", "
+                 "\"length\": 0.6}, \"role\": \"fluid\", \"transform\": {\"rotate\": [0, 0, 90]}}]",
+                 PI * 0.2 * 0.2 * 0.6);
+}
+
+/* A torus (R, r) as a closed, outward mesh of nu x nv quads, each two triangles. */
+static sph_mesh torus(double R, double r, int nu, int nv)
+{
+    sph_mesh m = {.dim = 3, .nv = (long)nu * nv, .nt = 2L * nu * nv};
+    m.v = malloc(3 * (size_t)m.nv * sizeof *m.v);
+    m.t = malloc(3 * (size_t)m.nt * sizeof *m.t);
+    assert_non_null(m.v);
+    assert_non_null(m.t);
+    for (int i = 0; i < nu; i++)
+        for (int j = 0; j < nv; j++) {
+            const double u = 2 * PI * i / nu, v = 2 * PI * j / nv;
+            double *p = m.v + 3 * (size_t)(i * nv + j);
+            p[0] = (R + r * cos(v)) * cos(u);
+            p[1] = (R + r * cos(v)) * sin(u);
+            p[2] = r * sin(v);
+        }
+    long f = 0;
+    for (int i = 0; i < nu; i++)
+        for (int j = 0; j < nv; j++) {
+            const int a = i * nv + j, b = ((i + 1) % nu) * nv + j;
+            const int c = ((i + 1) % nu) * nv + (j + 1) % nv, d = i * nv + (j + 1) % nv;
+            int *t = m.t + 3 * (size_t)f;
+            t[0] = a, t[1] = b, t[2] = c, t[3] = a, t[4] = c, t[5] = d;
+            f += 2;
+        }
+    if (sph_mesh_volume(&m) < 0)
+        sph_mesh_flip(&m);
+    return m;
+}
+
+static void torus_mesh_volume(void **state)
+{
+    (void)state;
+    sph_error err;
+    const char *geo[2] = {
+        "[{\"mesh\": \"torus.stl\", \"role\": \"fluid\"}]",
+        "[{\"mesh\": \"torus.stl\", \"role\": \"fluid\", \"transform\": {\"scale\": 1.5, "
+        "\"rotate\": [20, 70, 10], \"translate\": [0.05, 0, 0.02]}}]"};
+    const double scale[2] = {1.0, 1.5};
+    for (int k = 0; k < 2; k++) {
+        sph_case *c = parse(case3d(geo[k], NULL), &err);
+        if (!c)
+            fail_msg("%s: %s", err.path, err.message);
+        /* R 0.3, r 0.1: 10 dx across the tube; 512 x 128 facets */
+        sph_mesh *m = calloc(1, sizeof *m);
+        *m = torus(0.3, 0.1, 512, 128);
+        const double exact = 2 * PI * PI * 0.3 * 0.1 * 0.1 * pow(scale[k], 3);
+        const double faceted = sph_mesh_volume(m) * pow(scale[k], 3);
+        c->meshes[0] = m;
+        c->sim.geometry[0].mesh = m;
+        const long n = fluid_count(&c->sim);
+        const double rel = (double)n * 1e-6 / exact - 1.0;
+        printf("  torus x%.1f: %ld particles, %+.3f%% of the exact volume (the facets' %+.3f%%)\n",
+               scale[k], n, 100 * rel, 100 * (faceted / exact - 1));
+        assert_true(fabs(rel) < 0.01);
+        /* a point in the hole is outside, one in the tube inside */
+        sph_scene *sc = sph_scene_create(&c->sim, &err);
+        assert_non_null(sc);
+        const int k0 = sph_scene_count(sc) - 1;
+        double hole[3] = {0.05 * k, 0.0, 0.02 * k};
+        assert_int_equal(sph_scene_inside(sc, k0, hole), 0);
+        if (k == 0) {
+            const double tube[3] = {0.3, 0.0, 0.0};
+            assert_int_equal(sph_scene_inside(sc, k0, tube), 1);
+            assert_true(fabs(sph_scene_distance(sc, k0, tube, NULL) - 0.1) < 0.002);
+        }
+        sph_scene_destroy(sc);
+        drop(c);
+    }
+}
+
+/* A 720-sided polygon inscribed in a circle fills the circle's lattice points, and the fill's
+ * particles through the sim are those the scene counted. */
+static void polygon_against_circle(void **state)
+{
+    (void)state;
+    char geo[40000];
+    int at = snprintf(geo, sizeof geo, "[{\"role\": \"fluid\", \"polygon\": [");
+    for (int k = 0; k < 720; k++)
+        at += snprintf(geo + at, sizeof geo - (size_t)at, "%s[%.17g, %.17g]", k ? ", " : "",
+                       0.5 + 0.2 * cos(2 * PI * k / 720), 0.3 + 0.2 * sin(2 * PI * k / 720));
+    snprintf(geo + at, sizeof geo - (size_t)at, "]}]");
+    char text[48000];
+    const char *fmt = "{\"name\": \"g\", \"method\": \"wcsph\", \"dim\": 2, \"dx\": 0.005,"
+                      " \"domain\": {\"min\": [0, 0], \"max\": [1, 0.6]}, \"physics\": {\"eos\": "
+                      "{\"type\": \"linear\", \"c0\": 20}},"
+                      " \"time\": {\"end\": 0.1}, \"geometry\": %s}";
+    snprintf(text, sizeof text, fmt, geo);
+    sph_error err;
+    sph_case *p = parse(text, &err);
+    if (!p)
+        fail_msg("%s: %s", err.path, err.message);
+    snprintf(text, sizeof text, fmt,
+             "[{\"role\": \"fluid\", \"sphere\": {\"center\": [0.5, 0.3], \"radius\": 0.2}}]");
+    sph_case *c = parse(text, &err);
+    assert_non_null(c);
+    sph_sim *a = sph_sim_create(&p->sim, &err);
+    if (!a)
+        fail_msg("%s: %s", err.path, err.message);
+    sph_sim *b = sph_sim_create(&c->sim, &err);
+    assert_non_null(b);
+    sph_particle_view va, vb;
+    sph_sim_particles(a, &va);
+    sph_sim_particles(b, &vb);
+    printf("  720-gon: %ld particles, circle: %ld (area %.0f dx^2)\n", va.n, vb.n,
+           PI * 0.04 / 25e-6);
+    assert_int_equal(va.n, vb.n);
+    for (long i = 0; i < va.n; i++) {
+        assert_true(va.pos[0][i] == vb.pos[0][i]);
+        assert_true(va.pos[1][i] == vb.pos[1][i]);
+        assert_true(va.rho[i] == vb.rho[i]);
+    }
+    /* the hydrostatic density under the circle's top: the deepest particle's */
+    sph_sim_destroy(a);
+    sph_sim_destroy(b);
+    drop(p);
+    drop(c);
+}
+
+/* A wall's shell: `layers` rows inside the surface; an obstacle's inside past it is empty and
+ * carves the fluid before it; a wall's is not. */
+static void wall_shells(void **state)
+{
+    (void)state;
+    sph_error err;
+    const char *base = "{\"name\": \"g\", \"method\": \"wcsph\", \"dim\": 2, \"dx\": 0.01,"
+                       " \"domain\": {\"min\": [0, 0], \"max\": [1, 1]}, \"time\": {\"end\": 0.1},"
+                       " \"physics\": {\"eos\": {\"type\": \"linear\", \"c0\": 20}}, \"boundary\": "
+                       "{\"type\": \"dynamic\"}, \"geometry\": [%s]}";
+    char text[2048];
+    /* a 40 x 40 box with a 2-layer shell: 40^2 - 36^2 wall points */
+    snprintf(
+        text, sizeof text, base,
+        "{\"box\": {\"min\": [0.3, 0.3], \"max\": [0.7, 0.7]}, \"role\": \"wall\", \"layers\": 2}");
+    sph_case *c = parse(text, &err);
+    assert_non_null(c);
+    assert_int_equal(sph_fill_prepare(&c->sim, &err), 0);
+    assert_int_equal(c->sim.geometry_wall, 40 * 40 - 36 * 36);
+    drop(c);
+    /* fluid, then an obstacle in it: the fluid less the obstacle's whole box */
+    snprintf(text, sizeof text, base,
+             "{\"box\": {\"min\": [0, 0], \"max\": [1, 0.5]}, \"role\": \"fluid\"},"
+             "{\"box\": {\"min\": [0.3, 0.1], \"max\": [0.7, 0.3]}, \"role\": \"obstacle\", "
+             "\"layers\": 2}");
+    c = parse(text, &err);
+    assert_non_null(c);
+    assert_int_equal(sph_fill_prepare(&c->sim, &err), 0);
+    assert_int_equal(c->sim.geometry_fluid, 100 * 50 - 40 * 20);
+    assert_int_equal(c->sim.geometry_wall, 40 * 20 - 36 * 16);
+    drop(c);
+    /* the same as a wall: its inside past the shell stays fluid */
+    snprintf(text, sizeof text, base,
+             "{\"box\": {\"min\": [0, 0], \"max\": [1, 0.5]}, \"role\": \"fluid\"},"
+             "{\"box\": {\"min\": [0.3, 0.1], \"max\": [0.7, 0.3]}, \"role\": \"wall\", "
+             "\"layers\": 2}");
+    c = parse(text, &err);
+    assert_non_null(c);
+    assert_int_equal(sph_fill_prepare(&c->sim, &err), 0);
+    assert_int_equal(c->sim.geometry_fluid, 100 * 50 - (40 * 20 - 36 * 16));
+    drop(c);
+    /* a void carves; a fluid after it fills again */
+    snprintf(text, sizeof text, base,
+             "{\"box\": {\"min\": [0, 0], \"max\": [1, 0.5]}, \"role\": \"fluid\"},"
+             "{\"sphere\": {\"center\": [0.5, 0.25], \"radius\": 0.2}, \"role\": \"void\"},"
+             "{\"box\": {\"min\": [0, 0], \"max\": [1, 0.1]}, \"role\": \"fluid\"}");
+    c = parse(text, &err);
+    assert_non_null(c);
+    assert_int_equal(sph_fill_prepare(&c->sim, &err), 0);
+    const long carved = 100 * 50 - c->sim.geometry_fluid;
+    printf("  the void carved %ld points (a circle of %.0f, less its part under y = 0.1)\n", carved,
+           PI * 400);
+    assert_true(carved > 0 && carved < (long)(PI * 400));
+    drop(c);
+}
+
+/* Each bad item is refused at its path. */
+static void bad_items(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *geo, *path, *words;
+    } bad[] = {
+        {"[{\"sphere\": {\"center\": [0, 0, 0], \"radius\": 0.1}, \"role\": \"fluid\", "
+         "\"transform\": {\"scale\": 0}}]",
+         "/geometry/0/transform/scale", "positive"},
+        {"[{\"sphere\": {\"center\": [0, 0, 0], \"radius\": 0.1}, \"role\": \"water\"}]",
+         "/geometry/0/role", "fluid"},
+        {"[{\"sphere\": {\"center\": [0, 0, 0], \"radius\": 0.1}, \"box\": {\"min\": [0, 0, 0], "
+         "\"max\": [1, 1, 1]}, \"role\": \"fluid\"}]",
+         "/geometry/0", "one shape"},
+        {"[{\"role\": \"fluid\"}]", "/geometry/0", "needs a shape"},
+        {"[{\"polygon\": [[0, 0], [1, 0], [0, 1]], \"role\": \"fluid\"}]", "/geometry/0/polygon",
+         "2D"},
+        {"[{\"mesh\": \"../x.stl\", \"role\": \"fluid\"}]", "/geometry/0/mesh", ".."},
+        {"[{\"sphere\": {\"center\": [0, 0, 0], \"radius\": -1}, \"role\": \"fluid\"}]",
+         "/geometry/0/sphere/radius", ""},
+        {"[{\"sphere\": {\"center\": [0, 0, 0], \"radius\": 0.1}, \"role\": \"fluid\", "
+         "\"colour\": 1}]",
+         "/geometry/0/colour", ""},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
+        sph_error err;
+        sph_case *c = parse(case3d(bad[k].geo, NULL), &err);
+        if (c)
+            fail_msg("accepted: %s", bad[k].geo);
+        printf("  %s: %s\n", err.path, err.message);
+        assert_string_equal(err.path, bad[k].path);
+        assert_non_null(strstr(err.message, bad[k].words));
+    }
+    /* a fluid shape that reaches out of the domain: at the scene, when it is built */
+    sph_error err;
+    sph_case *c = parse(case3d("[{\"sphere\": {\"center\": [0.95, 0, 0], \"radius\": 0.1}, "
+                               "\"role\": \"fluid\"}]",
+                               NULL),
+                        &err);
+    assert_non_null(c);
+    assert_null(sph_sim_create(&c->sim, &err));
+    assert_string_equal(err.path, "/geometry/0");
+    assert_non_null(strstr(err.message, "domain"));
+    drop(c);
+    /* ghost walls mirror a tank's box only */
+    c = parse(case3d("[{\"sphere\": {\"center\": [0, 0, 0], \"radius\": 0.1}, \"role\": "
+                     "\"fluid\"}]",
+                     ", \"boundary\": {\"type\": \"ghost\", \"tank\": {\"min\": [-1, -1, -1], "
+                     "\"max\": [1, 1, 1]}}"),
+              &err);
+    assert_null(c);
+    assert_string_equal(err.path, "/geometry");
+    assert_non_null(strstr(err.message, "dynamic"));
+    /* a 2D polygon with 2 points */
+    c = parse("{\"name\": \"g\", \"method\": \"wcsph\", \"dim\": 2, \"dx\": 0.01, \"domain\": "
+              "{\"min\": [0, 0], \"max\": [1, 1]}, \"physics\": {\"eos\": {\"type\": \"linear\", "
+              "\"c0\": 20}}, \"time\": {\"end\": 0.1}, "
+              "\"geometry\": "
+              "[{\"polygon\": [[0, 0], [1, 0]], \"role\": \"fluid\"}]}",
+              &err);
+    assert_null(c);
+    assert_string_equal(err.path, "/geometry/0/polygon");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(sphere_volume),
+        cmocka_unit_test(torus_mesh_volume),
+        cmocka_unit_test(polygon_against_circle),
+        cmocka_unit_test(wall_shells),
+        cmocka_unit_test(bad_items),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
