@@ -16,7 +16,8 @@ static const char usage_text[] =
     "Commands:\n"
     "  ping                          is sphd there? (round-trip time)\n"
     "  submit FILE [--id ID] [--set PATH=VALUE]... [--resources JSON] [--no-start] [--watch]\n"
-    "                                send a case file; prints the job id\n"
+    "                                send a case file (and the files it names); prints\n"
+    "                                the job id\n"
     "  sweep FILE --set PATH=V1,V2,... [--set ...]... [--id SWEEP] [--resources JSON]\n"
     "        [--no-start] [--watch]  one job per combination of values; prints the jobs\n"
     "                                (--watch: then follows them all; exit 0 all done)\n"
@@ -258,8 +259,12 @@ static int cmd_submit(sphctl *c, int argc, char **argv)
         "                    sbatch, retries)\n"
         "  --no-start        create the job paused; 'sphctl start JOB' or 'step' runs it\n"
         "  --watch           then follow it to its end like 'sphctl watch'\n"
+        "The files the case names (a geometry item's \"mesh\": a path relative to FILE's\n"
+        "directory, no '..', at most 127 bytes) are read and sent with it (at most 8 MiB\n"
+        "each and in all); sphd keeps them with the job ('sphctl results JOB': files/NAME).\n"
         "Exit codes: 0 submitted (with --watch: the job is done), 1 refused or the job failed,\n"
-        "65 invalid case, 66 no such file, 69 sphd unreachable, 75 busy.\n";
+        "65 invalid case (or a file name it gives that is not usable, or a file too large),\n"
+        "66 no such file (the case, or a file it names), 69 sphd unreachable, 75 busy.\n";
     static const struct option lo[] = {{"id", required_argument, NULL, 'i'},
                                        {"set", required_argument, NULL, 's'},
                                        {"no-start", no_argument, NULL, 'n'},
@@ -286,6 +291,12 @@ static int cmd_submit(sphctl *c, int argc, char **argv)
         return err.code == SPH_ERR_IO ? SPHCTL_EX_NOINPUT : SPHCTL_EX_DATAERR;
     }
     json_t *args = json_pack("{s:o}", "case", root);
+    if ((rc = sphctl_attach_files(c, root, so.sets, NULL, args)) != 0) {
+        json_decref(args);
+        json_decref(so.sets);
+        json_decref(so.resources);
+        return rc;
+    }
     if (so.id)
         json_object_set_new(args, "job", json_string(so.id));
     if (so.nostart)

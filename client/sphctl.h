@@ -6,6 +6,7 @@
  *   sphctl_curve.c                  settings, CURVE keys, socket monitor, keygen
  *   sphctl_conn.c                   the control connection: requests
  *   sphctl_watch.c, sphctl_files.c  the event stream and watch; the result-file commands
+ *   sphctl_inputs.c                 the files a case names, sent with it
  *   sphctl_sweep_watch.c            following a sweep's jobs (sweep --watch)
  *   sphctl_sweep.c                  parameter sweeps
  *   sphctl.c                        main and the command table
@@ -213,6 +214,17 @@ int sphctl_sweep_watch(sphctl *c, sphctl_stream *st, const json_t *reply, const 
 int sphctl_cmd_results(sphctl *c, int argc, char **argv);
 int sphctl_cmd_fetch(sphctl *c, int argc, char **argv);
 int sphctl_cmd_export(sphctl *c, int argc, char **argv);
+
+/* ---- sphctl_inputs.c: the files a case names, sent with submit and sweep ---- */
+
+/* Adds args.files ({NAME: {"data": BASE64, "crc32": HEX, "size": N}}, PROTOCOL.md 3.11) for
+ * the files that the case root names (each geometry item's "mesh"; root with sets applied, and
+ * for a sweep in any combination of vary's values; both may be NULL), read relative to the
+ * directory of c->file. Nothing is added when it names none. Returns 0, or the exit code (said
+ * on stderr): 65 a name that is not a relative path below that directory or a file over the
+ * limits, 66 a file that cannot be read. */
+int sphctl_attach_files(sphctl *c, const json_t *root, const json_t *sets, const json_t *vary,
+                        json_t *args);
 
 /* ---- sphctl_sweep.c: sweep, one job per combination of values (argv[0] is "sweep") ---- */
 

@@ -4,6 +4,7 @@
 
 #include "sph_base64.h"
 #include "sph_fileio.h"
+#include "sph_inputs.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -78,7 +79,8 @@ int sphctl_cmd_results(sphctl *c, int argc, char **argv)
     static const char help[] =
         "Usage: sphctl results JOB [--checksums]\n"
         "Lists the job's files in sphd's state directory: name, size, kind (case, record,\n"
-        "journal, result, diagnostics, snapshot, xdmf, checkpoint).\n"
+        "journal, result, diagnostics, snapshot, xdmf, checkpoint, and input: files/NAME,\n"
+        "a file the case names, sent with it).\n"
         "  --checksums   also the CRC-32 of each file (sphd reads every file: slower)\n"
         "Exit codes: 0 ok, 1 no such job, 69 sphd unreachable.\n";
     static const struct option lo[] = {
@@ -119,11 +121,21 @@ typedef struct fetch_file {
  * the file's CRC-32, *bytes its size) or an exit code (the partial file removed). */
 static int fetch_one(sphctl *c, const fetch_file *f, char crc_out[16], long long *bytes)
 {
-    char tmp[4096], final[4096];
-    if (snprintf(final, sizeof final, "%s/%s", f->dir, f->name) >= (int)sizeof final ||
-        snprintf(tmp, sizeof tmp, "%s/.%s.part.%ld", f->dir, f->name, (long)getpid()) >=
-            (int)sizeof tmp)
+    char tmp[4096], final[4096], sub[4096];
+    /* files/NAME (the inputs, PROTOCOL.md 3.11) go to DIR/files/..., made as needed */
+    const char *base = strrchr(f->name, '/');
+    const int sublen =
+        base ? snprintf(sub, sizeof sub, "%s/%.*s", f->dir, (int)(base - f->name), f->name)
+             : snprintf(sub, sizeof sub, "%s", f->dir);
+    if (sublen < 0 || sublen >= (int)sizeof sub)
         return local_error(c, SPHCTL_EX_CANTCREAT, "io", "path too long: %s%s", f->dir, "");
+    base = base ? base + 1 : f->name;
+    if (snprintf(final, sizeof final, "%s/%s", f->dir, f->name) >= (int)sizeof final ||
+        snprintf(tmp, sizeof tmp, "%s/.%s.part.%ld", sub, base, (long)getpid()) >= (int)sizeof tmp)
+        return local_error(c, SPHCTL_EX_CANTCREAT, "io", "path too long: %s%s", f->dir, "");
+    if (sph_mkdirs(sub, 0755) != 0)
+        return local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot create %s: %s", sub,
+                           strerror(errno));
     int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd < 0)
         return local_error(c, SPHCTL_EX_CANTCREAT, "io", "cannot create %s: %s", tmp,
@@ -241,6 +253,14 @@ int sphctl_cmd_fetch(sphctl *c, int argc, char **argv)
         const char *kind = json_string_value(json_object_get(f, "kind"));
         if (!name || (!with_ckpt && kind && strcmp(kind, "checkpoint") == 0))
             continue;
+        /* a plain name, or files/NAME below files/: nothing lands outside DEST/JOB */
+        const int input = strncmp(name, SPH_INPUT_DIR "/", sizeof SPH_INPUT_DIR) == 0;
+        if (name[0] == '.' || sph_input_name_check(name, NULL, 0) != 0 ||
+            (!input && strchr(name, '/'))) {
+            rc = local_error(c, SPHCTL_EX_FAILED, "bad_name",
+                             "sphd listed '%s', which is not a name to write under %s", name, dir);
+            break;
+        }
         fetch_file ff = {.job = job,
                          .name = name,
                          .dir = dir,

@@ -139,7 +139,8 @@ int sphctl_cmd_sweep(sphctl *c, int argc, char **argv)
         "line;\nwith --watch the same once every job has ended, with each one's final status.\n"
         "Exit codes: 0 created (with --watch: every job done), 1 refused (with --watch: or a\n"
         "job failed or was stopped: the worst job's 'watch' code), 64 usage, 65 invalid case,\n"
-        "66 no such file, 69 sphd unreachable, 75 busy, 77 not authorised.\n";
+        "66 no such file, 69 sphd unreachable, 75 busy, 77 not authorised.\n"
+        "The files the case names are sent with it, as submit's (every combination's).\n";
     static const struct option lo[] = {{"id", required_argument, NULL, 'i'},
                                        {"set", required_argument, NULL, 's'},
                                        {"no-start", no_argument, NULL, 'n'},
@@ -169,6 +170,13 @@ int sphctl_cmd_sweep(sphctl *c, int argc, char **argv)
         return rc;
     }
     json_t *args = json_pack("{s:o, s:o}", "case", root, "vary", so.vary);
+    if ((rc = sphctl_attach_files(c, root, so.sets, so.vary, args)) != 0) {
+        json_decref(args);
+        json_decref(so.sets);
+        json_decref(so.paths);
+        json_decref(so.resources);
+        return rc;
+    }
     if (json_array_size(so.sets))
         json_object_set(args, "set", so.sets);
     json_decref(so.sets);

@@ -27,7 +27,7 @@ typedef struct sphd_arg {
     int required;
 } sphd_arg;
 
-#define SPHD_MAX_ARGS 6
+#define SPHD_MAX_ARGS 7
 
 enum {
     CMD_JOB = 1,     /* args.job names an existing job (else not_found) */
@@ -80,9 +80,10 @@ static const sphd_command commands[] = {
       {"start", 'b', 0},
       {"set", 'A', 0},
       {"resources", 'O', 0},
+      {"files", 'O', 0},
       {0}},
      CMD_MUTATES,
-     "create a job from a case"},
+     "create a job from a case (and the files it names)"},
     {"start",
      op_start,
      {{"job", 's', 1}, {0}},
@@ -113,6 +114,7 @@ static const sphd_command commands[] = {
       {"sweep", 's', 0},
       {"start", 'b', 0},
       {"resources", 'O', 0},
+      {"files", 'O', 0},
       {0}},
      CMD_MUTATES,
      "create one job per combination of values of some of a case's fields"},
@@ -205,7 +207,7 @@ static int check_args(const sphd_command *c, json_t *args, sphd_err *e)
     strcat(fmt, "}");
     json_error_t jerr;
     int bad = json_unpack_ex(args, &jerr, JSON_STRICT | JSON_VALIDATE_ONLY, fmt, keys[0], keys[1],
-                             keys[2], keys[3], keys[4], keys[5]);
+                             keys[2], keys[3], keys[4], keys[5], keys[6]);
     /* objects and arrays are 'o' for jansson: check their type here */
     for (const sphd_arg *a = c->args; !bad && a->name; a++) {
         json_t *v = json_object_get(args, a->name);
@@ -472,18 +474,38 @@ static int op_submit(sphd_request *r, json_t **result, sphd_err *e)
         json_decref(c);
         return -1;
     }
+    /* the files the case names: exactly those, intact */
+    sphd_inputs in;
+    unsigned char used[SPH_INPUT_MAX_COUNT] = {0};
+    if (sphd_inputs_decode(json_object_get(r->args, "files"), &in, e) != 0) {
+        json_decref(c);
+        return -1;
+    }
+    if (sphd_inputs_match(c, &in, used, e) != 0 || sphd_inputs_unused(&in, used, e) != 0) {
+        sphd_inputs_free(&in);
+        json_decref(c);
+        return -1;
+    }
     sphd_job *j = id ? sphd_job_find(d, id) : NULL;
     if (j) {
         const int same = json_equal(j->case_json, c);
+        const int same_files = same && sphd_inputs_same(j->dir, c, &in);
+        sphd_inputs_free(&in);
         json_decref(c);
         if (!same)
             return sphd_err_set(e, SPHD_E_CONFLICT, "/args/case",
                                 "job '%s' exists with a different case; choose another id", id);
+        if (!same_files)
+            return sphd_err_set(e, SPHD_E_CONFLICT, "/args/files",
+                                "job '%s' exists with the same case but other files (their "
+                                "bytes differ); choose another id",
+                                id);
         *result = sphd_job_status(j);
         json_object_set_new(*result, "created", json_false());
         return 0;
     }
-    j = sphd_job_submit(d, id, c, start, NULL, NULL, json_object_get(r->args, "resources"), e);
+    j = sphd_job_submit(d, id, c, start, NULL, NULL, json_object_get(r->args, "resources"), &in, e);
+    sphd_inputs_free(&in);
     json_decref(c);
     if (!j)
         return -1;
@@ -891,9 +913,16 @@ static int op_sweep(sphd_request *r, json_t **result, sphd_err *e)
     if (!cases)
         return -1;
     const size_t n = json_array_size(cases);
-    char sweep[SPHD_JOB_ID_MAX - 8];
-    int rc = 0;
-    if (sid) {
+    char sweep[SPHD_JOB_ID_MAX - 8] = "";
+    /* the files the cases name: every one a combination names, and no other */
+    sphd_inputs in;
+    unsigned char used[SPH_INPUT_MAX_COUNT] = {0};
+    int rc = sphd_inputs_decode(json_object_get(r->args, "files"), &in, e);
+    for (size_t i = 0; rc == 0 && i < n; i++)
+        rc = sphd_inputs_match(json_array_get(cases, i), &in, used, e);
+    if (rc == 0)
+        rc = sphd_inputs_unused(&in, used, e);
+    if (rc == 0 && sid) {
         if (strlen(json_string_value(sid)) >= sizeof sweep ||
             !sphd_job_id_ok(json_string_value(sid)))
             rc = sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/sweep",
@@ -902,7 +931,7 @@ static int op_sweep(sphd_request *r, json_t **result, sphd_err *e)
                               json_string_value(sid), sizeof sweep - 1);
         else
             snprintf(sweep, sizeof sweep, "%s", json_string_value(sid));
-    } else {
+    } else if (rc == 0) {
         /* NAME-sN, unused in memory and on disk */
         const char *name = json_string_value(json_object_get(json_array_get(cases, 0), "name"));
         for (long k = 1;; k++) {
@@ -924,6 +953,11 @@ static int op_sweep(sphd_request *r, json_t **result, sphd_err *e)
         if (j && !json_equal(j->case_json, json_array_get(cases, i)))
             rc = sphd_err_set(e, SPHD_E_CONFLICT, "/args/sweep",
                               "job '%s' exists with a different case; choose another sweep id", id);
+        else if (j && !sphd_inputs_same(j->dir, json_array_get(cases, i), &in))
+            rc = sphd_err_set(e, SPHD_E_CONFLICT, "/args/files",
+                              "job '%s' exists with the same case but other files (their bytes "
+                              "differ); choose another sweep id",
+                              id);
         fresh += !j;
     }
     if (rc == 0 && d->njobs_active + (long)fresh > d->opts.max_jobs)
@@ -951,6 +985,7 @@ static int op_sweep(sphd_request *r, json_t **result, sphd_err *e)
                                   "boundary particles), more than the %.0f MB allowed",
                                   i, bytes / 1e6, nf, nb, tmp->sim.max_bytes / 1e6);
         }
+        sph_case_clear(tmp);
         free(tmp);
     }
     json_t *jobs = rc == 0 ? json_array() : NULL;
@@ -967,7 +1002,7 @@ static int op_sweep(sphd_request *r, json_t **result, sphd_err *e)
         const int created = !j;
         if (!j) {
             j = sphd_job_submit(d, id, json_array_get(cases, i), start, sweep,
-                                json_array_get(params, i), res, e);
+                                json_array_get(params, i), res, &in, e);
             if (j && j->slurm && start) { /* one Slurm array for them all, below */
                 j->held = 1;
                 made[nmade++] = j;
@@ -981,6 +1016,7 @@ static int op_sweep(sphd_request *r, json_t **result, sphd_err *e)
     }
     json_decref(cases);
     json_decref(params);
+    sphd_inputs_free(&in);
     if (nmade > 0) {
         sphd_err ae;
         if (sphd_jobs_start_array(d, made, nmade, sweep, &ae) != 0 && rc == 0) {

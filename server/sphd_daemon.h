@@ -11,6 +11,7 @@
 
 #include "sph_case.h"
 #include "sph_endpoint.h"
+#include "sph_inputs.h"
 #include "sphd_exec.h"
 
 #include <jansson.h>
@@ -310,12 +311,47 @@ char *sphd_dispatch(sphd_daemon *d, const sphd_pending *req, const char *body, s
 /* The name of the i-th op of the table, NULL past the end (for the tests). */
 const char *sphd_op_name(size_t i);
 
+/* sphd_inputs.c: the files a case names, sent in args.files and kept in JOBDIR/files/ */
+typedef struct sphd_input {
+    char name[SPH_INPUT_NAME_MAX + 1];
+    unsigned char *data; /* owned */
+    size_t len;
+} sphd_input;
+typedef struct sphd_inputs {
+    int n;
+    sphd_input f[SPH_INPUT_MAX_COUNT];
+} sphd_inputs;
+/* Decodes args.files (borrowed; NULL: none) into out: names usable, base64 valid, size and
+ * crc32 as given, within the limits. 0, or -1 with e (bad_request or too_large at
+ * /args/files/NAME) and out empty. */
+int sphd_inputs_decode(const json_t *files, sphd_inputs *out, sphd_err *e);
+void sphd_inputs_free(sphd_inputs *in);
+const sphd_input *sphd_inputs_get(const sphd_inputs *in, const char *name);
+/* Every file case_json names is in in (used[i] set for each, when used is not NULL). 0, or -1
+ * with e: invalid_case at /geometry/K/mesh for a name that is not usable, bad_request at
+ * /args/files/NAME for a file in lacks. */
+int sphd_inputs_match(const json_t *case_json, const sphd_inputs *in, unsigned char *used,
+                      sphd_err *e);
+/* -1 with e (bad_request at /args/files/NAME) when a file of in was not used. */
+int sphd_inputs_unused(const sphd_inputs *in, const unsigned char *used, sphd_err *e);
+/* Writes the files case_json names into dir/files/ (atomically). 0 or -1 with e (internal). */
+int sphd_inputs_write(const char *dir, const json_t *case_json, const sphd_inputs *in, sphd_err *e);
+/* Removes what sphd_inputs_write wrote (a job refused after it). */
+void sphd_inputs_remove(const char *dir, const json_t *case_json);
+/* 1 when dir/files/ holds the files case_json names with in's bytes. */
+int sphd_inputs_same(const char *dir, const json_t *case_json, const sphd_inputs *in);
+/* dir/files into buf: 0, or -1 when it does not fit. */
+int sphd_inputs_dir(const char *dir, char *buf, size_t n);
+
 /* sphd_jobs.c */
 sphd_job *sphd_job_find(sphd_daemon *d, const char *id);
 /* Creates a job from a validated submit; NULL with e filled in. */
-/* sweep and params: a sweep's job (params taken as a new ref), else NULL. */
+/* sweep and params: a sweep's job (params taken as a new ref), else NULL. in: the files the
+ * case names (matched; may be NULL when it names none), written to the job's files/ before
+ * the job is accepted and its meshes read from there. */
 sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int start,
-                          const char *sweep, json_t *params, json_t *resources, sphd_err *e);
+                          const char *sweep, json_t *params, json_t *resources,
+                          const sphd_inputs *in, sphd_err *e);
 /* The Slurm thread's answer to an sbatch: the jobs it was for get their Slurm ids (or fail with
  * sbatch's message; a job paused or stopped meanwhile has its new Slurm job cancelled). */
 struct sphd_sev;

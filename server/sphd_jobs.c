@@ -165,6 +165,7 @@ static void job_free(sphd_job *j)
         sphd_pending_free(j->waiters);
         j->waiters = n;
     }
+    sph_case_clear(j->c);
     free(j->c);
     free(j);
 }
@@ -186,7 +187,8 @@ static void prune(sphd_daemon *d)
 }
 
 sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int start,
-                          const char *sweep, json_t *params, json_t *resources, sphd_err *e)
+                          const char *sweep, json_t *params, json_t *resources,
+                          const sphd_inputs *in, sphd_err *e)
 {
     if (d->njobs_active >= d->opts.max_jobs) {
         sphd_err_set(e, SPHD_E_BUSY, NULL,
@@ -249,8 +251,26 @@ sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int
         job_free(j);
         return NULL;
     }
+    /* the files the case names, kept before the job is accepted, then its meshes read from
+     * there (as a restarted sphd or a runner reads them) */
+    static const sphd_inputs none = {0};
+    char files[SPHD_PATH_MAX + 16];
+    if (sphd_inputs_write(j->dir, case_json, in ? in : &none, e) != 0) {
+        sphd_inputs_remove(j->dir, case_json);
+        job_free(j);
+        return NULL;
+    }
+    if (sphd_inputs_dir(j->dir, files, sizeof files) != 0 ||
+        sph_case_load_meshes(j->c, files, NULL, &err) != 0) {
+        sphd_err_set(e, SPHD_E_INVALID_CASE, err.path, "%s", err.message);
+        sphd_inputs_remove(j->dir, case_json);
+        rmdir(j->dir); /* when nothing else is there */
+        job_free(j);
+        return NULL;
+    }
     if (write_json(j->dir, "case.json", case_json) != 0) {
         sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot write %s/case.json", j->dir);
+        sphd_inputs_remove(j->dir, case_json);
         job_free(j);
         return NULL;
     }
@@ -749,7 +769,10 @@ static sphd_job *recover_one(sphd_daemon *d, const char *id)
     json_t *case_json = load_json(j->dir, "case.json");
     sph_error err;
     sph_error_clear(&err);
-    if (!case_json || sph_case_from_json(case_json, j->c, &err)) {
+    char files[SPHD_PATH_MAX + 16];
+    if (!case_json || sph_case_from_json(case_json, j->c, &err) ||
+        (sphd_inputs_dir(j->dir, files, sizeof files) == 0 &&
+         sph_case_load_meshes(j->c, files, NULL, &err) != 0)) {
         sphd_log("job %s: cannot take it up again: %s", id,
                  case_json ? err.message : "case.json is missing or unreadable");
         json_decref(case_json);

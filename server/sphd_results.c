@@ -40,6 +40,8 @@ const char *sphd_results_kind(const char *name)
     for (size_t i = 0; i < sizeof exact / sizeof exact[0]; i++)
         if (strcmp(name, exact[i][0]) == 0)
             return exact[i][1];
+    if (strncmp(name, SPH_INPUT_DIR "/", sizeof SPH_INPUT_DIR) == 0)
+        return "input";
     if (has_prefix_suffix(name, "snap_", ".h5"))
         return "snapshot";
     if (has_prefix_suffix(name, "", ".xmf"))
@@ -52,6 +54,16 @@ static int listable_name(const char *name)
 {
     return name[0] && name[0] != '.' && !strchr(name, '/') && !strstr(name, "..") &&
            !strstr(name, ".tmp.");
+}
+
+/* A name `fetch` takes: a listable name, or files/NAME with NAME a usable input's name (no
+ * '..', no leading '.' in any component: no way out of files/). */
+static int fetchable_name(const char *name)
+{
+    const size_t p = sizeof SPH_INPUT_DIR; /* "files/" */
+    if (strncmp(name, SPH_INPUT_DIR "/", p) == 0)
+        return sph_input_name_check(name + p, NULL, 0) == 0 && !strstr(name, ".tmp.");
+    return listable_name(name);
 }
 
 static int crc_file(int fd, unsigned long *crc)
@@ -117,6 +129,44 @@ out:
     return f;
 }
 
+/* The regular files under dir/rel (the job's files/, and the folders below it), listed as
+ * rel/NAME. */
+static void list_inputs(const char *dir, const char *rel, int depth, int checksums, json_t *files,
+                        sphd_err *e, int *failed)
+{
+    char path[SPHD_PATH_MAX + 256];
+    if (depth > 16 || snprintf(path, sizeof path, "%s/%s", dir, rel) >= (int)sizeof path)
+        return;
+    int dfd = open(path, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    DIR *d = dfd >= 0 ? fdopendir(dfd) : NULL;
+    if (!d) {
+        if (dfd >= 0)
+            close(dfd);
+        return; /* none: a case that names no file */
+    }
+    struct dirent *de;
+    while (!*failed && (de = readdir(d))) {
+        char sub[SPHD_PATH_MAX];
+        if (!listable_name(de->d_name) ||
+            snprintf(sub, sizeof sub, "%s/%s", rel, de->d_name) >= (int)sizeof sub)
+            continue;
+        struct stat st;
+        if (fstatat(dfd, de->d_name, &st, AT_SYMLINK_NOFOLLOW) != 0)
+            continue;
+        if (S_ISDIR(st.st_mode)) {
+            list_inputs(dir, sub, depth + 1, checksums, files, e, failed);
+            continue;
+        }
+        json_t *f = file_entry(dfd, de->d_name, checksums, e, failed);
+        if (f) {
+            json_object_set_new(f, "name", json_string(sub));
+            json_object_set_new(f, "kind", json_string(sphd_results_kind(sub)));
+            json_array_append_new(files, f);
+        }
+    }
+    closedir(d);
+}
+
 json_t *sphd_results_list(const sphd_job *j, int checksums, sphd_err *e)
 {
     int dfd = open(j->dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
@@ -141,6 +191,8 @@ json_t *sphd_results_list(const sphd_job *j, int checksums, sphd_err *e)
             json_array_append_new(files, f);
     }
     closedir(dir);
+    if (!failed)
+        list_inputs(j->dir, SPH_INPUT_DIR, 0, checksums, files, e, &failed);
     if (failed) {
         json_decref(files);
         return NULL;
@@ -172,10 +224,10 @@ json_t *sphd_results_list(const sphd_job *j, int checksums, sphd_err *e)
 json_t *sphd_results_fetch(const sphd_job *j, const char *file, long long offset, long length,
                            sphd_err *e)
 {
-    if (!listable_name(file)) {
+    if (!fetchable_name(file)) {
         sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/file",
                      "'%.64s' is not a file of the job: give a name from 'results' "
-                     "(no '/', no leading '.', no '..')",
+                     "(no '/' but after files/, no leading '.', no '..')",
                      file);
         return NULL;
     }

@@ -109,12 +109,28 @@ int sphd_run(const sphd_run_opts *o)
         json_decref(root);
         return SPHD_EX_DATAERR;
     }
+    /* the files the case names: relative to the case file's directory */
+    char casedir[4096];
+    const char *slash = strrchr(o->case_file, '/');
+    snprintf(casedir, sizeof casedir, "%.*s", slash ? (int)(slash - o->case_file) : 1,
+             slash ? o->case_file : ".");
+    if (!casedir[0])
+        snprintf(casedir, sizeof casedir, "/");
+    if (sph_case_load_meshes(c, casedir, NULL, &err)) {
+        fprintf(stderr, "sphd: %s: invalid case: %s (at %s)\n", o->case_file, err.message,
+                err.path);
+        sph_case_clear(c);
+        free(c);
+        json_decref(root);
+        return SPHD_EX_DATAERR;
+    }
     const char *job = o->job ? o->job : c->name;
     if (!sphd_job_id_ok(job)) {
         fprintf(stderr,
                 "sphd: job id '%s' is not usable as a file name: use 1-63 letters, digits, '.', "
                 "'_' or '-' (set one with --id)\n",
                 job);
+        sph_case_clear(c);
         free(c);
         json_decref(root);
         return SPHD_EX_USAGE;
@@ -126,6 +142,7 @@ int sphd_run(const sphd_run_opts *o)
         snprintf(outdir, sizeof outdir, "out/%s", job);
     if (sphd_mkdirs(outdir) != 0) {
         fprintf(stderr, "sphd: cannot create output directory '%s': %s\n", outdir, strerror(errno));
+        sph_case_clear(c);
         free(c);
         json_decref(root);
         return SPHD_EX_CANTCREAT;
@@ -153,6 +170,7 @@ int sphd_run(const sphd_run_opts *o)
     if (!x) {
         fprintf(stderr, "sphd: %s: %s: %s\n", o->case_file, sph_error_code_name(err.code),
                 err.message);
+        sph_case_clear(c);
         free(c);
         json_decref(root);
         return err.code == SPH_ERR_INVALID || err.code == SPH_ERR_NOMEM ? SPHD_EX_DATAERR
@@ -198,6 +216,7 @@ int sphd_run(const sphd_run_opts *o)
     sphd_exec_free(x);
     if (rc != SPHD_EX_TEMPFAIL)
         fprintf(stderr, "sphd: %s %s; outputs in %s\n", job, rc == 0 ? "done" : "failed", outdir);
+    sph_case_clear(c);
     free(c);
     json_decref(root);
     return rc;

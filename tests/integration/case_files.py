@@ -1,0 +1,161 @@
+#!/usr/bin/env python3
+"""The files a case names travel with its job (PROTOCOL.md 3.11): sphctl sends them in
+args.files, sphd checks them (names, size, CRC-32, base64, exactly the files the case names),
+keeps them in JOBDIR/files/, lists them in `results` (kind "input") and serves them to `fetch`;
+they survive kill -9 and a restart.
+
+Until the geometry list parses and meshes are read (another branch), a case with a mesh is
+refused by the case parser or the mesh reader at /geometry...: the test then checks that
+refusal and the transfer checks that come before it; once such a case makes a job, it checks
+the files end to end. usage: case_files.py SPHD SPHCTL SRC"""
+import base64
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import zlib
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sphd_harness import Daemon, Failures  # noqa: E402
+
+STL = b"solid pier\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n" \
+      b"   vertex 0 1 0\n  endloop\n endfacet\nendsolid pier\n"
+MAX_FILE = 8 << 20
+
+
+def entry(data, crc=None, size=None):
+    return {"data": base64.b64encode(data).decode(),
+            "crc32": crc if crc is not None else f"{zlib.crc32(data) & 0xffffffff:08x}",
+            "size": len(data) if size is None else size}
+
+
+def main(sphd, sphctl, src):
+    t = Failures("case_files")
+    work = tempfile.mkdtemp(prefix="sphd-files-")
+    with open(os.path.join(src, "cases", "dambreak.json")) as f:
+        base = json.load(f)
+    case = dict(base, name="pier", geometry=[{"mesh": "pier.stl", "role": "obstacle"}])
+
+    def write_case(name, c):
+        p = os.path.join(work, name)
+        with open(p, "w") as f:
+            json.dump(c, f)
+        return p
+
+    with open(os.path.join(work, "pier.stl"), "wb") as f:
+        f.write(STL)
+    d = Daemon(sphd)
+    try:
+        def ctl(*args):
+            p = subprocess.run([sphctl, "--endpoint", d.control, *args], capture_output=True,
+                               text=True, timeout=60)
+            return p.returncode, p.stdout + p.stderr
+
+        # sphctl's own checks: a missing file (66), a name with '..' (65), a file too large (65)
+        rc, out = ctl("submit", write_case("missing.json", dict(
+            case, geometry=[{"mesh": "nothere.stl", "role": "obstacle"}])), "--no-start")
+        t.check(rc == 66 and "nothere.stl" in out and "geometry item 0" in out,
+                "a missing file: exit 66 naming it", (rc, out))
+        rc, out = ctl("submit", write_case("dotdot.json", dict(
+            case, geometry=[{"mesh": "../pier.stl", "role": "obstacle"}])), "--no-start")
+        t.check(rc == 65 and "../pier.stl" in out and "/geometry/0/mesh" in out,
+                "a name with '..': exit 65 naming the item", (rc, out))
+        rc, out = ctl("submit", write_case("abs.json", dict(
+            case, geometry=[{"mesh": "/etc/passwd", "role": "obstacle"}])), "--no-start")
+        t.check(rc == 65 and "absolute" in out, "an absolute name: exit 65", (rc, out))
+        with open(os.path.join(work, "big.stl"), "wb") as f:
+            f.truncate(MAX_FILE + 1)
+        rc, out = ctl("submit", write_case("big.json", dict(
+            case, geometry=[{"mesh": "big.stl", "role": "obstacle"}])), "--no-start")
+        t.check(rc == 65 and "big.stl" in out and str(MAX_FILE) in out,
+                "a file over the limit: exit 65", (rc, out))
+
+        # sphd's checks on a raw request: each at /args/files/NAME
+        def refused(args, code, path, what, op="submit"):
+            r = d.request(op, args)
+            err = r.get("error", {})
+            t.check(not r["ok"] and err.get("code") == code and err.get("path") == path,
+                    what, r)
+            return err.get("message", "")
+
+        good = {"pier.stl": entry(STL)}
+        msg = refused({"case": case, "job": "crc", "start": False,
+                       "files": {"pier.stl": entry(STL, crc="00000000")}},
+                      "bad_request", "/args/files/pier.stl", "a CRC-32 mismatch")
+        t.check("CRC-32" in msg and "again" in msg, "the mismatch says what to do", msg)
+        refused({"case": case, "job": "sz", "start": False,
+                 "files": {"pier.stl": entry(STL, size=len(STL) + 1)}},
+                "bad_request", "/args/files/pier.stl", "a size mismatch")
+        refused({"case": case, "job": "b64", "start": False,
+                 "files": {"pier.stl": dict(entry(STL), data="!!notbase64")}},
+                "bad_request", "/args/files/pier.stl", "data that is not base64")
+        refused({"case": case, "job": "big", "start": False,
+                 "files": {"pier.stl": entry(STL, size=MAX_FILE + 1)}},
+                "too_large", "/args/files/pier.stl", "a size over the limit")
+        refused({"case": case, "job": "none", "start": False},
+                "bad_request", "/args/files/pier.stl", "a named file not sent")
+        refused({"case": case, "job": "extra", "start": False,
+                 "files": dict(good, **{"other.stl": entry(b"x")})},
+                "bad_request", "/args/files/other.stl", "a file the case does not name")
+        refused({"case": base, "job": "extra2", "start": False, "files": good},
+                "bad_request", "/args/files/pier.stl", "files with a case that names none")
+        refused({"case": case, "job": "esc", "start": False,
+                 "files": dict(good, **{"../x": entry(b"x")})},
+                "bad_request", "/args/files/..~1x", "a name with '..' in files")
+        refused({"case": case, "sweep": "sw", "start": False, "files": {},
+                 "vary": [{"path": "dx", "values": [0.02, 0.03]}]},
+                "bad_request", "/args/files/pier.stl", "a sweep without its file", op="sweep")
+        for name in ("crc", "sz", "b64", "big", "none", "extra", "extra2", "esc"):
+            t.check(not os.path.exists(os.path.join(d.state, "jobs", name)),
+                    f"refused job {name}: no directory left")
+
+        # the transfer itself, through sphctl
+        rc, out = ctl("--json", "submit", write_case("pier.json", case), "--no-start", "--id",
+                      "pier")
+        if rc != 0:
+            # today: the case parser (unknown field geometry) or the mesh reader refuses it
+            t.check(rc == 65 and "/geometry" in out, "not parsed yet: refused at /geometry",
+                    (rc, out))
+            t.check(not os.path.exists(os.path.join(d.state, "jobs", "pier", "files")),
+                    "a refused case leaves no files")
+            print("case_files: meshes are not read yet: the stored-files checks wait for them")
+        else:
+            jobdir = os.path.join(d.state, "jobs", "pier")
+            with open(os.path.join(jobdir, "files", "pier.stl"), "rb") as f:
+                t.check(f.read() == STL, "the file is in JOBDIR/files/")
+            res = d.ok("results", {"job": "pier", "checksums": True})
+            ent = [f for f in res["files"] if f["name"] == "files/pier.stl"]
+            t.check(len(ent) == 1 and ent[0]["kind"] == "input" and ent[0]["size"] == len(STL)
+                    and ent[0]["crc32"] == f"{zlib.crc32(STL):08x}", "results lists it", res)
+            r = d.ok("fetch", {"job": "pier", "file": "files/pier.stl"})
+            t.check(base64.b64decode(r["data"]) == STL and r["eof"], "fetch returns it", r)
+            refused({"job": "pier", "file": "files/../case.json"}, "bad_request", "/args/file",
+                     "fetch refuses an escape", op="fetch")
+            dest = os.path.join(work, "dest")
+            rc, out = ctl("fetch", "pier", "--dest", dest)
+            with open(os.path.join(dest, "pier", "files", "pier.stl"), "rb") as f:
+                t.check(rc == 0 and f.read() == STL, "sphctl fetch brings it back", out)
+            r = d.request("submit", {"case": case, "job": "pier", "start": False, "files": good})
+            t.check(r["ok"] and r["result"]["created"] is False, "same case and files: same job",
+                    r)
+            refused({"case": case, "job": "pier", "start": False,
+                     "files": {"pier.stl": entry(STL + b" ")}},
+                    "conflict", "/args/files", "same case, other files: conflict")
+            # kill -9, then a new sphd on the same state dir
+            d.proc.kill()
+            d.proc.wait()
+            d2 = Daemon(sphd, "--state-dir", d.state)
+            try:
+                res = d2.ok("results", {"job": "pier"})
+                t.check(any(f["name"] == "files/pier.stl" for f in res["files"]),
+                        "after kill -9 and a restart results lists it", res)
+            finally:
+                d2.close()
+    finally:
+        d.close()
+    return t.done()
+
+
+if __name__ == "__main__":
+    sys.exit(main(*sys.argv[1:4]))
