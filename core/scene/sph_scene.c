@@ -38,7 +38,24 @@ struct sph_scene {
     int n;
     shape *s;
     RTCDevice dev;
+    long long rtc_bytes; /* what Embree holds (its memory monitor) */
 };
+
+static bool memory_monitor(void *user, ssize_t bytes, bool post)
+{
+    (void)post;
+    __atomic_add_fetch((long long *)user, (long long)bytes, __ATOMIC_RELAXED);
+    return true;
+}
+
+double sph_scene_bytes(const sph_scene *s)
+{
+    double b = (double)sizeof *s + (double)s->n * sizeof *s->s + (double)s->rtc_bytes;
+    for (int k = 0; k < s->n; k++)
+        b += (double)s->s[k].m.nv * 3 * sizeof(double) +
+             (double)s->s[k].m.nt * (s->dim == 3 ? 3 : 2) * sizeof(int);
+    return b;
+}
 
 /* ---- transforms ---- */
 
@@ -623,9 +640,12 @@ sph_scene *sph_scene_create(const sph_config *c, sph_error *err)
                 goto fail;
             }
             if (g->kind == SPH_GEOM_MESH) {
-                if (!s->dev && !(s->dev = rtcNewDevice("threads=1"))) {
-                    sph_error_set(err, SPH_ERR_INTERNAL, path, "Embree could not start");
-                    goto fail;
+                if (!s->dev) {
+                    if (!(s->dev = rtcNewDevice("threads=1"))) {
+                        sph_error_set(err, SPH_ERR_INTERNAL, path, "Embree could not start");
+                        goto fail;
+                    }
+                    rtcSetDeviceMemoryMonitorFunction(s->dev, memory_monitor, &s->rtc_bytes);
                 }
                 if (build_rtc(s->dev, sh)) {
                     sph_error_set(err, SPH_ERR_NOMEM, path,

@@ -46,6 +46,9 @@ int sph_scene_inside(const sph_scene *s, int k, const double *x);
 /* The distance from x to shape k's surface [m]; its nearest point into near (may be NULL). */
 double sph_scene_distance(const sph_scene *s, int k, const double *x, double *near);
 
+/* Bytes the scene holds: its surfaces' copies and Embree's hierarchies. */
+double sph_scene_bytes(const sph_scene *s);
+
 /* Shape k's bounding box in the world [m]. */
 void sph_scene_bounds(const sph_scene *s, int k, double *lo, double *hi);
 
