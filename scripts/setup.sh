@@ -4,6 +4,7 @@
 # there. Runs apt-get as root, or through sudo.
 set -euo pipefail
 pkgs=(gcc make cmake pkg-config libzmq3-dev libjansson-dev libhdf5-dev zlib1g-dev libcmocka-dev
+      libassimp-dev libembree-dev
       python3 python3-zmq python3-h5py python3-numpy python3-jsonschema
       python3-meshio python3-matplotlib paraview python3-paraview xvfb xauth)
 # the second compiler of CI, its OpenMP and libFuzzer
