@@ -1,5 +1,7 @@
 #include "sph_case.h"
 #include "sph_case_table.h"
+#include "sph_fill.h"
+#include "sph_mesh_io.h"
 #include "sph_sim.h"
 #include "sph_json.h"
 
@@ -696,13 +698,33 @@ int sph_case_file_names(const json_t *root, const char **names, int max)
 
 int sph_case_load_meshes(sph_case *c, const char *dir, const sph_mesh_limits *lim, sph_error *err)
 {
-    (void)dir;
-    (void)lim;
-    for (int k = 0; k < c->sim.ngeometry; k++)
-        if (c->sim.geometry[k].kind == SPH_GEOM_MESH) {
-            char path[64];
-            snprintf(path, sizeof path, "/geometry/%d/mesh", k);
-            return sph_error_set(err, SPH_ERR_INVALID, path, "meshes are not read yet");
+    int loaded = 0;
+    for (int k = 0; k < c->sim.ngeometry; k++) {
+        sph_geometry_spec *g = &c->sim.geometry[k];
+        if (g->kind != SPH_GEOM_MESH || g->mesh)
+            continue;
+        char path[64], file[4096];
+        snprintf(path, sizeof path, "/geometry/%d/mesh", k);
+        snprintf(file, sizeof file, "%s/%s", dir && *dir ? dir : ".", g->file);
+        sph_mesh *m = calloc(1, sizeof *m);
+        if (!m)
+            return sph_error_set(err, SPH_ERR_NOMEM, path, "out of memory");
+        const int rc = sph_mesh_read_file(file, g->file, lim, m, path, err);
+        if (rc) {
+            free(m);
+            /* a file that is not there or cannot be read is the case's fault too */
+            if (err && err->code == SPH_ERR_IO)
+                err->code = SPH_ERR_INVALID;
+            return SPH_ERR_INVALID;
         }
-    return 0;
+        c->meshes[k] = m;
+        g->mesh = m;
+        loaded = 1;
+    }
+    if (!loaded)
+        return 0;
+    /* the surfaces checked, placed and the lattice counted: every error of the geometry now,
+     * at its path, before a job is made of it */
+    sph_config probe = c->sim;
+    return sph_fill_prepare(&probe, err);
 }

@@ -19,8 +19,23 @@ import zlib
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sphd_harness import Daemon, Failures  # noqa: E402
 
-STL = b"solid pier\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n" \
-      b"   vertex 0 1 0\n  endloop\n endfacet\nendsolid pier\n"
+
+
+def box_stl(lo, hi):
+    """A closed box as an ASCII STL (12 triangles, outward)."""
+    c = [[(hi if (k >> d) & 1 else lo)[d] for d in range(3)] for k in range(8)]
+    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+    out = ["solid pier"]
+    for a, b, cc, d in quads:
+        for tri in ((a, b, cc), (a, cc, d)):
+            out += [" facet normal 0 0 0", "  outer loop"]
+            out += ["   vertex %g %g %g" % tuple(c[v]) for v in tri]
+            out += ["  endloop", " endfacet"]
+    out.append("endsolid pier")
+    return ("\n".join(out) + "\n").encode()
+
+
+STL = box_stl((1.2, 0.3, 0.0), (1.4, 0.5, 0.2))
 MAX_FILE = 8 << 20
 
 
@@ -33,7 +48,7 @@ def entry(data, crc=None, size=None):
 def main(sphd, sphctl, src):
     t = Failures("case_files")
     work = tempfile.mkdtemp(prefix="sphd-files-")
-    with open(os.path.join(src, "cases", "dambreak.json")) as f:
+    with open(os.path.join(src, "cases", "dambreak3d.json")) as f:
         base = json.load(f)
     case = dict(base, name="pier", geometry=[{"mesh": "pier.stl", "role": "obstacle"}])
 
@@ -110,17 +125,24 @@ def main(sphd, sphctl, src):
             t.check(not os.path.exists(os.path.join(d.state, "jobs", name)),
                     f"refused job {name}: no directory left")
 
+        # a surface with a hole: refused at its path, saying how many open edges and where
+        lines = STL.decode().split("\n")
+        open_stl = ("\n".join(lines[:1] + lines[15:]) + "\n").encode()  # two facets fewer
+        r = d.request("submit", {"case": case, "job": "holed", "start": False,
+                                 "files": {"pier.stl": entry(open_stl)}})
+        t.check(not r["ok"] and r["error"]["code"] == "invalid_case"
+                and r["error"]["path"] == "/geometry/0/mesh"
+                and "open edges" in r["error"]["message"], "an open mesh: invalid_case at its path",
+                r)
+        t.check(not os.path.exists(os.path.join(d.state, "jobs", "holed")),
+                "the refused mesh left no job directory")
+        t.check(d.request("ping", {})["ok"], "sphd carries on")
+
         # the transfer itself, through sphctl
         rc, out = ctl("--json", "submit", write_case("pier.json", case), "--no-start", "--id",
                       "pier")
-        if rc != 0:
-            # today: the case parser (unknown field geometry) or the mesh reader refuses it
-            t.check(rc == 65 and "/geometry" in out, "not parsed yet: refused at /geometry",
-                    (rc, out))
-            t.check(not os.path.exists(os.path.join(d.state, "jobs", "pier", "files")),
-                    "a refused case leaves no files")
-            print("case_files: meshes are not read yet: the stored-files checks wait for them")
-        else:
+        t.check(rc == 0, "a case with a mesh is accepted", (rc, out))
+        if rc == 0:
             jobdir = os.path.join(d.state, "jobs", "pier")
             with open(os.path.join(jobdir, "files", "pier.stl"), "rb") as f:
                 t.check(f.read() == STL, "the file is in JOBDIR/files/")
@@ -150,6 +172,8 @@ def main(sphd, sphctl, src):
                 res = d2.ok("results", {"job": "pier"})
                 t.check(any(f["name"] == "files/pier.stl" for f in res["files"]),
                         "after kill -9 and a restart results lists it", res)
+                r = d2.request("step", {"job": "pier", "n": 2})
+                t.check(r["ok"], "after the restart the job steps (its mesh read again)", r)
             finally:
                 d2.close()
     finally:
