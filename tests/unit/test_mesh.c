@@ -2,8 +2,9 @@
  * soup (welded, volume 1, closed; turned over: -1), the same cube written as binary STL, ASCII STL,
  * OBJ and PLY and read back, the ways a surface is not closed (a face missing, two cubes on one
  * edge, a face turned over, two cubes through each other), degenerate triangles, the files refused
- * (too large, unknown format, garbage, missing, empty), that assimp prints nothing, and polygons
- * (square, bow-tie, too few points, repeated points, a large circle with and without a crossing).
+ * (too large, unknown format, garbage, binary PLY, missing, empty), that assimp prints nothing, and
+ * polygons (square, bow-tie, too few points, repeated points, a large circle with and without a
+ * crossing).
  */
 #include "sph_mesh.h"
 #include "sph_mesh_io.h"
@@ -353,6 +354,11 @@ static void test_files_refused(void **state)
     assert_non_null(strstr(err.message, "junk.stl cannot be read as stl: "));
     assert_true(strlen(err.message) > strlen("junk.stl cannot be read as stl: ") + 10);
     assert_null(m.v);
+
+    write_text("b.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 4\nend_header\n");
+    assert_int_equal(sph_mesh_read_file(in_dir("b.ply"), "b.ply", &lim, &m, "/g", &err),
+                     SPH_ERR_INVALID);
+    assert_non_null(strstr(err.message, "b.ply is a binary PLY, which is not read"));
 
     write_text("empty.obj", "");
     assert_int_equal(sph_mesh_read_file(in_dir("empty.obj"), "empty.obj", &lim, &m, "/g", &err),
