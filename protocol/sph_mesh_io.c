@@ -17,6 +17,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdint.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
 #include <sys/stat.h>
 
 /* The assimp format hint for a file name's extension, or NULL. */
@@ -45,9 +52,87 @@ static int is_binary_ply(const void *bytes, size_t len)
     return 0;
 }
 
-int sph_mesh_read_memory(const void *bytes, size_t len, const char *name,
-                         const sph_mesh_limits *lim, sph_mesh *out, const char *path,
-                         sph_error *err)
+/* A text format's bytes (ASCII STL, OBJ, ASCII PLY) hold no control characters but white space:
+ * a file with them is broken (assimp 5.2's ASCII PLY reader loops without end on a header with
+ * NUL bytes in it, found by fuzz_mesh); 0 if clean, else the offset of the first one plus 1. */
+static size_t control_at(const unsigned char *p, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if ((p[i] < 32 && p[i] != '\t' && p[i] != '\n' && p[i] != '\r' && p[i] != '\f' &&
+             p[i] != '\v') ||
+            p[i] == 127)
+            return i + 1;
+    return 0;
+}
+
+/* An ASCII PLY's header, line by line up to end_header: "ply", "format ascii 1.0", comments,
+ * "element NAME COUNT" (the counts together at most one element a byte of the file), "property
+ * ..."; anything else, or no end_header, is refused before assimp sees it. Returns 0, or a
+ * message in msg. */
+static int ply_header_ok(const char *p, size_t n, char *msg, size_t msglen)
+{
+    size_t i = 0, line = 0;
+    double total = 0.0;
+    while (i < n) {
+        size_t e = i;
+        while (e < n && p[e] != '\n')
+            e++;
+        char buf[256];
+        size_t l = e - i < sizeof buf - 1 ? e - i : sizeof buf - 1;
+        memcpy(buf, p + i, l);
+        buf[l] = '\0';
+        if (l > 0 && buf[l - 1] == '\r')
+            buf[--l] = '\0';
+        line++;
+        char word[32] = "";
+        sscanf(buf, "%31s", word);
+        if (line == 1 ? strcmp(buf, "ply") != 0 : 0) {
+            snprintf(msg, msglen, "its first line is not \"ply\"");
+            return -1;
+        }
+        if (line > 1) {
+            if (strcmp(word, "end_header") == 0)
+                return total <= (double)n ? 0
+                                          : (snprintf(msg, msglen,
+                                                      "its header declares %.0f elements, more "
+                                                      "than the file's %zu bytes can hold",
+                                                      total, n),
+                                             -1);
+            if (strcmp(word, "element") == 0) {
+                char ename[64];
+                double count;
+                if (sscanf(buf, "element %63s %lf", ename, &count) != 2 || !(count >= 0.0)) {
+                    snprintf(msg, msglen, "line %zu: \"element NAME COUNT\" expected", line);
+                    return -1;
+                }
+                total += count;
+            } else if (strcmp(word, "format") != 0 && strcmp(word, "comment") != 0 &&
+                       strcmp(word, "obj_info") != 0 && strcmp(word, "property") != 0) {
+                snprintf(msg, msglen, "line %zu of its header is not a PLY keyword", line);
+                return -1;
+            }
+        }
+        i = e + 1;
+        if (line > 10000)
+            break;
+    }
+    snprintf(msg, msglen, "its header has no end_header");
+    return -1;
+}
+
+/* Whether bytes are a binary STL: 80 bytes, a count, 50 bytes a triangle. */
+static int is_binary_stl(const void *bytes, size_t len)
+{
+    if (len < 84)
+        return 0;
+    uint32_t n;
+    memcpy(&n, (const char *)bytes + 80, 4);
+    return (uint64_t)84 + 50 * (uint64_t)n == len;
+}
+
+int sph_mesh_read_unguarded(const void *bytes, size_t len, const char *name,
+                            const sph_mesh_limits *lim, sph_mesh *out, const char *path,
+                            sph_error *err)
 {
     sph_mesh_limits dl = sph_mesh_limits_default();
     if (!lim)
@@ -74,6 +159,21 @@ int sph_mesh_read_memory(const void *bytes, size_t len, const char *name,
                              "mesh file %s is a binary PLY, which is not read: save it as ASCII "
                              "PLY or as STL",
                              name);
+    const int text = strcmp(hint, "stl") != 0 || !is_binary_stl(bytes, len);
+    const size_t bad = text ? control_at(bytes, len) : 0;
+    if (bad)
+        return sph_error_set(err, SPH_ERR_INVALID, path,
+                             "mesh file %s is not a %s file: a control character (byte %zu) in a "
+                             "text format",
+                             name,
+                             strcmp(hint, "stl") == 0 ? "binary STL (whose size is 84 + 50 "
+                                                        "bytes a triangle) nor an ASCII STL"
+                                                      : hint,
+                             bad - 1);
+    char why[160];
+    if (strcmp(hint, "ply") == 0 && ply_header_ok(bytes, len, why, sizeof why))
+        return sph_error_set(err, SPH_ERR_INVALID, path, "mesh file %s is not a PLY file: %s", name,
+                             why);
     const struct aiScene *sc = aiImportFileFromMemory(
         bytes, (unsigned)len,
         aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure,
@@ -137,6 +237,168 @@ int sph_mesh_read_memory(const void *bytes, size_t len, const char *name,
         err->message[n] = '\0';
     }
     return rc;
+}
+
+/* ---- the guarded reader: assimp in a child process ---- */
+
+/* What the child sends back: this header, then (rc 0) the vertices and the triangles, or (rc not
+ * 0) the error. */
+typedef struct reply_head {
+    int rc;
+    long nv, nt, degenerate;
+} reply_head;
+
+static int write_all(int fd, const void *p, size_t n)
+{
+    const char *c = p;
+    while (n > 0) {
+        const ssize_t w = write(fd, c, n);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return -1;
+        c += w;
+        n -= (size_t)w;
+    }
+    return 0;
+}
+
+/* Reads n bytes from fd by the deadline (CLOCK_MONOTONIC seconds); 0, -1 (closed or error) or
+ * -2 (time out). */
+static int read_by(int fd, void *p, size_t n, double deadline)
+{
+    char *c = p;
+    while (n > 0) {
+        struct timespec ts;
+        clock_gettime(CLOCK_MONOTONIC, &ts);
+        const double left = deadline - ((double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec);
+        if (left <= 0.0)
+            return -2;
+        struct pollfd pf = {.fd = fd, .events = POLLIN};
+        const int k = poll(&pf, 1, (int)(left * 1000.0) + 1);
+        if (k < 0 && errno == EINTR)
+            continue;
+        if (k < 0)
+            return -1;
+        if (k == 0)
+            continue;
+        const ssize_t r = read(fd, c, n);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0)
+            return -1;
+        c += r;
+        n -= (size_t)r;
+    }
+    return 0;
+}
+
+static void child_read(int fd, const void *bytes, size_t len, const char *name,
+                       const sph_mesh_limits *lim, const char *path)
+{
+    /* bounded: CPU time and address space, whatever assimp does with a hostile file */
+    struct rlimit cpu = {SPH_MESH_READ_SECONDS, SPH_MESH_READ_SECONDS + 1};
+    setrlimit(RLIMIT_CPU, &cpu);
+    sph_mesh m;
+    sph_error e;
+    sph_error_clear(&e);
+    reply_head h = {0, 0, 0, 0};
+    h.rc = sph_mesh_read_unguarded(bytes, len, name, lim, &m, path, &e);
+    if (h.rc == 0) {
+        h.nv = m.nv;
+        h.nt = m.nt;
+        h.degenerate = m.degenerate;
+        if (write_all(fd, &h, sizeof h) || write_all(fd, m.v, 3 * (size_t)m.nv * sizeof *m.v) ||
+            write_all(fd, m.t, 3 * (size_t)m.nt * sizeof *m.t))
+            _exit(3);
+    } else if (write_all(fd, &h, sizeof h) || write_all(fd, &e, sizeof e)) {
+        _exit(3);
+    }
+    _exit(0);
+}
+
+int sph_mesh_read_memory(const void *bytes, size_t len, const char *name,
+                         const sph_mesh_limits *lim, sph_mesh *out, const char *path,
+                         sph_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!name)
+        name = "";
+    int fds[2];
+    if (pipe(fds))
+        return sph_error_set(err, SPH_ERR_IO, path, "cannot read mesh file %s: pipe: %s", name,
+                             strerror(errno));
+    fflush(NULL);
+    const pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        return sph_error_set(err, SPH_ERR_IO, path, "cannot read mesh file %s: fork: %s", name,
+                             strerror(errno));
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        child_read(fds[1], bytes, len, name, lim, path);
+    }
+    close(fds[1]);
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    const double deadline =
+        (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec + (double)SPH_MESH_READ_SECONDS;
+    reply_head h;
+    int rc = read_by(fds[0], &h, sizeof h, deadline);
+    if (rc == 0 && h.rc == 0) {
+        const int ok = h.nv > 0 && h.nt > 0 && h.nv <= 3 * h.nt &&
+                       h.nt <= (lim ? lim->max_triangles : SPH_MESH_MAX_TRIANGLES_DEFAULT);
+        out->dim = 3;
+        out->nv = h.nv;
+        out->nt = h.nt;
+        out->degenerate = h.degenerate;
+        out->v = ok ? malloc(3 * (size_t)h.nv * sizeof *out->v) : NULL;
+        out->t = ok ? malloc(3 * (size_t)h.nt * sizeof *out->t) : NULL;
+        if (!out->v || !out->t)
+            rc = -3;
+        else if ((rc = read_by(fds[0], out->v, 3 * (size_t)h.nv * sizeof *out->v, deadline)) == 0)
+            rc = read_by(fds[0], out->t, 3 * (size_t)h.nt * sizeof *out->t, deadline);
+        for (long i = 0; rc == 0 && i < 3 * h.nt; i++)
+            if (out->t[i] < 0 || out->t[i] >= h.nv)
+                rc = -1;
+    } else if (rc == 0) {
+        sph_error e;
+        rc = read_by(fds[0], &e, sizeof e, deadline);
+        if (rc == 0) {
+            e.path[sizeof e.path - 1] = '\0';
+            e.message[sizeof e.message - 1] = '\0';
+            if (err)
+                *err = e;
+            rc = h.rc;
+        }
+    }
+    close(fds[0]);
+    if (rc == -2)
+        kill(pid, SIGKILL);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
+        ;
+    if (rc == 0 && h.rc == 0)
+        return 0;
+    sph_mesh_free(out);
+    if (rc > 0) /* the reader's own refusal */
+        return rc;
+    if (rc == -3)
+        return sph_error_set(err, SPH_ERR_NOMEM, path, "out of memory reading mesh file %s", name);
+    if (rc == -2)
+        return sph_error_set(err, SPH_ERR_INVALID, path,
+                             "mesh file %s took more than %d s to read: it is broken or far too "
+                             "large",
+                             name, SPH_MESH_READ_SECONDS);
+    if (WIFSIGNALED(status))
+        return sph_error_set(err, SPH_ERR_INVALID, path,
+                             "mesh file %s is malformed: the mesh reader (assimp) failed on it "
+                             "(signal %d)",
+                             name, WTERMSIG(status));
+    return sph_error_set(err, SPH_ERR_INVALID, path,
+                         "mesh file %s is malformed: the mesh reader (assimp) failed on it", name);
 }
 
 int sph_mesh_read_file(const char *file, const char *name, const sph_mesh_limits *lim,

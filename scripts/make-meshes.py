@@ -7,7 +7,10 @@ sphere.stl: an icosphere (--sphere-radius, --sphere-subdivisions; or --triangles
   subdivisions giving at least N triangles, 20 * 4^k, e.g. 200000 -> 327680 ... use it for a
   benchmark); torus.stl (--torus-R, --torus-r, --torus-segments); box.stl (--box-min, --box-max);
   wigley.stl: a Wigley hull y = B/2 (1 - (2x/L)^2)(1 - (z/T)^2), x in [-L/2, L/2], z in [-T, 0],
-  both half-hulls and the deck z = 0 closing it (--wigley-L, -B, -T, --wigley-segments).
+  both half-hulls and the deck z = 0 closing it (--wigley-L, -B, -T, --wigley-segments);
+  pier.stl: a bridge pier, a column of round-nosed (stadium) section, its length along x, its
+  bottom's centre at the origin (--pier-length, --pier-width, --pier-height, --pier-segments
+  per round nose) (cases/pier3d.json's: the defaults).
 --check: reads each file written back and prints its triangles and enclosed volume against the
 exact one (the sphere's and torus' are those of the smooth shape: the faceted one is smaller).
 Needs python3 and numpy only.
@@ -19,7 +22,7 @@ import sys
 
 import numpy as np
 
-SHAPES = ("sphere", "torus", "box", "wigley")
+SHAPES = ("sphere", "torus", "box", "wigley", "pier")
 
 
 def write_stl(path, tris, name):
@@ -143,6 +146,33 @@ def wigley(L, B, T, nx, nz):
     return t
 
 
+def pier(length, width, height, segments):
+    """A column whose section is a rectangle of (length - width) x width with a half disc at
+    each end, from z = 0 to height; the section's centre at x = y = 0."""
+    r, half = width / 2, (length - width) / 2
+    ring = []
+    for end, sx in ((half, 1.0), (-half, -1.0)):  # the nose at +x, then the one at -x
+        for k in range(segments + 1):
+            a = -math.pi / 2 + math.pi * k / segments
+            ring.append((end + sx * r * math.cos(a), sx * r * math.sin(a)))
+    ring = np.array(ring)  # counter-clockwise seen from +z
+    n = len(ring)
+    tris = []
+    for k in range(n):
+        a, b = ring[k], ring[(k + 1) % n]
+        p0, p1 = [a[0], a[1], 0.0], [b[0], b[1], 0.0]
+        q0, q1 = [a[0], a[1], height], [b[0], b[1], height]
+        tris += [(p0, p1, q1), (p0, q1, q0)]  # the side, outward
+        if 0 < k < n - 1:  # fans from vertex 0: the top (+z) and the bottom (-z)
+            c = ring[0]
+            tris.append(([c[0], c[1], height], q0, q1))
+            tris.append(([c[0], c[1], 0.0], p1, p0))
+    t = np.array(tris, dtype=float)
+    if volume(t) < 0:
+        t = t[:, [0, 2, 1]]
+    return t
+
+
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("outdir")
@@ -160,6 +190,10 @@ def main(argv):
     ap.add_argument("--wigley-B", type=float, default=0.25)
     ap.add_argument("--wigley-T", type=float, default=0.15)
     ap.add_argument("--wigley-segments", type=int, default=80, help="along the length (depth: 1/4)")
+    ap.add_argument("--pier-length", type=float, default=0.2)
+    ap.add_argument("--pier-width", type=float, default=0.06)
+    ap.add_argument("--pier-height", type=float, default=0.5)
+    ap.add_argument("--pier-segments", type=int, default=16)
     a = ap.parse_args(argv)
     os.makedirs(a.outdir, exist_ok=True)
     for name in a.only:
@@ -177,6 +211,10 @@ def main(argv):
         elif name == "box":
             t = box(a.box_min, a.box_max)
             exact = float(np.prod(np.subtract(a.box_max, a.box_min)))
+        elif name == "pier":
+            t = pier(a.pier_length, a.pier_width, a.pier_height, a.pier_segments)
+            w = a.pier_width
+            exact = ((a.pier_length - w) * w + math.pi * w * w / 4) * a.pier_height
         else:
             L, B, T = a.wigley_L, a.wigley_B, a.wigley_T
             t = wigley(L, B, T, a.wigley_segments, max(2, a.wigley_segments // 4))
