@@ -728,3 +728,17 @@ int sph_case_load_meshes(sph_case *c, const char *dir, const sph_mesh_limits *li
     sph_config probe = c->sim;
     return sph_fill_prepare(&probe, err);
 }
+
+int sph_case_mesh_note(const sph_case *c, int k, char *buf, size_t n, int *warn)
+{
+    if (k < 0 || k >= c->sim.ngeometry || c->sim.geometry[k].kind != SPH_GEOM_MESH ||
+        !c->sim.geometry[k].mesh)
+        return -1;
+    const sph_mesh *m = c->sim.geometry[k].mesh;
+    *warn = m->degenerate > 0;
+    snprintf(buf, n,
+             "geometry %d: mesh %s: %ld triangles, %ld vertices%s%ld degenerate triangles "
+             "dropped",
+             k, c->sim.geometry[k].file, m->nt, m->nv, m->degenerate ? "; " : ", ", m->degenerate);
+    return 0;
+}

@@ -61,6 +61,11 @@ void sph_case_clear(sph_case *c);
  * missing, unreadable, unknown-format, too large or broken file. A case with no mesh: 0. */
 int sph_case_load_meshes(sph_case *c, const char *dir, const sph_mesh_limits *lim, sph_error *err);
 
+/* A line on the surface of geometry item k as read (a mesh: its file, triangles, vertices and the
+ * degenerate triangles dropped) into buf; 0, or -1 when item k has no surface read. *warn is set
+ * to 1 when something was dropped. */
+int sph_case_mesh_note(const sph_case *c, int k, char *buf, size_t n, int *warn);
+
 /* The files a case (JSON, unchecked) names: each geometry item's "mesh" string, in order, into
  * names[0 .. max) (borrowed from root). Returns how many there are (more than max possible). */
 int sph_case_file_names(const json_t *root, const char **names, int max);

@@ -1,6 +1,7 @@
 """Renders a job's particles at one time to a PNG with ParaView, the way a user would look at them:
 particles.xmf opened with ParaView's default reader, the fluid alone (Threshold on `type`),
-coloured by pressure, the walls in grey. A 2D case is seen from the front, the walls' width filling
+coloured by pressure, the walls in grey (in 3D, the obstacles inside the tank solid: the wall
+particles inside boundary.tank's box, read from the job's case.json). A 2D case is seen from the front, the walls' width filling
 the picture, and the front position, the layer thickness and the pressure range are printed; a 3D
 case (z up) in perspective from the front left, above, the walls faint, and the fluid's extent
 and pressure range are printed.
@@ -8,12 +9,13 @@ and pressure range are printed.
 Usage: scripts/render.sh JOB_DIR TIME OUT.png   (pvbatch under an X server: Xvfb when there is no
        DISPLAY), or pvbatch scripts/render.py JOB_DIR TIME OUT.png on a desktop
 """
+import json
 import os
 import sys
 
 import numpy as np
 from paraview import servermanager as sm
-from paraview.simple import (ColorBy, GetActiveCamera, GetActiveViewOrCreate, GetColorTransferFunction,
+from paraview.simple import (Clip, ColorBy, GetActiveCamera, GetActiveViewOrCreate, GetColorTransferFunction,
                              GetScalarBar, OpenDataFile, Render, SaveScreenshot, Show, Threshold)
 from vtk.numpy_interface import dataset_adapter as dsa
 
@@ -54,6 +56,28 @@ ColorBy(wd, None)
 wd.AmbientColor = wd.DiffuseColor = [0.6, 0.6, 0.6]
 if dim3:
     wd.Opacity = 0.25
+# in 3D, the wall particles inside the tank (obstacles, meshes) solid: the tank's own walls lie
+# outside its box
+tank = None
+try:
+    with open(os.path.join(d, "case.json")) as f:
+        tank = json.load(f).get("boundary", {}).get("tank")
+except (OSError, ValueError):
+    pass
+if dim3 and tank:
+    inner = Clip(Input=walls)
+    inner.ClipType = "Box"
+    inner.Crinkleclip = 1
+    inner.Invert = 1
+    lo_t, hi_t = np.array(tank["min"], float), np.array(tank["max"], float)
+    inner.ClipType.Position = [float(v) for v in lo_t + 1e-6]
+    inner.ClipType.Length = [float(v) for v in hi_t - lo_t - 2e-6]
+    inner.UpdatePipeline(t)
+    od = Show(inner, view)
+    od.SetRepresentationType("Points")
+    od.PointSize = 4
+    ColorBy(od, None)
+    od.AmbientColor = od.DiffuseColor = [0.35, 0.35, 0.35]
 fd = Show(fluid, view)
 fd.SetRepresentationType("Points")
 fd.PointSize = 3

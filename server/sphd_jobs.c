@@ -302,6 +302,14 @@ sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int
     sphd_publish(d, j, "log",
                  json_pack("{s:s, s:s}", "level", "info", "message",
                            start ? "submitted" : "submitted, not started"));
+    for (int k = 0; sph_case_is_sim(j->c) && k < j->c->sim.ngeometry; k++) {
+        char note[256];
+        int warn = 0;
+        if (sph_case_mesh_note(j->c, k, note, sizeof note, &warn) == 0)
+            sphd_publish(
+                d, j, "log",
+                json_pack("{s:s, s:s}", "level", warn ? "warning" : "info", "message", note));
+    }
     sphd_job_set_state(d, j, j->state, NULL);
     sphd_log("job %s submitted (%s, %s)", j->id, sph_method_name(j->c->method),
              sphd_job_state_name(j->state));

@@ -920,8 +920,9 @@ int sph_scene_fill(const sph_scene *s, const sph_config *c, sph_scene_counts *cn
                     case SPH_ROLE_FLUID:
                         *cell = CELL_FLUID;
                         break;
-                    case SPH_ROLE_VOID:
-                        *cell = CELL_NONE;
+                    case SPH_ROLE_VOID: /* carves the fluid, never a wall */
+                        if (*cell == CELL_FLUID)
+                            *cell = CELL_NONE;
                         break;
                     default: {
                         double dist;
@@ -931,7 +932,7 @@ int sph_scene_fill(const sph_scene *s, const sph_config *c, sph_scene_counts *cn
                             dist = sph_scene_distance(s, q, x, NULL);
                         if (dist < shell)
                             *cell = CELL_WALL;
-                        else if (sh->role == SPH_ROLE_OBSTACLE)
+                        else if (sh->role == SPH_ROLE_OBSTACLE && *cell == CELL_FLUID)
                             *cell = CELL_NONE;
                     }
                     }

@@ -13,9 +13,10 @@
  * the row crosses, found in the plane across the row with a symbolic perturbation of the row
  * (simulation of simplicity), so that a row through an edge or a vertex crosses the surface
  * once, never twice or not at all; the row's points inside are those of non-zero winding number.
- * Each lattice point takes the role of the last item that holds it: fluid, a wall's shell
- * (`layers` rows from its surface inwards), or nothing (a void, an obstacle's inside past its
- * shell); a wall's inside past its shell leaves the point as it was.
+ * Each lattice point takes the role of the last item that holds it: fluid, or a wall's shell
+ * (`layers` rows from its surface inwards); a void, and an obstacle's inside past its shell, take
+ * the fluid out (never a wall particle); a wall's inside past its shell leaves the point as it
+ * was.
  *
  * Layer 3 of the set-up pipeline, beside sph_shapes (the built-in boxes). May call: sph_mesh.h,
  * sph_lattice.h, sph_eos.h, Embree, libm. Never the fill of the built-in shapes or the sim.

@@ -21,6 +21,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define PI 3.14159265358979323846
 
@@ -389,6 +390,66 @@ static void restore_without_surface(void **state)
     sph_sim_destroy(b);
 }
 
+/* A mesh file read through the case (sph_case_load_meshes): a box as ASCII STL with one
+ * degenerate facet more, which is dropped and counted in the job's note; the box fills as the
+ * built-in box would on the same lattice. */
+static void mesh_file_through_case(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/test_scene.XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char file[64];
+    snprintf(file, sizeof file, "%s/box.stl", dir);
+    FILE *f = fopen(file, "w");
+    assert_non_null(f);
+    const double lo[3] = {-0.2, -0.1, -0.3}, hi[3] = {0.2, 0.1, 0.3};
+    static const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                    {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    fprintf(f, "solid box\n");
+    for (int q = 0; q < 6; q++)
+        for (int h = 0; h < 2; h++) {
+            const int tri[3] = {quads[q][0], quads[q][h + 1], quads[q][h + 2]};
+            fprintf(f, " facet normal 0 0 0\n  outer loop\n");
+            for (int v = 0; v < 3; v++)
+                fprintf(f, "   vertex %g %g %g\n", tri[v] & 1 ? hi[0] : lo[0],
+                        tri[v] & 2 ? hi[1] : lo[1], tri[v] & 4 ? hi[2] : lo[2]);
+            fprintf(f, "  endloop\n endfacet\n");
+        }
+    fprintf(f, " facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 0 0 0\n"
+               "   vertex 0.1 0 0\n  endloop\n endfacet\nendsolid box\n");
+    fclose(f);
+    sph_error err;
+    sph_case *c = parse(case3d("[{\"mesh\": \"box.stl\", \"role\": \"fluid\"}]", NULL), &err);
+    assert_non_null(c);
+    if (sph_case_load_meshes(c, dir, NULL, &err))
+        fail_msg("%s: %s", err.path, err.message);
+    char note[256];
+    int warn = 0;
+    assert_int_equal(sph_case_mesh_note(c, 0, note, sizeof note, &warn), 0);
+    printf("  %s\n", note);
+    assert_int_equal(warn, 1);
+    assert_non_null(strstr(note, "12 triangles"));
+    assert_non_null(strstr(note, "1 degenerate"));
+    sph_case *b = parse(case3d("[{\"box\": {\"min\": [-0.2, -0.1, -0.3], \"max\": [0.2, 0.1, "
+                               "0.3]}, \"role\": \"fluid\"}]",
+                               NULL),
+                        &err);
+    assert_non_null(b);
+    assert_int_equal(fluid_count(&c->sim), 40 * 20 * 60);
+    assert_int_equal(fluid_count(&b->sim), 40 * 20 * 60);
+    drop(c);
+    drop(b);
+    /* the file gone: refused at its path */
+    remove(file);
+    c = parse(case3d("[{\"mesh\": \"box.stl\", \"role\": \"fluid\"}]", NULL), &err);
+    assert_non_null(c);
+    assert_int_not_equal(sph_case_load_meshes(c, dir, NULL, &err), 0);
+    assert_string_equal(err.path, "/geometry/0/mesh");
+    assert_non_null(strstr(err.message, "box.stl"));
+    drop(c);
+    rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -398,6 +459,7 @@ int main(void)
         cmocka_unit_test(wall_shells),
         cmocka_unit_test(bad_items),
         cmocka_unit_test(restore_without_surface),
+        cmocka_unit_test(mesh_file_through_case),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
