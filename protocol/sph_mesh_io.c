@@ -148,7 +148,7 @@ int sph_mesh_read_unguarded(const void *bytes, size_t len, const char *name,
     if (len > lim->max_bytes || len > UINT_MAX)
         return sph_error_set(err, SPH_ERR_INVALID, path,
                              "mesh file %s has %zu bytes, more than the limit of %zu: simplify "
-                             "it or raise the limit (sphd --mesh-max-bytes)",
+                             "it",
                              name, len, lim->max_bytes);
     if (len == 0 || !bytes)
         return sph_error_set(err, SPH_ERR_INVALID, path, "mesh file %s is empty", name);
@@ -200,7 +200,7 @@ int sph_mesh_read_unguarded(const void *bytes, size_t len, const char *name,
         aiReleaseImport(sc);
         return sph_error_set(err, SPH_ERR_INVALID, path,
                              "mesh file %s has %ld triangles, more than the limit of %ld: "
-                             "simplify it or raise the limit (sphd --mesh-max-triangles)",
+                             "simplify it",
                              name, nt, lim->max_triangles);
     }
     double *xyz = malloc((size_t)nt * 9 * sizeof *xyz);
@@ -424,7 +424,7 @@ int sph_mesh_read_file(const char *file, const char *name, const sph_mesh_limits
         fclose(f);
         return sph_error_set(err, SPH_ERR_INVALID, path,
                              "mesh file %s has %lld bytes, more than the limit of %zu: simplify "
-                             "it or raise the limit (sphd --mesh-max-bytes)",
+                             "it",
                              file, (long long)st.st_size, lim->max_bytes);
     }
     size_t len = (size_t)st.st_size;

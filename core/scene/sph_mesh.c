@@ -94,8 +94,8 @@ int sph_mesh_from_triangles(sph_mesh *m, const double *xyz, long nt, const sph_m
         return sph_error_set(err, SPH_ERR_INVALID, path, "mesh has no triangles");
     if (nt > lim->max_triangles)
         return sph_error_set(err, SPH_ERR_INVALID, path,
-                             "mesh has %ld triangles, more than the limit of %ld: simplify it or "
-                             "raise the limit (sphd --mesh-max-triangles)",
+                             "mesh has %ld triangles, more than the limit of %ld: simplify it "
+                             "(decimate it)",
                              nt, lim->max_triangles);
     if (nt > (INT32_MAX - 1) / 3)
         return sph_error_set(err, SPH_ERR_NOMEM, path, "mesh of %ld triangles is too large", nt);
