@@ -27,18 +27,18 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* A torus (R, r) or a sphere (radius R) of nu x nv quads, two triangles each (the sphere's poles
- * as fans), outward. */
+/* A torus (R, r: sph_mesh_torus) or a sphere (radius R) of nu x nv quads, two triangles each (the
+ * sphere's poles as fans), outward. */
 static sph_mesh surface(int sphere, double R, double r, int nu, int nv)
 {
     sph_mesh m = {.dim = 3};
     if (!sphere) {
-        m.nv = (long)nu * nv;
-        m.nt = 2L * nu * nv;
-    } else {
-        m.nv = (long)nu * (nv - 1) + 2;
-        m.nt = 2L * nu * (nv - 1);
+        if (sph_mesh_torus(&m, R, r, nu, nv))
+            exit(1);
+        return m;
     }
+    m.nv = (long)nu * (nv - 1) + 2;
+    m.nt = 2L * nu * (nv - 1);
     m.v = malloc(3 * (size_t)m.nv * sizeof *m.v);
     m.t = malloc(3 * (size_t)m.nt * sizeof *m.t);
     if (!m.v || !m.t)
@@ -49,23 +49,7 @@ static sph_mesh surface(int sphere, double R, double r, int nu, int nv)
         m.t[3 * f] = (a), m.t[3 * f + 1] = (b), m.t[3 * f + 2] = (c);                              \
         f++;                                                                                       \
     } while (0)
-    if (!sphere) {
-        for (int i = 0; i < nu; i++)
-            for (int j = 0; j < nv; j++) {
-                const double u = 2 * PI * i / nu, v = 2 * PI * j / nv;
-                double *p = m.v + 3 * (size_t)(i * nv + j);
-                p[0] = (R + r * cos(v)) * cos(u);
-                p[1] = (R + r * cos(v)) * sin(u);
-                p[2] = r * sin(v);
-            }
-        for (int i = 0; i < nu; i++)
-            for (int j = 0; j < nv; j++) {
-                const int a = i * nv + j, b = ((i + 1) % nu) * nv + j;
-                const int c = ((i + 1) % nu) * nv + (j + 1) % nv, d = i * nv + (j + 1) % nv;
-                TRI(a, b, c);
-                TRI(a, c, d);
-            }
-    } else { /* rings 1 .. nv-1 of latitude, then the poles */
+    { /* rings 1 .. nv-1 of latitude, then the poles */
         for (int j = 1; j < nv; j++)
             for (int i = 0; i < nu; i++) {
                 const double th = PI * j / nv, ph = 2 * PI * i / nu;

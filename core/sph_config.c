@@ -81,3 +81,9 @@ void sph_config_pressure_point(const sph_config *c, const sph_pressure_spec *q, 
     for (int d = 0; d < 3; d++)
         x[d] = d < c->dim ? q->at[d] + f * q->normal[d] : 0.0;
 }
+
+int sph_config_by_scene(const sph_config *c)
+{
+    return c->ngeometry > 0 ||
+           (c->dim == 3 && c->boundary != SPH_BOUNDARY_GHOST && c->method == SPH_METHOD_WCSPH);
+}

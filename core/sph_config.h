@@ -278,6 +278,12 @@ double sph_config_monaghan_alpha(const sph_config *c);
  * Monaghan terms, alpha h c0 / (2 (d + 2)) for the artificial one (its inverse). */
 double sph_config_viscosity_nu(const sph_config *c);
 
+/* 1 if c's particles are filled through the scene (core/scene/sph_scene.h: every shape, the
+ * built-in fluid boxes, tank and obstacles too, on one lattice anchored at the domain's min
+ * corner): a case with a geometry list, and every 3D WCSPH case but with ghost walls. 2D cases
+ * without a geometry list keep the built-in shapes' own lattices (and their bits). */
+int sph_config_by_scene(const sph_config *c);
+
 /* The kernel's support radius [m]: q_max h, or for MPS weights the larger effective radius. */
 double sph_config_support(const sph_config *c);
 /* The smoothing length h [m]; MPS weights have support 2h = re (sph_kernel.h). */

@@ -23,7 +23,7 @@ static int has_walls(const sph_config *c)
 
 int sph_fill_prepare(sph_config *c, sph_error *err)
 {
-    if (c->ngeometry == 0 || c->geometry_filled)
+    if (!sph_config_by_scene(c) || c->geometry_filled)
         return 0;
     sph_scene *sc = sph_scene_create(c, err);
     if (!sc)
@@ -34,6 +34,15 @@ int sph_fill_prepare(sph_config *c, sph_error *err)
     if (rc)
         return rc;
     c->geometry_filled = 1;
+    /* the domain's max faces out to the whole lattice cells they cut: a tank whose inside is
+     * the domain has its walls on the lattice, up to dx beyond the faces given, and the water
+     * between is not lost */
+    for (int d = 0; d < c->dim; d++) {
+        const double o = c->domain.min[d] + 0.5 * c->dx;
+        const double cell = o + (floor((c->domain.max[d] - o) / c->dx + 1e-9) + 0.5) * c->dx;
+        if (cell > c->domain.max[d])
+            c->domain.max[d] = cell;
+    }
     c->geometry_fluid = n.fluid;
     c->geometry_wall = n.wall;
     for (int d = 0; d < 3; d++) {
@@ -45,7 +54,7 @@ int sph_fill_prepare(sph_config *c, sph_error *err)
 
 void sph_fill_count(const sph_config *c, sph_fill_counts *n)
 {
-    if (c->ngeometry > 0) { /* the scene holds the built-in shapes too */
+    if (sph_config_by_scene(c)) { /* the scene holds the built-in shapes too */
         sph_config tmp;
         const sph_config *f = c;
         if (!c->geometry_filled) {
@@ -115,7 +124,7 @@ static int fill_scene(const sph_config *c, sph_particles *P)
 
 void sph_fill(const sph_config *c, sph_particles *P)
 {
-    if (c->ngeometry > 0) {
+    if (sph_config_by_scene(c)) {
         fill_scene(c, P);
         return;
     }

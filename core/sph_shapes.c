@@ -63,10 +63,40 @@ int sph_shapes_in_obstacle(const sph_config *c, const double *x)
     return 0;
 }
 
+/* The faces a box's particles stand for along axis d, dx/2 beyond its outermost particles: on
+ * the obstacle's own lattice (centred in the box), or, when the scene filled the case
+ * (sph_config_by_scene), on the lattice anchored at the domain's min corner, whose points inside
+ * the box are its particles (for the tank, whose particles lie outside it: the faces of its
+ * inside, dx/2 beyond the fluid's lattice points nearest them). */
+static void box_faces(const sph_config *c, const sph_box *b, int d, int centred, double *lo,
+                      double *hi)
+{
+    const double dx = c->dx;
+    if (c->geometry_filled) {
+        const double o = c->domain.min[d] + 0.5 * dx;
+        lo[d] = o + (ceil((b->min[d] - o) / dx - 1e-9) - 0.5) * dx;
+        hi[d] = o + (floor((b->max[d] - o) / dx + 1e-9) + 0.5) * dx;
+        return;
+    }
+    if (!centred) {
+        lo[d] = b->min[d];
+        hi[d] = b->max[d];
+        return;
+    }
+    double first;
+    const long n = obstacle_axis(b, d, dx, &first);
+    lo[d] = first - 0.5 * dx;
+    hi[d] = first + (double)(n - 1) * dx + 0.5 * dx;
+}
+
 void sph_shapes_wall_mirror(const sph_config *c, const double *x, double *g)
 {
     const int dim = c->dim, up = sph_shapes_up(dim);
-    const double dx = c->dx, half = 0.5 * dx;
+    const double dx = c->dx;
+    double tlo[3] = {0, 0, 0}, thi[3] = {0, 0, 0}; /* the tank's inside */
+    if (c->has_tank)
+        for (int d = 0; d < dim; d++)
+            box_faces(c, &c->tank, d, 0, tlo, thi);
     for (int d = 0; d < 3; d++)
         g[d] = d < dim ? x[d] : 0.0;
     for (int k = 0; k < c->nobstacles; k++) { /* a point of an obstacle: across its nearest face */
@@ -74,10 +104,7 @@ void sph_shapes_wall_mirror(const sph_config *c, const double *x, double *g)
         double lo[3], hi[3];
         int in = 1;
         for (int d = 0; d < dim && in; d++) {
-            double first;
-            const long n = obstacle_axis(o, d, dx, &first);
-            lo[d] = first - half; /* the faces the particles stand for */
-            hi[d] = first + (double)(n - 1) * dx + half;
+            box_faces(c, o, d, 1, lo, hi); /* the faces the particles stand for */
             in = x[d] > lo[d] && x[d] < hi[d];
         }
         if (!in)
@@ -86,8 +113,8 @@ void sph_shapes_wall_mirror(const sph_config *c, const double *x, double *g)
         int axis = -1;
         for (int d = 0; d < dim; d++) {
             /* a face on the tank's floor or against one of its walls faces no water */
-            const int lo_wet = !c->has_tank || lo[d] > c->tank.min[d] + 0.25 * dx;
-            const int hi_wet = !c->has_tank || d == up || hi[d] < c->tank.max[d] - 0.25 * dx;
+            const int lo_wet = !c->has_tank || lo[d] > tlo[d] + 0.25 * dx;
+            const int hi_wet = !c->has_tank || d == up || hi[d] < thi[d] - 0.25 * dx;
             if (lo_wet && x[d] - lo[d] < best) {
                 best = x[d] - lo[d];
                 at = lo[d];
@@ -107,11 +134,10 @@ void sph_shapes_wall_mirror(const sph_config *c, const double *x, double *g)
         return;
     for (int d = 0; d < dim; d++) { /* a point of the tank's walls: across the nearest point of
                                        the tank's inside (a face, an edge or a corner) */
-        const sph_box *t = &c->tank;
-        if (x[d] < t->min[d])
-            g[d] = 2.0 * t->min[d] - x[d];
-        else if (x[d] > t->max[d] && d != up)
-            g[d] = 2.0 * t->max[d] - x[d];
+        if (x[d] < tlo[d])
+            g[d] = 2.0 * tlo[d] - x[d];
+        else if (x[d] > thi[d] && d != up)
+            g[d] = 2.0 * thi[d] - x[d];
     }
 }
 
@@ -221,53 +247,10 @@ long sph_shapes_fluid_points(const sph_config *c, const sph_box *f, double *cons
     return i;
 }
 
-/* The 3D tank's wall points: the bottom's layers (under the whole tank, the side walls'
- * thickness included), then the walls at x min and max (across the whole width, the corners
- * with them), then those at y min and max, from the bottom face up to the tank's top. */
-static long tank_points_3d(const sph_config *c, double *const *pos)
-{
-    const double dx = c->dx;
-    const long L = c->layers;
-    const sph_box *t = &c->tank;
-    long n[3];
-    for (int d = 0; d < 3; d++)
-        n[d] = sph_lattice_axis_count(t->min[d], t->max[d], dx);
-    if (!pos)
-        return L * (n[0] + 2 * L) * (n[1] + 2 * L) + 2 * L * (n[1] + 2 * L) * n[2] +
-               2 * L * n[0] * n[2];
-    long i = 0;
-    for (long k = 0; k < L; k++)
-        for (long ix = -L; ix < n[0] + L; ix++)
-            for (long iy = -L; iy < n[1] + L; iy++, i++) {
-                pos[0][i] = t->min[0] + (ix + 0.5) * dx;
-                pos[1][i] = t->min[1] + (iy + 0.5) * dx;
-                pos[2][i] = t->min[2] - (k + 0.5) * dx;
-            }
-    for (long k = 0; k < L; k++)
-        for (long iy = -L; iy < n[1] + L; iy++)
-            for (long iz = 0; iz < n[2]; iz++, i += 2)
-                for (int side = 0; side < 2; side++) {
-                    pos[0][i + side] =
-                        side ? t->max[0] + (k + 0.5) * dx : t->min[0] - (k + 0.5) * dx;
-                    pos[1][i + side] = t->min[1] + (iy + 0.5) * dx;
-                    pos[2][i + side] = t->min[2] + (iz + 0.5) * dx;
-                }
-    for (long k = 0; k < L; k++)
-        for (long ix = 0; ix < n[0]; ix++)
-            for (long iz = 0; iz < n[2]; iz++, i += 2)
-                for (int side = 0; side < 2; side++) {
-                    pos[0][i + side] = t->min[0] + (ix + 0.5) * dx;
-                    pos[1][i + side] =
-                        side ? t->max[1] + (k + 0.5) * dx : t->min[1] - (k + 0.5) * dx;
-                    pos[2][i + side] = t->min[2] + (iz + 0.5) * dx;
-                }
-    return i;
-}
-
 long sph_shapes_tank_points(const sph_config *c, double *const *pos)
 {
-    if (c->dim == 3)
-        return tank_points_3d(c, pos);
+    if (c->dim == 3) /* 3D tanks of wall particles are the scene's (sph_config_by_scene) */
+        return 0;
     const double dx = c->dx;
     const long L = c->layers;
     const sph_box *t = &c->tank;

@@ -42,11 +42,10 @@ sph_box sph_shapes_fluid_bounds(const sph_config *c, const sph_box *f);
  * Writes pos[d][0 ..] when pos is not NULL; returns the count. */
 long sph_shapes_fluid_points(const sph_config *c, const sph_box *f, double *const *pos);
 
-/* The tank's wall points, `layers` layers outside its bottom and its sides (the top is open).
- * 2D: the bottom's rows (the corners with them), from the bottom face down, then the sides'
- * layers, left and right in turn, from the bottom up. 3D: the bottom's layers under the whole
- * tank and its walls, then the walls at x min and max (the vertical edges with them), then those
- * at y min and max. Writes pos[d][0 ..] when pos is not NULL; returns the count. */
+/* The 2D tank's wall points, `layers` layers outside its bottom and its sides (the top is open):
+ * the bottom's rows (the corners with them), from the bottom face down, then the sides' layers,
+ * left and right in turn, from the bottom up (a 3D tank of wall particles is the scene's:
+ * sph_config_by_scene; 0 here). Writes pos[d][0 ..] when pos is not NULL; returns the count. */
 long sph_shapes_tank_points(const sph_config *c, double *const *pos);
 
 /* The obstacle box b's points: a lattice at spacing dx centred in the box, L / dx rounded points
@@ -61,7 +60,8 @@ long sph_shapes_obstacle_points(const sph_config *c, const sph_box *b, double *c
  * wet (not one on the tank's floor or against a tank wall); for a tank wall's particle, the
  * nearest point of the tank's inside, so that a particle in an edge or a corner of the walls is
  * reflected through that edge or corner. The faces are those the particles stand for: dx / 2
- * beyond the outermost particles. g = x for a point that belongs to no wall. */
+ * beyond the outermost particles (on the scene's lattice when the scene filled the case:
+ * sph_config_by_scene). g = x for a point that belongs to no wall. */
 void sph_shapes_wall_mirror(const sph_config *c, const double *x, double *g);
 
 /* 1 if the point x lies where an obstacle is: within dx of the region of one's lattice (a fluid

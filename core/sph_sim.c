@@ -22,7 +22,7 @@ static void grid_bounds(const sph_config *c, double lo[3], double hi[3])
     for (int d = 0; d < c->dim; d++) {
         lo[d] = c->domain.min[d];
         hi[d] = c->domain.max[d];
-        if (c->has_tank && c->boundary != SPH_BOUNDARY_NONE) {
+        if (c->has_tank && c->boundary != SPH_BOUNDARY_NONE && !c->geometry_filled) {
             const double w = c->boundary == SPH_BOUNDARY_DYNAMIC ? (c->layers + 1) * c->dx
                                                                  : sph_config_support(c) + c->dx;
             lo[d] = fmin(lo[d], c->tank.min[d] - w);
@@ -55,7 +55,7 @@ double sph_sim_estimate_bytes(const sph_config *cfg_in, long *nfluid, long *nbou
 {
     sph_config prepared;
     const sph_config *cfg = cfg_in;
-    if (cfg_in->ngeometry > 0 && !cfg_in->geometry_filled && cfg_in->dx > 0.0) {
+    if (sph_config_by_scene(cfg_in) && !cfg_in->geometry_filled && cfg_in->dx > 0.0) {
         prepared = *cfg_in; /* the geometry's counts and reach, found once */
         if (sph_fill_prepare(&prepared, NULL) == 0)
             cfg = &prepared;
@@ -207,6 +207,10 @@ static int geometry_check(const sph_config *c, sph_error *err)
         return sph_error_set(err, SPH_ERR_INVALID, "/geometry",
                              "a geometry list needs \"dynamic\" walls (or none): ghost walls "
                              "mirror a tank's box only");
+    if (c->initial.type != SPH_INITIAL_REST && sph_initial_elevation_max(c) > 0.0)
+        return sph_error_set(err, SPH_ERR_INVALID, "/geometry",
+                             "an initial field that raises the surface (the solitary wave) is "
+                             "not filled through a geometry list in this version");
     for (int k = 0; k < c->ngeometry; k++) {
         const sph_geometry_spec *g = &c->geometry[k];
         char path[64];
@@ -343,7 +347,7 @@ sph_sim *sph_sim_create(const sph_config *cfg_in, sph_error *err)
         return NULL;
     sph_config prepared;
     const sph_config *cfg = cfg_in;
-    if (cfg_in->ngeometry > 0 && !cfg_in->geometry_filled) {
+    if (sph_config_by_scene(cfg_in) && !cfg_in->geometry_filled) {
         prepared = *cfg_in; /* the scene's counts and reach, in the sim's copy of the config */
         if (sph_fill_prepare(&prepared, err))
             return NULL;

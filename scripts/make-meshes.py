@@ -10,7 +10,11 @@ sphere.stl: an icosphere (--sphere-radius, --sphere-subdivisions; or --triangles
   both half-hulls and the deck z = 0 closing it (--wigley-L, -B, -T, --wigley-segments);
   pier.stl: a bridge pier, a column of round-nosed (stadium) section, its length along x, its
   bottom's centre at the origin (--pier-length, --pier-width, --pier-height, --pier-segments
-  per round nose) (cases/pier3d.json's: the defaults).
+  per round nose) (cases/pier3d.json's: the defaults);
+  test2: SPHERIC Test 2's tank and box from its case file's numbers (--test2-case, default
+  cases/dambreak3d.json, at --test2-dx, default the case's): tank.stl, the tank's walls as one
+  solid, `layers` dx thick (the case's boundary.layers) outside its inner faces (bottom and four
+  sides, open top), and box.stl, the obstacle; not written by default.
 --check: reads each file written back and prints its triangles and enclosed volume against the
 exact one (the sphere's and torus' are those of the smooth shape: the faceted one is smaller).
 Needs python3 and numpy only.
@@ -22,7 +26,7 @@ import sys
 
 import numpy as np
 
-SHAPES = ("sphere", "torus", "box", "wigley", "pier")
+SHAPES = ("sphere", "torus", "box", "wigley", "pier", "test2")
 
 
 def write_stl(path, tris, name):
@@ -173,10 +177,40 @@ def pier(length, width, height, segments):
     return t
 
 
+def quad_box(lo, hi, skip_top=False, inward=False):
+    """A box's faces as triangles (outward, or turned inward), with or without its top."""
+    t = box(lo, hi)
+    if skip_top:
+        t = t[~np.all(np.isclose(t[:, :, 2], hi[2]), axis=1)]
+    return t[:, [0, 2, 1]] if inward else t
+
+
+def tank_cup(lo, hi, w):
+    """The walls of an open tank as one closed solid: the box grown by w (but at the top) less
+    the tank's inside, the rim at the top joining the two."""
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    olo, ohi = lo - w, hi + w
+    olo[2], ohi[2] = lo[2] - w, hi[2]
+    tris = [quad_box(olo, ohi, skip_top=True), quad_box(lo, hi, skip_top=True, inward=True)]
+    z = hi[2]
+    o = [(olo[0], olo[1]), (ohi[0], olo[1]), (ohi[0], ohi[1]), (olo[0], ohi[1])]
+    i = [(lo[0], lo[1]), (hi[0], lo[1]), (hi[0], hi[1]), (lo[0], hi[1])]
+    rim = []
+    for k in range(4):  # the rim, facing up: outer edge k, inner edge k
+        a, b = o[k], o[(k + 1) % 4]
+        c, d = i[(k + 1) % 4], i[k]
+        P = [np.array([p[0], p[1], z]) for p in (a, b, c, d)]
+        rim += [(P[0], P[1], P[2]), (P[0], P[2], P[3])]
+    rim = np.array(rim)
+    n = np.cross(rim[:, 1] - rim[:, 0], rim[:, 2] - rim[:, 0])
+    rim[n[:, 2] < 0] = rim[n[:, 2] < 0][:, [0, 2, 1]]
+    return np.concatenate(tris + [rim])
+
+
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("outdir")
-    ap.add_argument("--only", nargs="+", choices=SHAPES, default=list(SHAPES))
+    ap.add_argument("--only", nargs="+", choices=SHAPES, default=list(SHAPES[:-1]))
     ap.add_argument("--check", action="store_true", help="print triangles and volume of each file")
     ap.add_argument("--sphere-radius", type=float, default=1.0)
     ap.add_argument("--sphere-subdivisions", type=int, default=3)
@@ -194,6 +228,9 @@ def main(argv):
     ap.add_argument("--pier-width", type=float, default=0.06)
     ap.add_argument("--pier-height", type=float, default=0.5)
     ap.add_argument("--pier-segments", type=int, default=16)
+    ap.add_argument("--test2-case", default=os.path.join(os.path.dirname(__file__), "..", "cases",
+                                                         "dambreak3d.json"))
+    ap.add_argument("--test2-dx", type=float, help="the spacing (default: the case's dx)")
     a = ap.parse_args(argv)
     os.makedirs(a.outdir, exist_ok=True)
     for name in a.only:
@@ -211,6 +248,22 @@ def main(argv):
         elif name == "box":
             t = box(a.box_min, a.box_max)
             exact = float(np.prod(np.subtract(a.box_max, a.box_min)))
+        elif name == "test2":
+            import json
+            c = json.load(open(a.test2_case))
+            dx = a.test2_dx or c["dx"]
+            b = c["boundary"]
+            w = b.get("layers", 3) * dx
+            for fname, t, exact in (
+                    ("tank", tank_cup(b["tank"]["min"], b["tank"]["max"], w), None),
+                    ("box", box(b["obstacles"][0]["box"]["min"], b["obstacles"][0]["box"]["max"]),
+                     None)):
+                path = os.path.join(a.outdir, fname + ".stl")
+                write_stl(path, t, fname)
+                if a.check:
+                    r = read_stl(path)
+                    print(f"{fname}.stl: {len(r)} triangles, volume {volume(r):.6g}")
+            continue
         elif name == "pier":
             t = pier(a.pier_length, a.pier_width, a.pier_height, a.pier_segments)
             w = a.pier_width

@@ -801,3 +801,36 @@ void sph_mesh_flip(sph_mesh *m)
         t[per - 1] = x;
     }
 }
+
+int sph_mesh_torus(sph_mesh *m, double R, double r, int nu, int nv)
+{
+    memset(m, 0, sizeof *m);
+    m->dim = 3;
+    m->nv = (long)nu * nv;
+    m->nt = 2L * nu * nv;
+    m->v = malloc(3 * (size_t)m->nv * sizeof *m->v);
+    m->t = malloc(3 * (size_t)m->nt * sizeof *m->t);
+    if (!m->v || !m->t) {
+        sph_mesh_free(m);
+        return SPH_ERR_NOMEM;
+    }
+    for (int i = 0; i < nu; i++)
+        for (int j = 0; j < nv; j++) {
+            const double u = 2.0 * M_PI * i / nu, w = 2.0 * M_PI * j / nv;
+            double *p = m->v + 3 * (size_t)(i * nv + j);
+            p[0] = (R + r * cos(w)) * cos(u);
+            p[1] = (R + r * cos(w)) * sin(u);
+            p[2] = r * sin(w);
+        }
+    long f = 0;
+    for (int i = 0; i < nu; i++)
+        for (int j = 0; j < nv; j++, f += 2) {
+            const int a = i * nv + j, b = ((i + 1) % nu) * nv + j;
+            const int c = ((i + 1) % nu) * nv + (j + 1) % nv, d = i * nv + (j + 1) % nv;
+            int *t = m->t + 3 * (size_t)f;
+            t[0] = a, t[1] = b, t[2] = c, t[3] = a, t[4] = c, t[5] = d;
+        }
+    if (sph_mesh_volume(m) < 0.0)
+        sph_mesh_flip(m);
+    return 0;
+}

@@ -63,6 +63,10 @@ int sph_mesh_check_closed(const sph_mesh *m, const char *path, sph_error *err);
  * clockwise seen from outside (outward normals). */
 double sph_mesh_volume(const sph_mesh *m);
 
+/* A torus of radii R (the ring) and r (the tube) about the z axis as a closed, outward mesh of
+ * nu x nv quads (two triangles each): for tests and benchmarks. 0, or SPH_ERR_NOMEM. */
+int sph_mesh_torus(sph_mesh *m, double R, double r, int nu, int nv);
+
 /* Turns every face over (outward normals to inward and back). */
 void sph_mesh_flip(sph_mesh *m);
 

@@ -104,33 +104,10 @@ static void sphere_volume(void **state)
                  PI * 0.2 * 0.2 * 0.6);
 }
 
-/* A torus (R, r) as a closed, outward mesh of nu x nv quads, each two triangles. */
 static sph_mesh torus(double R, double r, int nu, int nv)
 {
-    sph_mesh m = {.dim = 3, .nv = (long)nu * nv, .nt = 2L * nu * nv};
-    m.v = malloc(3 * (size_t)m.nv * sizeof *m.v);
-    m.t = malloc(3 * (size_t)m.nt * sizeof *m.t);
-    assert_non_null(m.v);
-    assert_non_null(m.t);
-    for (int i = 0; i < nu; i++)
-        for (int j = 0; j < nv; j++) {
-            const double u = 2 * PI * i / nu, v = 2 * PI * j / nv;
-            double *p = m.v + 3 * (size_t)(i * nv + j);
-            p[0] = (R + r * cos(v)) * cos(u);
-            p[1] = (R + r * cos(v)) * sin(u);
-            p[2] = r * sin(v);
-        }
-    long f = 0;
-    for (int i = 0; i < nu; i++)
-        for (int j = 0; j < nv; j++) {
-            const int a = i * nv + j, b = ((i + 1) % nu) * nv + j;
-            const int c = ((i + 1) % nu) * nv + (j + 1) % nv, d = i * nv + (j + 1) % nv;
-            int *t = m.t + 3 * (size_t)f;
-            t[0] = a, t[1] = b, t[2] = c, t[3] = a, t[4] = c, t[5] = d;
-            f += 2;
-        }
-    if (sph_mesh_volume(&m) < 0)
-        sph_mesh_flip(&m);
+    sph_mesh m;
+    assert_int_equal(sph_mesh_torus(&m, R, r, nu, nv), 0);
     return m;
 }
 

@@ -44,6 +44,9 @@ P_BOUND = 0.15          # RMS over P_WINDOW / the averaged measurement's peak
 CI_H2_UNTIL = 0.5       # [s] the window of the RMS at H2 at the ci level
 CI_IMPACT = 0.1         # [s] first impacts, 12 over the depth (ci level)
 LAYERS = {"full": [12, 16, 30], "ci": [12]}
+# SPH_DAMBREAK3D_LAYERS=12,16: the full level at these resolutions only (30 takes two hours)
+if os.environ.get("SPH_DAMBREAK3D_LAYERS"):
+    LAYERS["full"] = [int(v) for v in os.environ["SPH_DAMBREAK3D_LAYERS"].split(",")]
 RESOLUTION = {"full": "12, 16 and 30 particles over the 0.55 m depth (dx = 45.8, 34.4, 18.3 mm)",
               "ci": "12 particles over the depth (dx = 45.8 mm), to t = 1 s"}
 
