@@ -1,21 +1,33 @@
 #!/usr/bin/env bash
 # Installs what sphd needs to build and test (and the tools the tests read results with: meshio,
-# ParaView's pvbatch, matplotlib for the validation report), from Debian's packages. Does nothing when all is
-# there. Runs apt-get as root, or through sudo.
+# ParaView's pvbatch, matplotlib for the validation report), from Debian's packages.
+# --main: only what scripts/run-main.sh needs, the build of sphd and sphctl without the tests
+# (-DSPH_BUILD_TESTS=OFF): the compiler, cmake, pkg-config and the libraries they link against.
+# Does nothing when all is there. Runs apt-get as root, or through sudo.
 set -euo pipefail
-pkgs=(gcc make cmake pkg-config libzmq3-dev libjansson-dev libhdf5-dev zlib1g-dev libcmocka-dev
-      python3 python3-zmq python3-h5py python3-numpy python3-jsonschema
-      python3-meshio python3-matplotlib paraview python3-paraview xvfb xauth)
-# the second compiler of CI, its OpenMP and libFuzzer
-pkgs+=(clang libomp-dev libclang-rt-dev)
-# meshes: read with assimp, queried over Embree's hierarchies (core/scene, protocol/sph_mesh_io.c)
-pkgs+=(libassimp-dev libembree-dev)
-# the CURVE test captures loopback traffic
-pkgs+=(tcpdump)
-# the Slurm executor's test runs a one-node Slurm cluster (scripts/slurm-local.sh)
-pkgs+=(slurm-wlm munge)
-# the clang build of test.sh builds with hypre's AMG (-DSPH_HYPRE=ON: mps.preconditioner "amg")
-pkgs+=(libhypre-dev mpi-default-dev)
+main_only=0
+case "${1:-}" in
+  --main) main_only=1 ;;
+  "") ;;
+  *) echo "usage: $0 [--main]" >&2; exit 64 ;;
+esac
+# sphd and sphctl (the top CMakeLists.txt: OpenMP comes with gcc; meshes are read with assimp and
+# queried over Embree's hierarchies, core/scene and protocol/sph_mesh_io.c)
+pkgs=(gcc libc6-dev make cmake pkg-config libzmq3-dev libjansson-dev libhdf5-dev zlib1g-dev
+      libassimp-dev libembree-dev)
+if [ "$main_only" -eq 0 ]; then
+  # the unit tests, and the tools the tests read results with
+  pkgs+=(libcmocka-dev python3 python3-zmq python3-h5py python3-numpy python3-jsonschema
+         python3-meshio python3-matplotlib paraview python3-paraview xvfb xauth)
+  # the second compiler of CI, its OpenMP and libFuzzer
+  pkgs+=(clang libomp-dev libclang-rt-dev)
+  # the CURVE test captures loopback traffic
+  pkgs+=(tcpdump)
+  # the Slurm executor's test runs a one-node Slurm cluster (scripts/slurm-local.sh)
+  pkgs+=(slurm-wlm munge)
+  # the clang build of test.sh builds with hypre's AMG (-DSPH_HYPRE=ON: mps.preconditioner "amg")
+  pkgs+=(libhypre-dev mpi-default-dev)
+fi
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
