@@ -714,7 +714,7 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
         }
         break;
     }
-    j->pause_requested = j->stop_requested = 0;
+    j->pause_requested = j->stop_requested = j->requests_unsent = 0;
     sphd_jobs_answer_waiters(d, j);
     sphd_log("job %s %s after %.3f s", j->id, sphd_job_state_name(j->state), ev->wall);
 }

@@ -259,7 +259,7 @@ static void on_states(sphd_daemon *d, const char *lines)
             j->step_n = j->run_max_steps;
             j->step_until = j->run_until;
         }
-        j->pause_requested = j->stop_requested = j->stepping = 0;
+        j->pause_requested = j->stop_requested = j->stepping = j->requests_unsent = 0;
         if (stop) {
             sphd_job_set_state(d, j, SPHD_JOB_STOPPED, NULL);
         } else if (pause) {
