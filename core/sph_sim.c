@@ -222,6 +222,9 @@ static int geometry_check(const sph_config *c, sph_error *err)
             return sph_error_set(err, SPH_ERR_INVALID, path,
                                  "a wall or obstacle is made of dynamic wall particles: it needs "
                                  "boundary.type \"dynamic\"");
+        /* TODO(issue 44): mDBC for the geometry's walls: a mirror point per wall particle across
+         * the nearest wet face of its shape (sph_scene_distance on the faces whose outside holds
+         * no other wall), kept with the particles (permuted, saved, on the GPU) */
         if (walls && c->wall_density == SPH_WALL_MDBC)
             return sph_error_set(err, SPH_ERR_INVALID, path,
                                  "mDBC walls from the geometry list are not in this version (their "

@@ -18,6 +18,10 @@
  * the fluid out (never a wall particle); a wall's inside past its shell leaves the point as it
  * was.
  *
+ * TODO(issue 44): 2D rigid bodies as shapes of the list (a polygon body: the water entry's
+ * cylinder as a 720-gon within dx/100 of the circle's particles), and mDBC walls from meshes
+ * (sph_sim.c, geometry_check).
+ *
  * Layer 3 of the set-up pipeline, beside sph_shapes (the built-in boxes). May call: sph_mesh.h,
  * sph_lattice.h, sph_eos.h, Embree, libm. Never the fill of the built-in shapes or the sim.
  */

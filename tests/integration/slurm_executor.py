@@ -288,6 +288,9 @@ try:
     wait_states(d, ["C", "LK"], ("done",), timeout=300)
     F.check(same_run(d, "C", "LK"), "cancelled and resumed: bit for bit the local run")
 
+    # TODO(issue 47): this scenario does not hold (D2 starts on the one-node cluster only once D1
+    # is done, so two checks below fail), and the script exits 0 whatever its checks say (F.done()
+    # is not its exit code); the fix of the Slurm gaps (reverted in d33cd6d) waits on both
     # -- kill -9 of the daemon while two Slurm jobs run
     for j in ("D1", "D2"):
         d.ok("submit", {"case": case, "job": j, "set": long_sets})
