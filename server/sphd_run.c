@@ -179,6 +179,13 @@ int sphd_run(const sphd_run_opts *o)
     if (o->ckpt_interval > 0)
         sphd_exec_set_checkpoint_policy(x, o->ckpt_interval, 1);
     emit_state(&em, "running", NULL);
+    for (int k = 0; sph_case_is_sim(c) && k < c->sim.ngeometry; k++) { /* what each mesh held */
+        char note[256];
+        int warn = 0;
+        if (sph_case_mesh_note(c, k, note, sizeof note, &warn) == 0)
+            emit(&em, "log",
+                 json_pack("{s:s, s:s}", "level", warn ? "warning" : "info", "message", note));
+    }
     /* SIGINT, SIGTERM: stop between two chunks of steps, with a checkpoint (--resume) */
     struct sigaction sa = {0};
     sa.sa_handler = on_stop_signal;

@@ -37,6 +37,8 @@ import json, sys
 import h5py, numpy as np
 ev = [json.loads(l) for l in open(sys.argv[1])]
 assert ev[-1]["type"] == "state" and ev[-1]["state"] == "done", ev[-1]
+logs = [e["message"] for e in ev if e["type"] == "log"]
+assert any("mesh pier.stl: 132 triangles" in m for m in logs), logs
 res = [e for e in ev if e["type"] == "result"][0]
 f = h5py.File(sys.argv[2])
 p, t = f["pos"][:], f["type"][:]
