@@ -77,8 +77,10 @@ void sph_fill_count(const sph_config *c, sph_fill_counts *n)
 }
 
 /* Particles [i0, i1) of P, whose positions a shape wrote: their type, id, velocity (the initial
- * field's for the fluid, rest for walls) and hydrostatic density (looking `margin` across). */
-static void settle(const sph_config *c, sph_particles *P, long i0, long i1, int type, double margin)
+ * field's for the fluid, rest for walls) and density: rho[i - i0] where rho is given (the scene's),
+ * else the hydrostatic one of the fluid boxes (looking `margin` across). */
+static void settle(const sph_config *c, sph_particles *P, long i0, long i1, int type, double margin,
+                   const double *rho)
 {
     for (long i = i0; i < i1; i++) {
         const double x[3] = {P->x[i], P->y[i], P->z ? P->z[i] : 0.0};
@@ -90,7 +92,7 @@ static void settle(const sph_config *c, sph_particles *P, long i0, long i1, int 
         SPH_SET(M, P, vy, i, v[1]);
         if (P->dim == 3)
             SPH_SET(M, P, vz, i, v[2]);
-        SPH_SET(M, P, rho, i, sph_shapes_hydrostatic_density(c, x, margin));
+        SPH_SET(M, P, rho, i, rho ? rho[i - i0] : sph_shapes_hydrostatic_density(c, x, margin));
         P->type[i] = (unsigned char)type;
         P->id[i] = (int)i;
     }
@@ -113,10 +115,8 @@ static int fill_scene(const sph_config *c, sph_particles *P)
     if (rc == 0 && (cnt.fluid != c->geometry_fluid || cnt.wall != c->geometry_wall))
         rc = -1;
     if (rc == 0) {
-        settle(c, P, 0, cnt.fluid, SPH_FLUID, 0.0);
-        settle(c, P, cnt.fluid, n, SPH_BOUNDARY, 0.0);
-        for (long i = 0; i < n; i++)
-            SPH_SET(P->mixed, P, rho, i, rho[i]);
+        settle(c, P, 0, cnt.fluid, SPH_FLUID, 0.0, rho);
+        settle(c, P, cnt.fluid, n, SPH_BOUNDARY, 0.0, rho + cnt.fluid);
     }
     free(rho);
     return rc;
@@ -132,13 +132,13 @@ void sph_fill(const sph_config *c, sph_particles *P)
     for (int b = 0; b < c->nfluid; b++) {
         double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};
         const long n = sph_shapes_fluid_points(c, &c->fluid[b], at);
-        settle(c, P, i, i + n, SPH_FLUID, 0.0);
+        settle(c, P, i, i + n, SPH_FLUID, 0.0, NULL);
         i += n;
     }
     if (has_walls(c)) {
         double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};
         const long n = sph_shapes_tank_points(c, at);
-        settle(c, P, i, i + n, SPH_BOUNDARY, (c->layers + 0.5) * c->dx);
+        settle(c, P, i, i + n, SPH_BOUNDARY, (c->layers + 0.5) * c->dx, NULL);
         i += n;
     }
     if (c->boundary != SPH_BOUNDARY_DYNAMIC)
@@ -146,7 +146,7 @@ void sph_fill(const sph_config *c, sph_particles *P)
     for (int k = 0; k < c->nobstacles; k++) { /* the obstacles, after the tank's walls */
         double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};
         const long n = sph_shapes_obstacle_points(c, &c->obstacles[k], at);
-        settle(c, P, i, i + n, SPH_BOUNDARY, 0.0);
+        settle(c, P, i, i + n, SPH_BOUNDARY, 0.0, NULL);
         i += n;
     }
 }

@@ -7,6 +7,8 @@
  */
 #include "sph_mesh_io.h"
 
+#include "sph_fileio.h"
+
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -248,21 +250,6 @@ typedef struct reply_head {
     long nv, nt, degenerate;
 } reply_head;
 
-static int write_all(int fd, const void *p, size_t n)
-{
-    const char *c = p;
-    while (n > 0) {
-        const ssize_t w = write(fd, c, n);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0)
-            return -1;
-        c += w;
-        n -= (size_t)w;
-    }
-    return 0;
-}
-
 /* Reads n bytes from fd by the deadline (CLOCK_MONOTONIC seconds); 0, -1 (closed or error) or
  * -2 (time out). */
 static int read_by(int fd, void *p, size_t n, double deadline)
@@ -308,10 +295,11 @@ static void child_read(int fd, const void *bytes, size_t len, const char *name,
         h.nv = m.nv;
         h.nt = m.nt;
         h.degenerate = m.degenerate;
-        if (write_all(fd, &h, sizeof h) || write_all(fd, m.v, 3 * (size_t)m.nv * sizeof *m.v) ||
-            write_all(fd, m.t, 3 * (size_t)m.nt * sizeof *m.t))
+        if (sph_write_all(fd, &h, sizeof h) ||
+            sph_write_all(fd, m.v, 3 * (size_t)m.nv * sizeof *m.v) ||
+            sph_write_all(fd, m.t, 3 * (size_t)m.nt * sizeof *m.t))
             _exit(3);
-    } else if (write_all(fd, &h, sizeof h) || write_all(fd, &e, sizeof e)) {
+    } else if (sph_write_all(fd, &h, sizeof h) || sph_write_all(fd, &e, sizeof e)) {
         _exit(3);
     }
     _exit(0);
