@@ -805,7 +805,8 @@ static int surface_crossings(const shape *sh, int dim, const double *o, double d
                 }
         }
     }
-    qsort(cs->c, (size_t)cs->n, sizeof *cs->c, by_row_x);
+    if (cs->n > 1) /* (no row crossed: no array, and qsort may not be given NULL) */
+        qsort(cs->c, (size_t)cs->n, sizeof *cs->c, by_row_x);
     return 0;
 }
 
