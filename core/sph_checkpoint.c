@@ -22,7 +22,8 @@
  * 14: sph_config.wall_density; 15: sph_config.device; 16: a pressure probe's normal
  * (sph_pressure_spec); 17: sph_config.delta_form; 18: sph_config.precision, float arrays
  * under mixed precision; 19: WCSPH saves no pressure array (derived from the density) */
-#define SIM_VERSION 20u /* 20: the geometry list (sph_config.geometry) */
+#define SIM_VERSION 21u /* 20: the geometry list (sph_config.geometry); 21: polygon bodies
+                          * (sph_body_spec.corners) */
 
 typedef struct {
     char magic[8];

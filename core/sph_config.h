@@ -78,7 +78,10 @@ enum {
 };
 
 /* Shapes of rigid bodies (boundary/sph_body.h). */
-typedef enum { SPH_SHAPE_CIRCLE = 0, SPH_SHAPE_BOX } sph_shape_type;
+typedef enum { SPH_SHAPE_CIRCLE = 0, SPH_SHAPE_BOX, SPH_SHAPE_POLYGON } sph_shape_type;
+
+/* The most corners of a polygon body (kept in the configuration, so a checkpoint holds it). */
+#define SPH_BODY_POLYGON_MAX 1024
 
 /* The kinds of a case's "geometry" items (core/scene/sph_scene.h). */
 typedef enum {
@@ -165,18 +168,21 @@ typedef struct sph_pressure_spec {
  * mass: the other is 0), its initial motion and the degrees of freedom the forces move. */
 typedef struct sph_body_spec {
     char name[SPH_BODY_NAME_MAX]; /* the body's name in diagnostics */
-    sph_shape_type shape;         /* circle or box */
+    sph_shape_type shape;         /* circle, box or polygon */
     double diameter;              /* circle: diameter [m] */
     double size[3];               /* box: edge lengths [m] */
-    double center[3];             /* initial centre of mass [m] */
-    double angle;                 /* initial angle, counter-clockwise [rad] */
-    double velocity[3];           /* initial velocity [m/s] (prescribed on a fixed axis) */
-    double omega;                 /* initial angular velocity [rad/s] (prescribed if fixed) */
-    double density;               /* [kg/m^3], 0 when the mass is given */
-    double mass;                  /* [kg] (per metre in 2D), 0 when the density is given */
-    int layers;                   /* layers of particles inside the surface, 0: filled [-] */
-    unsigned free;                /* SPH_DOF_* mask of the free degrees of freedom */
-    sph_body_pressure pressure;   /* its particles' pressure: from the fluid or continuity */
+    int ncorners;                 /* polygon: its corners, 3 to SPH_BODY_POLYGON_MAX [-] */
+    double corners[SPH_BODY_POLYGON_MAX][2]; /* polygon: counter-clockwise, from its centroid
+                                                (the centre of mass), the first as given [m] */
+    double center[3];                        /* initial centre of mass [m] */
+    double angle;                            /* initial angle, counter-clockwise [rad] */
+    double velocity[3];         /* initial velocity [m/s] (prescribed on a fixed axis) */
+    double omega;               /* initial angular velocity [rad/s] (prescribed if fixed) */
+    double density;             /* [kg/m^3], 0 when the mass is given */
+    double mass;                /* [kg] (per metre in 2D), 0 when the density is given */
+    int layers;                 /* layers of particles inside the surface, 0: filled [-] */
+    unsigned free;              /* SPH_DOF_* mask of the free degrees of freedom */
+    sph_body_pressure pressure; /* its particles' pressure: from the fluid or continuity */
 } sph_body_spec;
 
 /* The MPS method's fields (Koshizuka & Oka 1996; Sheu, Chiao & Huang 2011): defaults from
@@ -259,7 +265,7 @@ typedef struct sph_config {
     /* what the fill made of them, set by sph_sim_create (so a restored state, whose surfaces
      * are not at hand, knows its counts and its grid's reach): filled 1 once set */
     int geometry_filled;
-    long geometry_fluid, geometry_wall; /* particles of the geometry items' fluid and walls */
+    long geometry_fluid, geometry_wall;    /* particles of the geometry items' fluid and walls */
     double geometry_lo[3], geometry_hi[3]; /* the box the geometry's particles lie in [m] */
 
     sph_device device;       /* where the steps run: the CPU (default) or a GPU (WCSPH only) */

@@ -7,6 +7,7 @@
 #include "sph_lattice.h"
 #include "sph_json.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -58,8 +59,8 @@ static const char *const probe_names[] = {"front_x", "height_left", "ekin",  "ep
 /* ekin, epot and vmax are always in diag: accepted, no bit */
 static const int probe_bits[] = {SPH_PROBE_FRONT_X,     SPH_PROBE_HEIGHT_LEFT, 0, 0, 0,
                                  SPH_PROBE_PENETRATION, SPH_PROBE_RUNUP};
-static const char *const shape_names[] = {"circle", "box", NULL};
-static const int shape_values[] = {SPH_SHAPE_CIRCLE, SPH_SHAPE_BOX};
+static const char *const shape_names[] = {"circle", "box", "polygon", NULL};
+static const int shape_values[] = {SPH_SHAPE_CIRCLE, SPH_SHAPE_BOX, SPH_SHAPE_POLYGON};
 static const char *const body_pressure_names[] = {"fluid", "continuity", NULL};
 static const int body_pressure_values[] = {SPH_BODY_PRESSURE_FLUID, SPH_BODY_PRESSURE_CONTINUITY};
 static const char *const dof_names[] = {"x", "y", "rotation", NULL};
@@ -302,6 +303,70 @@ static int parse_polygon(const json_t *v, const char *base, int dim, sph_geometr
     return 0;
 }
 
+/* "/bodies/K/polygon": [[x, y], ...], checked as a geometry item's polygon is (closed, not
+ * crossing itself), kept counter-clockwise from its first point about its centroid, which becomes
+ * the body's centre. */
+static int parse_body_polygon(const json_t *v, const char *path, sph_config *c,
+                              sph_output_config *o, sph_error *err)
+{
+    (void)o;
+    int k = -1;
+    if (sscanf(path, "/bodies/%d/", &k) != 1 || k < 0 || k >= SPH_CONFIG_MAX_BODIES)
+        return sph_error_set(err, SPH_ERR_INVALID, path, "not a body's polygon");
+    sph_body_spec *b = &c->bodies[k];
+    const size_t n = json_array_size(v);
+    if (!json_is_array(v) || n < 3 || n > SPH_BODY_POLYGON_MAX)
+        return sph_error_set(err, SPH_ERR_INVALID, path,
+                             "'polygon' must be an array of 3 to %d points [x, y]",
+                             SPH_BODY_POLYGON_MAX);
+    double xy[2 * SPH_BODY_POLYGON_MAX];
+    for (size_t i = 0; i < n; i++) {
+        const json_t *p = json_array_get(v, i);
+        const json_t *px = json_array_get(p, 0), *py = json_array_get(p, 1);
+        if (!json_is_array(p) || json_array_size(p) != 2 || !json_is_number(px) ||
+            !json_is_number(py) || !(fabs(json_number_value(px)) <= 1e6) ||
+            !(fabs(json_number_value(py)) <= 1e6)) {
+            char at[SPH_ERROR_PATH_MAX];
+            snprintf(at, sizeof at, "%s/%zu", path, i);
+            return sph_error_set(err, SPH_ERR_INVALID, at,
+                                 "a point is [x, y], two numbers in [-1e6, 1e6]");
+        }
+        xy[2 * i] = json_number_value(px);
+        xy[2 * i + 1] = json_number_value(py);
+    }
+    sph_mesh m; /* the checks of sph_mesh_polygon: fewer than 3 points, sides crossing */
+    memset(&m, 0, sizeof m);
+    const int rc = sph_mesh_polygon(&m, xy, (long)n, path, err);
+    sph_mesh_free(&m);
+    if (rc)
+        return rc;
+    long np = (long)n; /* a repeated last point is the first */
+    if (np > 3 && xy[0] == xy[2 * (np - 1)] && xy[1] == xy[2 * (np - 1) + 1])
+        np--;
+    double a = 0.0, cx = 0.0, cy = 0.0; /* centroid of the area, about the first point */
+    for (long i = 0; i < np; i++) {
+        const long j = (i + 1) % np;
+        const double px = xy[2 * i] - xy[0], py = xy[2 * i + 1] - xy[1];
+        const double qx = xy[2 * j] - xy[0], qy = xy[2 * j + 1] - xy[1];
+        const double w = px * qy - qx * py;
+        a += w;
+        cx += (px + qx) * w;
+        cy += (py + qy) * w;
+    }
+    cx = xy[0] + cx / (3.0 * a);
+    cy = xy[1] + cy / (3.0 * a);
+    b->ncorners = (int)np;
+    for (long i = 0; i < np; i++) { /* counter-clockwise, the first point first */
+        const long from = a > 0.0 ? i : (np - i) % np;
+        b->corners[i][0] = xy[2 * from] - cx;
+        b->corners[i][1] = xy[2 * from + 1] - cy;
+    }
+    b->center[0] = cx;
+    b->center[1] = cy;
+    b->center[2] = 0.0;
+    return 0;
+}
+
 /* Frees the polygons that parse_geometry made (a mesh item's surface is not read there). */
 static void free_polygons(sph_config *c)
 {
@@ -511,20 +576,27 @@ const sph_case_field sph_case_fields[] = {
             "events and its series' prefix in diag.h5"},
     {.path = "/bodies/*/shape", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
      .required = SPH_CF_WCSPH, .names = shape_names, .values = shape_values, BODY(shape),
-     .doc = "circle (diameter) or box (size)"},
+     .doc = "circle (diameter), box (size) or polygon (its corners)"},
     {.path = "/bodies/*/diameter", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
      .required = SPH_CF_WCSPH, .when = "/bodies/*/shape=circle", .lo = 0.0, .lo_open = 1,
      .hi = 1e3, BODY(diameter), .doc = "circle: diameter [m], at least 2 dx"},
     {.path = "/bodies/*/size", .type = SPH_CF_VECTOR, .methods = SPH_CF_WCSPH,
      .required = SPH_CF_WCSPH, .when = "/bodies/*/shape=box", .lo = 0.0, .hi = 1e3, BODY(size),
      .doc = "box: [width, height] [m], each at least 2 dx"},
+    {.path = "/bodies/*/polygon", .type = SPH_CF_CUSTOM, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .when = "/bodies/*/shape=polygon", .parse = parse_body_polygon,
+     BODY(corners),
+     .doc = "polygon: its corners [[x, y], ...] where the body starts (3 to 1024, any "
+            "orientation, closed, not crossing itself; its centroid is the centre of mass), at "
+            "least 2 dx across"},
     {.path = "/bodies/*/center", .type = SPH_CF_VECTOR, .methods = SPH_CF_WCSPH,
-     .required = SPH_CF_WCSPH, .lo = -1e6, .hi = 1e6, BODY(center),
-     .doc = "initial centre of mass [x, y] [m]; the body inside the domain, clear of the walls "
-            "and of other bodies"},
+     .required = SPH_CF_WCSPH, .when = "/bodies/*/shape=circle|box", .lo = -1e6, .hi = 1e6,
+     BODY(center),
+     .doc = "circle, box: initial centre of mass [x, y] [m]; the body inside the domain, clear "
+            "of the walls and of other bodies"},
     {.path = "/bodies/*/angle", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH, .lo = -1e3,
-     .hi = 1e3, .has_def = 1, .def = 0.0, BODY(angle),
-     .doc = "initial angle, counter-clockwise [rad]"},
+     .hi = 1e3, .has_def = 1, .def = 0.0, .when = "/bodies/*/shape=circle|box", BODY(angle),
+     .doc = "circle, box: initial angle, counter-clockwise [rad]"},
     {.path = "/bodies/*/velocity", .type = SPH_CF_VECTOR, .methods = SPH_CF_WCSPH, .lo = -1e3,
      .hi = 1e3, BODY(velocity),
      .doc = "initial velocity [vx, vy] [m/s], default [0, 0]; kept on an axis that is not free"},

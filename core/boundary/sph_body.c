@@ -35,6 +35,12 @@ static int body_error(sph_error *err, int i, const char *field, const char *fmt,
     return sph_error_set(err, SPH_ERR_INVALID, path, "%s", msg);
 }
 
+/* The case field that places body b: a polygon's corners, or the others' centre. */
+static const char *place_field(const sph_body_spec *b)
+{
+    return b->shape == SPH_SHAPE_POLYGON ? "polygon" : "center";
+}
+
 int sph_body_check(const sph_config *c, sph_error *err)
 {
     if (c->nbodies < 0 || c->nbodies > SPH_CONFIG_MAX_BODIES)
@@ -67,8 +73,28 @@ int sph_body_check(const sph_config *c, sph_error *err)
         for (int j = 0; j < i; j++)
             if (strcmp(c->bodies[j].name, name) == 0)
                 return body_error(err, i, "name", "two bodies are named '%s'", name);
-        if ((unsigned)b->shape > SPH_SHAPE_BOX)
+        if ((unsigned)b->shape > SPH_SHAPE_POLYGON)
             return body_error(err, i, "shape", "unknown shape");
+        if (b->shape == SPH_SHAPE_POLYGON) {
+            if (!(b->ncorners >= 3 && b->ncorners <= SPH_BODY_POLYGON_MAX))
+                return body_error(err, i, "polygon", "a polygon has 3 to %d corners",
+                                  SPH_BODY_POLYGON_MAX);
+            for (int k = 0; k < b->ncorners; k++)
+                if (!isfinite(b->corners[k][0]) || !isfinite(b->corners[k][1]))
+                    return body_error(err, i, "polygon", "a corner is not a finite number");
+            if (!(sph_body_shape_area(b) > 0.0))
+                return body_error(err, i, "polygon",
+                                  "the polygon '%s' must wind counter-clockwise about its "
+                                  "centroid and enclose an area",
+                                  name);
+            sph_body_spec outer = *b; /* its outermost ring: the offset dx/2 inside */
+            outer.layers = 1;
+            if (sph_body_shape_points(&outer, dx, NULL) < 3)
+                return body_error(err, i, "polygon",
+                                  "the polygon '%s' is too small for dx: no ring of particles "
+                                  "fits dx/2 inside it (at least 2 dx = %g m across)",
+                                  name, 2.0 * dx);
+        }
         if (b->density > 0.0 && b->mass > 0.0)
             return body_error(err, i, "mass", "give the density or the mass of '%s', not both",
                               name);
@@ -91,12 +117,12 @@ int sph_body_check(const sph_config *c, sph_error *err)
                                       "must be at least 2 dx = %g m",
                                       name, b->size[d], 2.0 * dx);
                 }
-        double ext[2];
-        sph_body_shape_half_extent(b, b->angle, ext);
+        double lo[2], hi[2];
+        sph_body_shape_extent(b, b->angle, lo, hi);
         for (int d = 0; d < 2; d++)
-            if (!(b->center[d] - ext[d] >= c->domain.min[d] &&
-                  b->center[d] + ext[d] <= c->domain.max[d]))
-                return body_error(err, i, "center",
+            if (!(b->center[d] + lo[d] >= c->domain.min[d] &&
+                  b->center[d] + hi[d] <= c->domain.max[d]))
+                return body_error(err, i, place_field(b),
                                   "the body '%s' is not inside the domain (centre %g, %g)", name,
                                   b->center[0], b->center[1]);
     }
@@ -122,11 +148,12 @@ int sph_body_check(const sph_config *c, sph_error *err)
         }
         free(xy);
         if (bad >= 0)
-            return body_error(err, bad, "center", "the body '%s' overlaps the body '%s'",
-                              c->bodies[bad].name, c->bodies[i].name);
-        if (wall)
-            return body_error(err, i, "center", "the body '%s' overlaps a wall of the tank",
+            return body_error(err, bad, place_field(&c->bodies[bad]),
+                              "the body '%s' overlaps the body '%s'", c->bodies[bad].name,
                               c->bodies[i].name);
+        if (wall)
+            return body_error(err, i, place_field(&c->bodies[i]),
+                              "the body '%s' overlaps a wall of the tank", c->bodies[i].name);
     }
     return 0;
 }
@@ -339,7 +366,7 @@ double sph_bodies_amax(const sph_bodies *B)
 
 double sph_bodies_penetration(const sph_bodies *B, const sph_config *c, int k)
 {
-    double ext[2];
-    sph_body_shape_half_extent(&c->bodies[k], B->b[k].s.theta, ext);
-    return B->level - (B->b[k].s.x[1] - ext[1]);
+    double lo[2], hi[2];
+    sph_body_shape_extent(&c->bodies[k], B->b[k].s.theta, lo, hi);
+    return B->level - (B->b[k].s.x[1] + lo[1]);
 }
