@@ -11,6 +11,7 @@
 #include "sph_json.h"
 #include "sph_sim.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -965,13 +966,38 @@ static int op_sweep(sphd_request *r, json_t **result, sphd_err *e)
                           "the sweep's %zu new jobs do not fit: sphd holds %d of at most %d jobs "
                           "(--max-jobs)",
                           fresh, d->njobs_active, d->opts.max_jobs);
+    /* each combination's meshes are read as its job will read them, from the files written
+     * to a scratch directory in the state directory: a mesh that does not read (or does not
+     * fit the combination's domain) refuses the sweep before any job is made */
+    char scratch[SPHD_PATH_MAX + 64] = "";
+    if (rc == 0 && in.n > 0) {
+        snprintf(scratch, sizeof scratch, "%s/.sweep-check.XXXXXX", d->opts.state_dir);
+        if (!mkdtemp(scratch)) {
+            rc = sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot create %s: %s", scratch,
+                              strerror(errno));
+            scratch[0] = '\0';
+        }
+    }
     for (size_t i = 0; rc == 0 && i < n; i++) {
         sph_case *tmp = calloc(1, sizeof *tmp);
         sph_error err;
         sph_error_clear(&err);
-        if (!tmp) {
+        const json_t *ci = json_array_get(cases, i);
+        char files[SPHD_PATH_MAX + 96];
+        int bad = !tmp ? 0 : sph_case_from_json(ci, tmp, &err) != 0;
+        if (tmp && !bad && scratch[0]) {
+            if (sphd_inputs_write(scratch, ci, &in, e) != 0 ||
+                sphd_inputs_dir(scratch, files, sizeof files) != 0)
+                rc = -1;
+            else
+                bad = sph_case_load_meshes(tmp, files, NULL, &err) != 0;
+            sphd_inputs_remove(scratch, ci);
+        }
+        if (rc) {
+            /* e says why */
+        } else if (!tmp) {
             rc = sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
-        } else if (sph_case_from_json(json_array_get(cases, i), tmp, &err)) {
+        } else if (bad) {
             char *p = json_dumps(json_array_get(params, i), JSON_COMPACT | JSON_REAL_PRECISION(12));
             rc = sphd_err_set(e, SPHD_E_INVALID_CASE, err.path, "combination %zu %s: %s", i,
                               p ? p : "", err.message);
@@ -988,6 +1014,8 @@ static int op_sweep(sphd_request *r, json_t **result, sphd_err *e)
         sph_case_clear(tmp);
         free(tmp);
     }
+    if (scratch[0])
+        rmdir(scratch);
     json_t *jobs = rc == 0 ? json_array() : NULL;
     if (rc == 0 && !jobs)
         rc = sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");

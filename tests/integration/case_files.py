@@ -136,6 +136,19 @@ def main(sphd, sphctl, src):
                 r)
         t.check(not os.path.exists(os.path.join(d.state, "jobs", "holed")),
                 "the refused mesh left no job directory")
+        # a sweep whose second combination names the open mesh: all or nothing, no job made
+        r = d.request("sweep", {"case": case, "sweep": "sh", "start": False,
+                                "files": {"pier.stl": entry(STL), "holed.stl": entry(open_stl)},
+                                "vary": [{"path": "geometry.0.mesh",
+                                          "values": ["pier.stl", "holed.stl"]}]})
+        t.check(not r["ok"] and r["error"]["code"] == "invalid_case"
+                and r["error"]["path"] == "/geometry/0/mesh"
+                and "combination 1" in r["error"]["message"]
+                and "open edges" in r["error"]["message"],
+                "a sweep with one open mesh: invalid_case at its combination", r)
+        left = [n for n in os.listdir(d.state) if n.startswith(".sweep-check")]
+        t.check(not os.path.exists(os.path.join(d.state, "jobs", "sh-0")) and not left,
+                "the refused sweep made no job and left no scratch files", left)
         t.check(d.request("ping", {})["ok"], "sphd carries on")
 
         # the transfer itself, through sphctl
