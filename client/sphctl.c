@@ -29,6 +29,8 @@ static const char usage_text[] =
     "  step JOB N | step JOB --until T   advance a paused job by N steps or to time T, then\n"
     "                                pause it\n"
     "  pause JOB | resume JOB | stop JOB\n"
+    "  set JOB PATH=VALUE...         change a running or paused job's parameters at its\n"
+    "                                next step boundary (viscosity, gravity, cfl, end time)\n"
     "  query JOB [--fields pos,vel,...] [--max N]   state, diagnostics, particle fields\n"
     "  results JOB [--checksums]     the job's files: name, size, kind (CRC-32)\n"
     "  fetch JOB [--dest DIR] [--include-checkpoints]   download the job's files into\n"
@@ -408,6 +410,47 @@ static int cmd_stop(sphctl *c, int argc, char **argv)
                   "Usage: sphctl stop JOB\nStops JOB for good at the next step boundary.\n");
 }
 
+static int cmd_set(sphctl *c, int argc, char **argv)
+{
+    static const char help[] =
+        "Usage: sphctl set JOB PATH=VALUE...\n"
+        "Changes a running or paused job's parameters at its next step boundary (steering):\n"
+        "physics.viscosity.alpha, physics.viscosity.nu, physics.delta_sph, physics.gravity (or\n"
+        "physics.gravity.K), time.cfl, time.end. VALUE is JSON (a bare word is a string).\n"
+        "Replies once the change is made, with the step it took effect at; exit 1 when sphd\n"
+        "refuses it (the reason names the path).\n";
+    const sphctl_argspec spec = {.help = help, .optstring = "+h", .min_args = 2, .max_args = 33};
+    int rc = sphctl_args(&spec, argc, argv, NULL, NULL);
+    if (rc != SPHCTL_RUN)
+        return rc;
+    json_t *set = json_array();
+    for (int k = optind + 1; k < argc; k++) {
+        if (!strchr(argv[k], '=') || argv[k][0] == '=') {
+            json_decref(set);
+            return sphctl_usage("set", "an assignment is PATH=VALUE, not '%s'", argv[k]);
+        }
+        json_array_append_new(set, json_string(argv[k]));
+    }
+    json_t *r;
+    if ((rc = sphctl_request(c, "set", json_pack("{s:s, s:o}", "job", argv[optind], "set", set), &r,
+                             NULL, 0)))
+        return rc;
+    const json_t *st = json_object_get(r, "steering");
+    const char *why = json_string_value(json_object_get(st, "error"));
+    const json_t *hist = json_object_get(st, "history");
+    const json_t *last = json_array_get(hist, json_array_size(hist) - 1);
+    if (c->json)
+        sphctl_print_json(r, 1);
+    else if (why)
+        fprintf(stderr, "sphctl: %s: the change was not made: %s\n", argv[optind], why);
+    else
+        printf("%s: changed at step %lld (t = %.6g s); %s\n", argv[optind],
+               (long long)json_integer_value(json_object_get(last, "step")), sphctl_num(last, "t"),
+               json_string_value(json_object_get(r, "state")));
+    json_decref(r);
+    return why ? 1 : 0;
+}
+
 static int cmd_start(sphctl *c, int argc, char **argv)
 {
     return job_op(c, argc, argv,
@@ -521,6 +564,7 @@ static const command commands[] = {
     {"pause", cmd_pause, ""},
     {"resume", cmd_resume, ""},
     {"stop", cmd_stop, ""},
+    {"set", cmd_set, ""},
     {"query", cmd_query, ""},
     {"shutdown", cmd_shutdown, ""},
     {"results", sphctl_cmd_results, ""},

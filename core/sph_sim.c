@@ -554,6 +554,30 @@ const sph_config *sph_sim_config(const sph_sim *s)
 {
     return &s->cfg;
 }
+
+int sph_sim_steer(sph_sim *s, const sph_config *next, sph_error *err)
+{
+    sph_config *c = &s->cfg;
+    if (c->device != SPH_DEVICE_CPU)
+        return sph_error_set(err, SPH_ERR_INVALID, "/device",
+                             "a job on the GPU is not steered in this version (the device's copy "
+                             "of the parameters is made once): run it on the CPU");
+    const int new_gravity = memcmp(c->gravity, next->gravity, sizeof c->gravity) != 0;
+    if (new_gravity && c->boundary == SPH_BOUNDARY_GHOST)
+        return sph_error_set(err, SPH_ERR_INVALID, "/physics/gravity",
+                             "ghost walls keep the gravity they were made with (their pressure's "
+                             "hydrostatic part): not steered");
+    c->alpha = next->alpha;
+    c->nu = next->nu;
+    c->delta_sph = next->delta_sph;
+    c->cfl = next->cfl;
+    c->t_end = next->t_end;
+    for (int d = 0; d < 3; d++) {
+        c->gravity[d] = next->gravity[d];
+        s->bodies.gravity[d] = next->gravity[d];
+    }
+    return 0;
+}
 void sph_sim_timing(const sph_sim *s, sph_timing *timing)
 {
     *timing = s->timing;

@@ -146,6 +146,14 @@ int sph_sim_solves_pressure(const sph_sim *s);
 /* The smoothing length h [m] (MPS: half the larger effective radius). */
 double sph_sim_h(const sph_sim *s);
 const sph_config *sph_sim_config(const sph_sim *s);
+/* Steering: takes from next, between two steps, the parameters a simulation can change without a
+ * new set-up (PROTOCOL.md 3.12): the viscous term's coefficients (alpha, nu), delta-SPH's
+ * coefficient, gravity, the CFL number and the end time; the rest of next is not looked at.
+ * What each step derives from them is derived afresh (the pair loop's constants; the bodies'
+ * gravity). SPH_ERR_INVALID (s unchanged) on the GPU (its copy of the parameters is made once)
+ * and for a new gravity under ghost walls (their pressure's hydrostatic part is set up for the
+ * gravity they were made with). */
+int sph_sim_steer(sph_sim *s, const sph_config *next, sph_error *err);
 /* A view of the particle arrays (valid until the next step); the pressures are computed from
  * the densities when it is taken. */
 void sph_sim_particles(const sph_sim *s, sph_particle_view *view);

@@ -742,3 +742,41 @@ int sph_case_mesh_note(const sph_case *c, int k, char *buf, size_t n, int *warn)
              k, c->sim.geometry[k].file, m->nt, m->nv, m->degenerate ? "; " : ", ", m->degenerate);
     return 0;
 }
+
+/* ---- steering ---------------------------------------------------------------------------- */
+
+/* The fields a running job takes between two steps (sph_sim_steer's), as dotted paths. */
+static const char *const steerable[] = {"physics.viscosity.alpha",
+                                        "physics.viscosity.nu",
+                                        "physics.delta_sph",
+                                        "physics.gravity",
+                                        "time.cfl",
+                                        "time.end",
+                                        NULL};
+
+int sph_case_steerable(const char *path, sph_error *err)
+{
+    for (int k = 0; steerable[k]; k++) {
+        const size_t n = strlen(steerable[k]);
+        if (strcmp(path, steerable[k]) == 0 ||
+            (strcmp(steerable[k], "physics.gravity") == 0 && strncmp(path, steerable[k], n) == 0 &&
+             path[n] == '.' && path[n + 1] >= '0' && path[n + 1] <= '2' && !path[n + 2]))
+            return 0;
+    }
+    if (strncmp(path, "output.", 7) == 0 || strcmp(path, "output") == 0 ||
+        strncmp(path, "diagnostics.", 12) == 0 || strcmp(path, "diagnostics") == 0)
+        return sph_error_set(err, SPH_ERR_INVALID, "",
+                             "'%.200s' is not changed in a running job in this version (the "
+                             "output and diagnostics schedules fix the times the steps land "
+                             "on); the fields that are: physics.viscosity.alpha, "
+                             "physics.viscosity.nu, physics.delta_sph, physics.gravity, time.cfl, "
+                             "time.end",
+                             path);
+    return sph_error_set(err, SPH_ERR_INVALID, "",
+                         "'%.200s' is not changed in a running job: it is part of the set-up (the "
+                         "particles, the method, the models or the walls); submit a new job with "
+                         "--set. The fields a running job takes: physics.viscosity.alpha, "
+                         "physics.viscosity.nu, physics.delta_sph, physics.gravity, time.cfl, "
+                         "time.end",
+                         path);
+}

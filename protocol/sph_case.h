@@ -70,6 +70,12 @@ int sph_case_mesh_note(const sph_case *c, int k, char *buf, size_t n, int *warn)
  * names[0 .. max) (borrowed from root). Returns how many there are (more than max possible). */
 int sph_case_file_names(const json_t *root, const char **names, int max);
 
+/* Steering (PROTOCOL.md 3.12): 0 if the case field at a dotted path (an assignment's left side,
+ * "physics.viscosity.alpha") may change in a running job: the viscous term's coefficients,
+ * delta-SPH's, gravity (or one of its components), the CFL number and the end time. Else
+ * SPH_ERR_INVALID with the reason (err's path left empty: the caller knows where the path was). */
+int sph_case_steerable(const char *path, sph_error *err);
+
 /* Case-file name of a method. */
 const char *sph_method_name(sph_method m);
 

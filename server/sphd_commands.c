@@ -70,6 +70,7 @@ static int op_results(sphd_request *r, json_t **result, sphd_err *e);
 static int op_fetch(sphd_request *r, json_t **result, sphd_err *e);
 static int op_export(sphd_request *r, json_t **result, sphd_err *e);
 static int op_sweep(sphd_request *r, json_t **result, sphd_err *e);
+static int op_set(sphd_request *r, json_t **result, sphd_err *e);
 
 static const sphd_command commands[] = {
     {"hello", op_hello, {{0}}, 0, "version, capabilities and the stream endpoint"},
@@ -107,6 +108,11 @@ static const sphd_command commands[] = {
      CMD_JOB,
      "state, progress, latest diagnostics, optionally particle fields"},
     {"stop", op_stop, {{"job", 's', 1}, {0}}, CMD_JOB, "stop a job for good"},
+    {"set",
+     op_set,
+     {{"job", 's', 1}, {"set", 'A', 1}, {0}},
+     CMD_JOB | CMD_MUTATES,
+     "change a running or paused job's parameters at its next step boundary (steering)"},
     {"sweep",
      op_sweep,
      {{"case", 'O', 1},
@@ -618,6 +624,104 @@ static int op_pause(sphd_request *r, json_t **result, sphd_err *e)
         }
         return defer_until_run_ends(r, e);
     }
+    return reply_status(r, result);
+}
+
+/* Steering (PROTOCOL.md 3.12): the assignments checked (steerable fields, values the case
+ * accepts), then made at the job's next step boundary: a running job's run ends there
+ * (SPHD_W_STEER) and the loop makes the change and runs it on; a job whose simulation is in
+ * memory and not running is changed at once. The reply is the job's status once the change is
+ * made (or refused: its "steering" says why). */
+static int op_set(sphd_request *r, json_t **result, sphd_err *e)
+{
+    sphd_job *j = r->job;
+    const json_t *set = json_object_get(r->args, "set");
+    if (sphd_job_state_final(j->state))
+        return final_state_error(j, "set", e);
+    if (!sph_case_is_sim(j->c))
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/job",
+                            "job %s is a kernel study: it has no parameters to change", j->id);
+    if (j->slurm)
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/job",
+                            "job %s runs on Slurm: a Slurm job is not steered in this version "
+                            "(its state lives on its node); pause it, or submit another",
+                            j->id);
+    if (j->c->sim.device != SPH_DEVICE_CPU)
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/job",
+                            "job %s runs on the GPU: a GPU job is not steered in this version "
+                            "(the device's copy of the parameters is made once)",
+                            j->id);
+    const size_t n = json_array_size(set);
+    if (n < 1 || n > 32)
+        return sphd_err_set(e, SPHD_E_BAD_REQUEST, "/args/set",
+                            "'set' holds 1 to 32 assignments \"path=value\"");
+    json_t *next = json_deep_copy(j->case_now ? j->case_now : j->case_json);
+    if (!next)
+        return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+    for (size_t k = 0; k < n; k++) {
+        char at[32], path[256];
+        snprintf(at, sizeof at, "/args/set/%zu", k);
+        const char *a = json_string_value(json_array_get(set, k));
+        const char *eq = a ? strchr(a, '=') : NULL;
+        sph_error err;
+        sph_error_clear(&err);
+        if (!eq || eq == a || (size_t)(eq - a) >= sizeof path) {
+            json_decref(next);
+            return sphd_err_set(e, SPHD_E_BAD_REQUEST, at,
+                                "an assignment is a string \"path=value\" "
+                                "(physics.viscosity.alpha=0.05)");
+        }
+        snprintf(path, sizeof path, "%.*s", (int)(eq - a), a);
+        if (sph_case_steerable(path, &err) || sph_json_apply_set(next, a, &err)) {
+            json_decref(next);
+            return sphd_err_set(e, SPHD_E_BAD_REQUEST, at, "%s", err.message);
+        }
+    }
+    sph_case *tmp = calloc(1, sizeof *tmp);
+    sph_error err;
+    sph_error_clear(&err);
+    const int bad = !tmp || sph_case_from_json(next, tmp, &err) != 0;
+    if (tmp) {
+        sph_case_clear(tmp);
+        free(tmp);
+    }
+    if (bad) {
+        json_decref(next);
+        return tmp ? sphd_err_set(e, SPHD_E_INVALID_CASE, err.path, "%s", err.message)
+                   : sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
+    }
+    if (j->steer_set) {
+        json_decref(next);
+        return sphd_err_set(e, SPHD_E_BUSY, "/args/job",
+                            "a change to job %s waits for its next step boundary; ask again",
+                            j->id);
+    }
+    if (!(j->state == SPHD_JOB_RUNNING && j->worker >= 0) && !j->exec) {
+        json_decref(next);
+        return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/job",
+                            "job %s has no simulation in memory (it has not started, or sphd "
+                            "restarted since it ran): start or resume it, then change it",
+                            j->id);
+    }
+    j->steer_set = json_deep_copy(set);
+    j->steer_case = next;
+    j->steer_error[0] = '\0';
+    sphd_job_touch(j);
+    if (j->state == SPHD_JOB_RUNNING && j->worker >= 0) {
+        /* a `step` run ends at its target, where the change is made; any other is ended now */
+        if (!j->stepping) {
+            sphd_wcmd cmd = {.kind = SPHD_W_STEER, .job = j};
+            if (sphd_jobs_send(r->d, j, &cmd) != 0) {
+                json_decref(j->steer_set);
+                json_decref(j->steer_case);
+                j->steer_set = j->steer_case = NULL;
+                return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's runner");
+            }
+        }
+        return defer_until_run_ends(r, e);
+    }
+    if (sphd_job_steer_apply(r->d, j, e) != 0)
+        return -1;
     return reply_status(r, result);
 }
 

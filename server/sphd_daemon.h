@@ -138,8 +138,15 @@ typedef struct sphd_job {
     double run_wall;    /* seconds into the current run */
     double steps_per_s, eta; /* from the worker, while running */
     sphd_pending *waiters;   /* replies due when the current run ends */
-    char *query_text;        /* the encoded `query` result until the job changes (sphd_job_touch) */
-    char *status_text;       /* the encoded job status, likewise (for `list`) */
+    /* steering (op `set`, PROTOCOL.md 3.12) */
+    json_t *case_now;   /* the case with every change in effect (NULL: case_json) */
+    json_t *steering;   /* the changes in effect, oldest first: [{"step", "t", "set"}] */
+    json_t *steer_set;  /* a change waiting for the run's next step boundary, or NULL */
+    json_t *steer_case; /* the case it makes (case_now with it) */
+    char steer_error[SPH_ERROR_TEXT_MAX + SPH_ERROR_PATH_MAX +
+                     8]; /* why the latest change was not made ("" when it was) */
+    char *query_text;    /* the encoded `query` result until the job changes (sphd_job_touch) */
+    char *status_text;   /* the encoded job status, likewise (for `list`) */
     struct sphd_job *next;
 } sphd_job;
 
@@ -149,7 +156,8 @@ typedef enum {
     SPHD_W_PAUSE,
     SPHD_W_STOP,
     SPHD_W_PARTICLES,
-    SPHD_W_QUIT
+    SPHD_W_QUIT,
+    SPHD_W_STEER /* end the run at the next step boundary: the loop steers the job and runs it on */
 } sphd_wcmd_kind;
 typedef struct sphd_wcmd {
     sphd_wcmd_kind kind;
@@ -171,7 +179,8 @@ typedef enum {
     SPHD_END_FAILED,
     SPHD_END_PAUSED,  /* paused on request */
     SPHD_END_STOPPED, /* stopped on request */
-    SPHD_END_TARGET   /* a `step` reached its target */
+    SPHD_END_TARGET,  /* a `step` reached its target */
+    SPHD_END_STEER    /* ended to be steered (SPHD_W_STEER): the loop runs it on */
 } sphd_end_kind;
 typedef struct sphd_wev {
     sphd_wev_kind kind;
@@ -366,6 +375,13 @@ int sphd_jobs_start_array(sphd_daemon *d, sphd_job **jobs, size_t n, const char 
                           sphd_err *e);
 json_t *sphd_job_status(const sphd_job *j);
 void sphd_job_set_state(sphd_daemon *d, sphd_job *j, sphd_job_state s, const char *reason);
+/* Steering: the job's "steering" object for its status ({"values": {path: value}, "history",
+ * "pending", "error"}; new ref). */
+json_t *sphd_job_steering(const sphd_job *j);
+/* Makes the change waiting in j->steer_set on j->exec (no worker holding it): the executor
+ * steered and checkpointed, steering.json and the journal written, a `steer` event published.
+ * 0, or -1 with e (and j->steer_error) when it is refused; the change is no longer pending. */
+int sphd_job_steer_apply(sphd_daemon *d, sphd_job *j, sphd_err *e);
 void sphd_job_record(sphd_daemon *d, sphd_job *j, int interrupted);
 void sphd_jobs_schedule(sphd_daemon *d);
 void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev);

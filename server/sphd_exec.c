@@ -26,6 +26,8 @@ struct sphd_exec {
     int ckpt_every_outputs;   /* a checkpoint after every K snapshots [-] */
     double last_ckpt;         /* wall clock of the latest checkpoint [s] */
     int snapshots_since_ckpt; /* [-] */
+    json_t *steering;         /* the changes made to the running job (sphd_exec_steer), oldest
+                                 first: [{"step", "t", "set"}, ...]; saved with the checkpoint */
 };
 
 /* The job id: the last component of the output directory. */
@@ -283,6 +285,8 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
     if (res && d->nbody > 0) /* the bodies' particles, when there are bodies */
         json_object_set_new(json_object_get(res, "particles"), "body", json_integer(d->nbody));
     result_physics(res, x->sim);
+    if (res && x->steering)
+        json_object_set(res, "steering", x->steering);
     emit(ud, "result", res);
     x->finished = 1;
     return SPHD_EXEC_DONE;
@@ -428,6 +432,8 @@ int sphd_exec_checkpoint(sphd_exec *x, sph_error *err)
     json_t *ex =
         json_pack("{s:o, s:f, s:I}", "outputs", x->out ? sphd_outputs_state(x->out) : json_object(),
                   "wall", x->wall, "last_diag", (json_int_t)x->last_diag);
+    if (ex && x->steering)
+        json_object_set(ex, "steering", x->steering);
     char *text = json_dumps(ex, JSON_COMPACT | JSON_REAL_PRECISION(17));
     json_decref(ex);
     if (!text) {
@@ -443,6 +449,46 @@ int sphd_exec_checkpoint(sphd_exec *x, sph_error *err)
         x->snapshots_since_ckpt = 0;
     }
     return rc;
+}
+
+/* The steered parameters (sph_sim_steer's) of `from` into c. */
+static void steer_case(sph_config *c, const sph_config *from)
+{
+    c->alpha = from->alpha;
+    c->nu = from->nu;
+    c->delta_sph = from->delta_sph;
+    c->cfl = from->cfl;
+    c->t_end = from->t_end;
+    memcpy(c->gravity, from->gravity, sizeof c->gravity);
+}
+
+int sphd_exec_steer(sphd_exec *x, const sph_config *next, const json_t *set, json_t **record,
+                    sph_error *err)
+{
+    *record = NULL;
+    if (!x->sim || x->finished)
+        return sph_error_set(err, SPH_ERR_INVALID, "",
+                             "the job has no running simulation to steer");
+    const sph_diag *d = sph_sim_diag(x->sim);
+    if (!(next->t_end > d->t))
+        return sph_error_set(err, SPH_ERR_INVALID, "/time/end",
+                             "the job is at t = %.9g s already: the end time must be later", d->t);
+    if (sph_sim_steer(x->sim, next, err))
+        return (int)err->code;
+    steer_case(&x->c.sim, next);
+    json_t *rec =
+        json_pack("{s:I, s:o, s:O}", "step", (json_int_t)d->step, "t", num(d->t), "set", set);
+    if (!x->steering)
+        x->steering = json_array();
+    if (!rec || !x->steering || json_array_append(x->steering, rec))
+        return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory");
+    *record = rec;
+    return 0;
+}
+
+const json_t *sphd_exec_steering(const sphd_exec *x)
+{
+    return x ? x->steering : NULL;
 }
 
 sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_back, sph_error *err)
@@ -481,6 +527,12 @@ sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_bac
     x->outdir = strdup(outdir);
     x->sim = x->outdir ? sph_sim_restore(state, len, err) : NULL;
     sphd_ckpt_free(ck);
+    const json_t *steering = json_object_get(ex, "steering");
+    if (x->sim && json_array_size(steering) > 0) {
+        /* a steered job goes on with the values it had at the checkpoint, not the case's */
+        x->steering = json_deep_copy(steering);
+        steer_case(&x->c.sim, sph_sim_config(x->sim));
+    }
     if (x->sim) {
         const sph_diag *d = sph_sim_diag(x->sim);
         x->diag = diag_json(d, &x->c.sim, sph_sim_solves_pressure(x->sim));
@@ -521,6 +573,7 @@ void sphd_exec_free(sphd_exec *x)
     sphd_outputs_close(x->out);
     sph_sim_destroy(x->sim);
     json_decref(x->diag);
+    json_decref(x->steering);
     free(x->outdir);
     free(x);
 }

@@ -60,6 +60,17 @@ void sphd_exec_set_checkpoint_policy(sphd_exec *x, double interval, int every_ou
  * jobs with nothing to checkpoint) or an error code (io_error: disk full...). */
 int sphd_exec_checkpoint(sphd_exec *x, sph_error *err);
 
+/* Steering (op `set`, PROTOCOL.md 3.12), between two runs of the executor: next's steerable
+ * parameters (sph_sim_steer) take effect from the next step; `set` (the assignments, an array of
+ * strings) is recorded with the step and time into the job's steering history, which the
+ * checkpoints keep (write one after this to commit it) and the result event carries. *record gets
+ * the history's new entry (a new reference). SPH_ERR_INVALID (nothing changed) for an end time not
+ * past the job's time, a job without a simulation, or what sph_sim_steer refuses. */
+int sphd_exec_steer(sphd_exec *x, const sph_config *next, const json_t *set, json_t **record,
+                    sph_error *err);
+/* The steering history (borrowed; NULL when never steered). */
+const json_t *sphd_exec_steering(const sphd_exec *x);
+
 /* Continues a simulation from the latest valid checkpoint in outdir (the case must be the one the
  * job was submitted with). *fell_back is set when the latest checkpoint was damaged and the
  * previous one used; err->message then says why (code SPH_OK). NULL with err when there is no

@@ -55,6 +55,86 @@ static json_t *num_or_null(double x)
     return sph_json_real_or_null(x);
 }
 
+/* ---- steering ---- */
+
+json_t *sphd_job_steering(const sphd_job *j)
+{
+    /* the values in effect: each path's latest assignment */
+    json_t *values = json_object();
+    size_t k, i;
+    const json_t *rec, *a;
+    json_array_foreach(j->steering, k, rec)
+    {
+        json_array_foreach(json_object_get(rec, "set"), i, a)
+        {
+            const char *text = json_string_value(a), *eq = text ? strchr(text, '=') : NULL;
+            if (!eq)
+                continue;
+            char path[256];
+            snprintf(path, sizeof path, "%.*s", (int)(eq - text), text);
+            json_t *v = json_loads(eq + 1, JSON_DECODE_ANY, NULL);
+            json_object_set_new(values, path, v ? v : json_string(eq + 1));
+        }
+    }
+    json_t *o = json_pack("{s:o, s:O}", "values", values, "history",
+                          j->steering ? j->steering : json_array());
+    if (o && j->steer_set)
+        json_object_set(o, "pending", j->steer_set);
+    if (o && j->steer_error[0])
+        json_object_set_new(o, "error", json_string(j->steer_error));
+    return o;
+}
+
+int sphd_job_steer_apply(sphd_daemon *d, sphd_job *j, sphd_err *e)
+{
+    json_t *set = j->steer_set, *next_json = j->steer_case;
+    j->steer_set = j->steer_case = NULL;
+    sph_case *next = calloc(1, sizeof *next);
+    sph_error err;
+    sph_error_clear(&err);
+    json_t *rec = NULL;
+    int rc = -1;
+    if (!next)
+        sph_error_set(&err, SPH_ERR_NOMEM, "", "out of memory");
+    else if (!j->exec)
+        sph_error_set(&err, SPH_ERR_INVALID, "", "the job has no simulation in memory to steer");
+    else if (sph_case_from_json(next_json, next, &err) == 0 &&
+             sphd_exec_steer(j->exec, &next->sim, set, &rec, &err) == 0)
+        rc = 0;
+    if (next) {
+        sph_case_clear(next);
+        free(next);
+    }
+    if (rc != 0) {
+        snprintf(j->steer_error, sizeof j->steer_error, "%s%s%s", err.message,
+                 err.path[0] ? " at " : "", err.path);
+        sphd_err_set(e, SPHD_E_INVALID_CASE, err.path[0] ? err.path : NULL, "%s", err.message);
+        json_decref(set);
+        json_decref(next_json);
+        return -1;
+    }
+    j->steer_error[0] = '\0';
+    /* committed by the checkpoint, whose history holds it (a crash before it: never made) */
+    sph_error_clear(&err);
+    if (sphd_exec_checkpoint(j->exec, &err) != 0)
+        sphd_log("job %s: the checkpoint after a change failed: %s", j->id, err.message);
+    json_decref(j->steering);
+    j->steering = json_deep_copy(sphd_exec_steering(j->exec));
+    json_decref(j->case_now);
+    j->case_now = next_json;
+    write_json(j->dir, "steering.json", j->steering);
+    json_t *jr = json_pack("{s:f, s:O, s:O, s:O, s:I}", "t", sphd_now(), "steer", set, "step",
+                           json_object_get(rec, "step"), "sim_t", json_object_get(rec, "t"), "seq",
+                           (json_int_t)j->seq);
+    if (jr && sphd_journal_append(j->dir, jr, &err) != 0)
+        sphd_log("job %s: %s", j->id, err.message);
+    json_decref(jr);
+    json_decref(set);
+    sphd_publish(d, j, "steer", rec);
+    sphd_job_record(d, j, 0);
+    return 0;
+}
+
 json_t *sphd_job_status(const sphd_job *j)
 {
     json_t *s =
@@ -92,6 +172,8 @@ json_t *sphd_job_status(const sphd_job *j)
             json_object_set(prog, "particles", np);
         json_object_set_new(s, "progress", prog);
     }
+    if (j->steering || j->steer_set || j->steer_error[0])
+        json_object_set_new(s, "steering", sphd_job_steering(j));
     if (j->step_n > 0 || isfinite(j->step_until)) {
         json_t *st = json_object();
         if (j->step_n > 0)
@@ -160,6 +242,10 @@ static void job_free(sphd_job *j)
     json_decref(j->progress);
     json_decref(j->diag);
     json_decref(j->result);
+    json_decref(j->case_now);
+    json_decref(j->steering);
+    json_decref(j->steer_set);
+    json_decref(j->steer_case);
     while (j->waiters) {
         sphd_pending *n = j->waiters->next;
         sphd_pending_free(j->waiters);
@@ -547,6 +633,20 @@ int sphd_jobs_send(sphd_daemon *d, sphd_job *j, sphd_wcmd *cmd)
     return -1;
 }
 
+/* Runs j on at once on worker w, which has just ended a run of it to steer it: the job stays
+ * running (no state event). 0, or -1 when the worker cannot be reached. */
+static int rerun(sphd_daemon *d, sphd_worker *w, sphd_job *j)
+{
+    sphd_wcmd cmd = {.kind = SPHD_W_RUN, .job = j, .exec = j->exec, .until = INFINITY};
+    if (sphd_worker_send(w, &cmd) != 0)
+        return -1;
+    j->worker = w->index;
+    j->run_wall = 0;
+    w->job = j;
+    atomic_fetch_add(&d->busy, 1);
+    return 0;
+}
+
 void sphd_jobs_schedule(sphd_daemon *d)
 {
     if (d->stopping)
@@ -671,7 +771,34 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
     j->eta = NAN;
     const int stepping = j->stepping;
     j->stepping = 0;
+    /* a change waiting for this boundary: made now, while no worker holds the executor */
+    if (j->steer_set) {
+        if (ev->end == SPHD_END_PAUSED || ev->end == SPHD_END_TARGET || ev->end == SPHD_END_STEER) {
+            sphd_err se;
+            sphd_job_steer_apply(d, j, &se); /* a refusal is in steer_error */
+        } else {
+            snprintf(j->steer_error, sizeof j->steer_error,
+                     "the job ended (%s) before the change took effect",
+                     ev->end == SPHD_END_DONE     ? "done"
+                     : ev->end == SPHD_END_FAILED ? "failed"
+                                                  : "stopped");
+            json_decref(j->steer_set);
+            json_decref(j->steer_case);
+            j->steer_set = j->steer_case = NULL;
+        }
+    }
     switch (ev->end) {
+    case SPHD_END_STEER:
+        if (j->stop_requested) {
+            sphd_job_set_state(d, j, SPHD_JOB_STOPPED, NULL);
+        } else if (d->stopping || j->pause_requested) {
+            sphd_job_set_state(d, j, SPHD_JOB_PAUSED, NULL);
+            if (d->stopping)
+                sphd_job_record(d, j, 1);
+        } else if (!w || rerun(d, w, j) != 0) {
+            sphd_job_set_state(d, j, SPHD_JOB_QUEUED, NULL);
+        }
+        break;
     case SPHD_END_DONE:
         sphd_job_set_state(d, j, SPHD_JOB_DONE, NULL);
         break;
@@ -731,6 +858,8 @@ typedef struct {
 static void keep_last(void *ud, const json_t *rec)
 {
     replay_ctx *r = ud;
+    if (!json_object_get(rec, "state"))
+        return; /* a change's record (steering): the state is the latest state record's */
     json_decref(r->last);
     r->last = json_deep_copy(rec);
 }
@@ -849,6 +978,23 @@ static sphd_job *recover_one(sphd_daemon *d, const char *id)
         j->state = (sphd_job_state)st;
         snprintf(j->reason, sizeof j->reason, "%s", reason ? reason : "");
         j->result = load_json(j->dir, "result.json");
+    }
+    json_t *steering = load_json(j->dir, "steering.json");
+    if (json_array_size(steering) > 0) { /* a steered job: its case as steered */
+        j->steering = steering;
+        j->case_now = json_deep_copy(case_json);
+        size_t k, i;
+        const json_t *sr, *a;
+        json_array_foreach(steering, k, sr)
+        {
+            json_array_foreach(json_object_get(sr, "set"), i, a)
+            {
+                if (json_is_string(a) && j->case_now)
+                    sph_json_apply_set(j->case_now, json_string_value(a), &err);
+            }
+        }
+    } else {
+        json_decref(steering);
     }
     if (torn)
         sphd_log("job %s: the last line of its journal was torn by a crash; ignored", id);

@@ -28,11 +28,9 @@
 
 #define WIRE_FLAGS (JSON_COMPACT | JSON_REAL_PRECISION(17))
 
-static const char *const end_names[] = {[SPHD_END_DONE] = "done",
-                                        [SPHD_END_FAILED] = "failed",
-                                        [SPHD_END_PAUSED] = "paused",
-                                        [SPHD_END_STOPPED] = "stopped",
-                                        [SPHD_END_TARGET] = "target"};
+static const char *const end_names[] = {
+    [SPHD_END_DONE] = "done",       [SPHD_END_FAILED] = "failed", [SPHD_END_PAUSED] = "paused",
+    [SPHD_END_STOPPED] = "stopped", [SPHD_END_TARGET] = "target", [SPHD_END_STEER] = "steer"};
 
 static json_t *num_or_null(double v)
 {
@@ -188,6 +186,8 @@ int sphd_link_recv(sphd_link *l, sphd_wcmd *cmd, int wait)
             cmd->kind = SPHD_W_STOP;
         } else if (strcmp(f[0], "quit") == 0) {
             cmd->kind = SPHD_W_QUIT;
+        } else if (strcmp(f[0], "steer") == 0) {
+            cmd->kind = SPHD_W_STEER;
         } else if (strcmp(f[0], "particles") == 0 && m) {
             cmd->kind = SPHD_W_PARTICLES;
             cmd->token = (long)json_integer_value(json_object_get(m, "token"));
@@ -227,6 +227,10 @@ int sphd_wire_send_cmd(void *router, const char *runner, sphd_wcmd *cmd)
         break;
     case SPHD_W_QUIT:
         kind = "quit";
+        m = json_object();
+        break;
+    case SPHD_W_STEER:
+        kind = "steer";
         m = json_object();
         break;
     case SPHD_W_PARTICLES:

@@ -29,13 +29,10 @@ static int has_prefix_suffix(const char *name, const char *prefix, const char *s
 const char *sphd_results_kind(const char *name)
 {
     static const char *const exact[][2] = {
-        {"case.json", "case"},
-        {"job.json", "record"},
-        {"journal.jsonl", "journal"},
-        {"result.json", "result"},
-        {"diag.h5", "diagnostics"},
-        {"checkpoint", "checkpoint"},
-        {"checkpoint.prev", "checkpoint"},
+        {"case.json", "case"},        {"job.json", "record"},
+        {"steering.json", "record"},  {"journal.jsonl", "journal"},
+        {"result.json", "result"},    {"diag.h5", "diagnostics"},
+        {"checkpoint", "checkpoint"}, {"checkpoint.prev", "checkpoint"},
     };
     for (size_t i = 0; i < sizeof exact / sizeof exact[0]; i++)
         if (strcmp(name, exact[i][0]) == 0)

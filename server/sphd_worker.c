@@ -187,6 +187,9 @@ void sphd_run_job(sphd_worker *w, sphd_link *sock, sphd_wcmd *cmd)
             if (in.kind == SPHD_W_PAUSE) {
                 end.end = SPHD_END_PAUSED;
                 ended = 1;
+            } else if (in.kind == SPHD_W_STEER) {
+                end.end = SPHD_END_STEER; /* no checkpoint: the loop writes one once steered */
+                ended = 1;
             } else if (in.kind == SPHD_W_STOP || in.kind == SPHD_W_QUIT) {
                 /* QUIT while running: a runner the daemon does not want (a stray second run) */
                 end.end = SPHD_END_STOPPED;
@@ -301,7 +304,7 @@ static void *worker_main(void *arg)
             sphd_run_job(w, sock, &cmd);
         else if (cmd.kind == SPHD_W_PARTICLES)
             answer_stale(sock, &cmd); /* the run ended before it was read */
-        /* stale PAUSE/STOP (the run ended first) are dropped */
+        /* stale PAUSE/STOP/STEER (the run ended first) are dropped */
     }
     zmq_close(pair);
     return NULL;

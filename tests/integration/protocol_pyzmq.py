@@ -28,7 +28,8 @@ try:
     F.check(h["stream"] == d.stream, "hello names the stream endpoint", h)
     F.check(h.get("security") == "none", "hello says the sockets are not secured", h)
     F.check(h["ops"] == ["hello", "ping", "submit", "start", "step", "pause", "resume", "query",
-                         "stop", "sweep", "list", "shutdown", "results", "fetch", "export"],
+                         "stop", "set", "sweep", "list", "shutdown", "results", "fetch",
+                         "export"],
             "hello lists the ops", h["ops"])
     F.check(h["protocol"] == 1 and "kernel_study" in h["methods"], "hello: protocol, methods", h)
     ph = h.get("physics", {})

@@ -167,7 +167,7 @@ static void test_hello_lists_the_table(void **state)
     size_t n = 0;
     for (; sphd_op_name(n); n++)
         assert_string_equal(json_string_value(json_array_get(ops, n)), sphd_op_name(n));
-    assert_int_equal(n, 15);
+    assert_int_equal(n, 16);
     assert_int_equal(json_array_size(ops), n);
     assert_string_equal(json_string_value(json_object_get(h, "stream")), "inproc://stream");
     json_decref(h);
