@@ -30,7 +30,8 @@ static const char usage_text[] =
     "                                pause it\n"
     "  pause JOB | resume JOB | stop JOB\n"
     "  set JOB PATH=VALUE...         change a running or paused job's parameters at its\n"
-    "                                next step boundary (viscosity, gravity, cfl, end time)\n"
+    "                                next step boundary (viscosity, gravity, cfl, end time,\n"
+    "                                triggers)\n"
     "  query JOB [--fields pos,vel,...] [--max N]   state, diagnostics, particle fields\n"
     "  results JOB [--checksums]     the job's files: name, size, kind (CRC-32)\n"
     "  fetch JOB [--dest DIR] [--include-checkpoints]   download the job's files into\n"
@@ -416,7 +417,8 @@ static int cmd_set(sphctl *c, int argc, char **argv)
         "Usage: sphctl set JOB PATH=VALUE...\n"
         "Changes a running or paused job's parameters at its next step boundary (steering):\n"
         "physics.viscosity.alpha, physics.viscosity.nu, physics.delta_sph, physics.gravity (or\n"
-        "physics.gravity.K), time.cfl, time.end. VALUE is JSON (a bare word is a string).\n"
+        "physics.gravity.K), time.cfl, time.end, triggers. VALUE is JSON (a bare word is a\n"
+        "string).\n"
         "Replies once the change is made, with the step it took effect at; exit 1 when sphd\n"
         "refuses it (the reason names the path).\n";
     const sphctl_argspec spec = {.help = help, .optstring = "+h", .min_args = 2, .max_args = 33};

@@ -752,6 +752,7 @@ static const char *const steerable[] = {"physics.viscosity.alpha",
                                         "physics.gravity",
                                         "time.cfl",
                                         "time.end",
+                                        "triggers",
                                         NULL};
 
 int sph_case_steerable(const char *path, sph_error *err)
@@ -770,13 +771,13 @@ int sph_case_steerable(const char *path, sph_error *err)
                              "output and diagnostics schedules fix the times the steps land "
                              "on); the fields that are: physics.viscosity.alpha, "
                              "physics.viscosity.nu, physics.delta_sph, physics.gravity, time.cfl, "
-                             "time.end",
+                             "time.end, triggers",
                              path);
     return sph_error_set(err, SPH_ERR_INVALID, "",
                          "'%.200s' is not changed in a running job: it is part of the set-up (the "
                          "particles, the method, the models or the walls); submit a new job with "
                          "--set. The fields a running job takes: physics.viscosity.alpha, "
                          "physics.viscosity.nu, physics.delta_sph, physics.gravity, time.cfl, "
-                         "time.end",
+                         "time.end, triggers",
                          path);
 }

@@ -26,10 +26,32 @@ enum {
     SPH_FIELD_MASS = 1 << 6,
 };
 
+/* Triggers (sph_triggers.h): a condition on a diagnostic series and what to do, once, at the
+ * first diagnostic that meets it. */
+#define SPH_TRIGGERS_MAX       16
+#define SPH_TRIGGER_WHEN_MAX   96
+#define SPH_TRIGGER_SERIES_MAX 64
+typedef enum {
+    SPH_TRIGGER_PAUSE = 0,
+    SPH_TRIGGER_STOP,
+    SPH_TRIGGER_CHECKPOINT,
+    SPH_TRIGGER_SNAPSHOT
+} sph_trigger_action;
+typedef enum { SPH_TRIGGER_GT = 0, SPH_TRIGGER_GE, SPH_TRIGGER_LT, SPH_TRIGGER_LE } sph_trigger_op;
+typedef struct sph_trigger {
+    char when[SPH_TRIGGER_WHEN_MAX];     /* as the case gives it: "P1 > 5000" */
+    char series[SPH_TRIGGER_SERIES_MAX]; /* the diag series: "P1", "front_x", "cyl.penetration" */
+    sph_trigger_op op;
+    double value;
+    sph_trigger_action action;
+} sph_trigger;
+
 typedef struct sph_output_config {
     double every;    /* simulated time between snapshots [s]; 0: no snapshots */
     unsigned fields; /* SPH_FIELD_* mask; pos is always written */
     int compress;    /* 0 none, 1-9 deflate level (with shuffle) */
+    int ntriggers;   /* the case's "triggers" */
+    sph_trigger triggers[SPH_TRIGGERS_MAX];
 } sph_output_config;
 
 typedef struct sph_case {
@@ -72,8 +94,9 @@ int sph_case_file_names(const json_t *root, const char **names, int max);
 
 /* Steering (PROTOCOL.md 3.12): 0 if the case field at a dotted path (an assignment's left side,
  * "physics.viscosity.alpha") may change in a running job: the viscous term's coefficients,
- * delta-SPH's, gravity (or one of its components), the CFL number and the end time. Else
- * SPH_ERR_INVALID with the reason (err's path left empty: the caller knows where the path was). */
+ * delta-SPH's, gravity (or one of its components), the CFL number, the end time and the
+ * triggers. Else SPH_ERR_INVALID with the reason (err's path left empty: the caller knows where
+ * the path was). */
 int sph_case_steerable(const char *path, sph_error *err);
 
 /* Case-file name of a method. */

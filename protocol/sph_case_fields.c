@@ -6,6 +6,7 @@
 #include "sph_case_table.h"
 #include "sph_lattice.h"
 #include "sph_json.h"
+#include "sph_triggers.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -365,6 +366,13 @@ static int parse_body_polygon(const json_t *v, const char *path, sph_config *c,
     b->center[1] = cy;
     b->center[2] = 0.0;
     return 0;
+}
+
+/* "triggers": sph_triggers.h (after the diagnostics' and bodies' rows: it checks the series). */
+static int parse_triggers(const json_t *v, const char *path, sph_config *c, sph_output_config *o,
+                          sph_error *err)
+{
+    return sph_triggers_parse(v, path, c, o, err);
 }
 
 /* Frees the polygons that parse_geometry made (a mesh item's surface is not read there). */
@@ -812,6 +820,12 @@ const sph_case_field sph_case_fields[] = {
      .doc = "the wall's normal into the fluid at the point (dim components, any length): the "
             "probe reads 1.5 h along it, off the wall's bias, as the peers do; absent or all 0: "
             "at the point"},
+    {.path = "/triggers", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS, .parse = parse_triggers,
+     OUT(triggers),
+     .doc = "array of 0-16 {\"when\": \"SERIES OP VALUE\", \"do\": pause|stop|checkpoint|"
+            "snapshot}: what to do, once, at the first diagnostic whose SERIES (a diag series: "
+            "t, ekin, front_x, a gauge's or probe's name, BODY.penetration, ...) meets the "
+            "condition (OP >, >=, <, <=); section 1.7; absent: none"},
     {.path = NULL},
 };
 /* clang-format on */

@@ -6,6 +6,7 @@
 #include "sphd.h"
 #include "sphd_ckpt.h"
 #include "sphd_outputs.h"
+#include "sph_triggers.h"
 
 #include <limits.h>
 #include <math.h>
@@ -28,7 +29,14 @@ struct sphd_exec {
     int snapshots_since_ckpt; /* [-] */
     json_t *steering;         /* the changes made to the running job (sphd_exec_steer), oldest
                                  first: [{"step", "t", "set"}, ...]; saved with the checkpoint */
+    unsigned fired;           /* the triggers that have fired (bit k: trigger k); saved */
+    char halt[SPH_TRIGGER_WHEN_MAX + 96]; /* why the latest advance paused or stopped */
 };
+
+const char *sphd_exec_halt_reason(const sphd_exec *x)
+{
+    return x->halt;
+}
 
 /* The job id: the last component of the output directory. */
 static const char *job_of(const char *outdir)
@@ -217,6 +225,46 @@ static int outputs_due(sphd_exec *x, int at_end, sphd_emit_fn emit, void *ud, sp
     return 0;
 }
 
+/* The triggers that the latest diag meets, each once: a `trigger` event, then its action (a
+ * checkpoint or a snapshot now; pause and stop are returned: SPHD_EXEC_PAUSE or _STOP, the
+ * first of them in the list, with x->halt). SPHD_EXEC_RUNNING when the run goes on,
+ * SPHD_EXEC_FAILED on a write that failed (err). */
+static sphd_exec_status run_triggers(sphd_exec *x, sphd_emit_fn emit, void *ud, sph_error *err)
+{
+    sphd_exec_status halt = SPHD_EXEC_RUNNING;
+    const sph_output_config *o = &x->c.output;
+    for (int k = 0; k < o->ntriggers && k < 32; k++) {
+        const sph_trigger *t = &o->triggers[k];
+        if ((x->fired >> k & 1u) || !sph_trigger_holds(t, x->diag))
+            continue;
+        x->fired |= 1u << k;
+        const sph_diag *d = sph_sim_diag(x->sim);
+        emit(ud, "trigger",
+             json_pack("{s:s, s:s, s:I, s:o}", "when", t->when, "do",
+                       sph_trigger_action_name(t->action), "step", (json_int_t)d->step, "t",
+                       num(d->t)));
+        int rc = 0;
+        if (t->action == SPH_TRIGGER_CHECKPOINT) {
+            rc = sphd_exec_checkpoint(x, err);
+        } else if (t->action == SPH_TRIGGER_SNAPSHOT && x->out) {
+            json_t *ev = sphd_outputs_snapshot_extra(x->out, x->sim, err);
+            if (ev) {
+                emit(ud, "output", ev);
+                x->snapshots_since_ckpt++;
+            }
+            rc = ev ? 0 : SPH_ERR_IO;
+        } else if ((t->action == SPH_TRIGGER_PAUSE || t->action == SPH_TRIGGER_STOP) &&
+                   halt == SPHD_EXEC_RUNNING) {
+            halt = t->action == SPH_TRIGGER_PAUSE ? SPHD_EXEC_PAUSE : SPHD_EXEC_STOP;
+            snprintf(x->halt, sizeof x->halt, "trigger '%s' at t = %.6g s (step %ld)", t->when,
+                     d->t, d->step);
+        }
+        if (rc)
+            return SPHD_EXEC_FAILED;
+    }
+    return halt;
+}
+
 /* The first multiple of interval after t (t itself when it lies on one, within rounding, is
  * passed): where the next diag of a case with diagnostics.interval lands. */
 static double next_multiple(double t, double interval)
@@ -236,10 +284,15 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
     const long every = interval > 0.0 ? LONG_MAX : x->c.sim.diag_every;
     const double w0 = now();
     int rc = 0;
-    if (x->last_diag < 0) /* the initial state */
+    sphd_exec_status halt = SPHD_EXEC_RUNNING;
+    x->halt[0] = '\0';
+    if (x->last_diag < 0) { /* the initial state */
         rc = emit_diag(x, emit, ud, err) || outputs_due(x, 0, emit, ud, err);
+        if (rc == 0 && (halt = run_triggers(x, emit, ud, err)) == SPHD_EXEC_FAILED)
+            rc = -1;
+    }
     long done = 0;
-    while (rc == 0 && done < max_steps) {
+    while (rc == 0 && halt == SPHD_EXEC_RUNNING && done < max_steps) {
         double t_stop = until < t_end ? until : t_end;
         if (x->out && sphd_outputs_next_time(x->out) < t_stop)
             t_stop = sphd_outputs_next_time(x->out); /* land on the output time */
@@ -257,11 +310,15 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
         done += sph_sim_diag(x->sim)->step - step;
         if (rc)
             break;
-        if (interval > 0.0 ? sph_sim_time(x->sim) >= t_diag
-                           : sph_sim_diag(x->sim)->step % every == 0)
+        const int diag_now = interval > 0.0 ? sph_sim_time(x->sim) >= t_diag
+                                            : sph_sim_diag(x->sim)->step % every == 0;
+        if (diag_now)
             rc = emit_diag(x, emit, ud, err);
         if (rc == 0 && sph_sim_time(x->sim) < t_end)
             rc = outputs_due(x, 0, emit, ud, err);
+        /* after the outputs of this step: a paused run goes on from the next one */
+        if (rc == 0 && diag_now && (halt = run_triggers(x, emit, ud, err)) == SPHD_EXEC_FAILED)
+            rc = -1;
     }
     x->wall += now() - w0;
     if (rc) {
@@ -271,6 +328,8 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
         }
         return SPHD_EXEC_FAILED;
     }
+    if (halt != SPHD_EXEC_RUNNING && sph_sim_time(x->sim) < t_end)
+        return halt;
     if (sph_sim_time(x->sim) < t_end)
         return SPHD_EXEC_RUNNING;
     const sph_diag *d = sph_sim_diag(x->sim);
@@ -432,8 +491,12 @@ int sphd_exec_checkpoint(sphd_exec *x, sph_error *err)
     json_t *ex =
         json_pack("{s:o, s:f, s:I}", "outputs", x->out ? sphd_outputs_state(x->out) : json_object(),
                   "wall", x->wall, "last_diag", (json_int_t)x->last_diag);
-    if (ex && x->steering)
+    if (ex && x->steering) { /* with the triggers as steered */
         json_object_set(ex, "steering", x->steering);
+        json_object_set_new(ex, "triggers", sph_triggers_json(&x->c.output));
+    }
+    if (ex && x->fired)
+        json_object_set_new(ex, "fired", json_integer((json_int_t)x->fired));
     char *text = json_dumps(ex, JSON_COMPACT | JSON_REAL_PRECISION(17));
     json_decref(ex);
     if (!text) {
@@ -462,9 +525,10 @@ static void steer_case(sph_config *c, const sph_config *from)
     memcpy(c->gravity, from->gravity, sizeof c->gravity);
 }
 
-int sphd_exec_steer(sphd_exec *x, const sph_config *next, const json_t *set, json_t **record,
+int sphd_exec_steer(sphd_exec *x, const sph_case *next_case, const json_t *set, json_t **record,
                     sph_error *err)
 {
+    const sph_config *next = &next_case->sim;
     *record = NULL;
     if (!x->sim || x->finished)
         return sph_error_set(err, SPH_ERR_INVALID, "",
@@ -476,6 +540,16 @@ int sphd_exec_steer(sphd_exec *x, const sph_config *next, const json_t *set, jso
     if (sph_sim_steer(x->sim, next, err))
         return (int)err->code;
     steer_case(&x->c.sim, next);
+    /* the triggers: those that stay as they were keep whether they have fired */
+    const sph_output_config *o = &x->c.output, *n = &next_case->output;
+    unsigned fired = 0;
+    for (int k = 0; k < n->ntriggers && k < o->ntriggers; k++)
+        if ((x->fired >> k & 1u) && strcmp(o->triggers[k].when, n->triggers[k].when) == 0 &&
+            o->triggers[k].action == n->triggers[k].action)
+            fired |= 1u << k;
+    x->fired = fired;
+    x->c.output.ntriggers = n->ntriggers;
+    memcpy(x->c.output.triggers, n->triggers, sizeof n->triggers);
     json_t *rec =
         json_pack("{s:I, s:o, s:O}", "step", (json_int_t)d->step, "t", num(d->t), "set", set);
     if (!x->steering)
@@ -524,6 +598,7 @@ sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_bac
     x->last_ckpt = now();
     x->wall = json_number_value(json_object_get(ex, "wall"));
     x->last_diag = (long)json_integer_value(json_object_get(ex, "last_diag"));
+    x->fired = (unsigned)json_integer_value(json_object_get(ex, "fired"));
     x->outdir = strdup(outdir);
     x->sim = x->outdir ? sph_sim_restore(state, len, err) : NULL;
     sphd_ckpt_free(ck);
@@ -532,6 +607,10 @@ sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_bac
         /* a steered job goes on with the values it had at the checkpoint, not the case's */
         x->steering = json_deep_copy(steering);
         steer_case(&x->c.sim, sph_sim_config(x->sim));
+        sph_error terr;
+        const json_t *tr = json_object_get(ex, "triggers");
+        if (tr && sph_triggers_parse(tr, "/triggers", &x->c.sim, &x->c.output, &terr) != 0)
+            x->c.output.ntriggers = 0; /* (they parsed when they were set) */
     }
     if (x->sim) {
         const sph_diag *d = sph_sim_diag(x->sim);

@@ -22,7 +22,9 @@
 typedef enum {
     SPHD_EXEC_RUNNING = 0, /* more to do */
     SPHD_EXEC_DONE,        /* finished; the result event was emitted */
-    SPHD_EXEC_FAILED       /* failed; err says why (e.g. unstable: NaN at step N) */
+    SPHD_EXEC_FAILED,      /* failed; err says why (e.g. unstable: NaN at step N) */
+    SPHD_EXEC_PAUSE,       /* a trigger asks to pause here (sphd_exec_halt_reason says which) */
+    SPHD_EXEC_STOP         /* a trigger asks to stop here */
 } sphd_exec_status;
 
 /* Receives one event body (type + fields; stolen reference). */
@@ -38,6 +40,11 @@ sphd_exec *sphd_exec_new(const sph_case *c, const char *outdir, sph_error *err);
  * One-shot methods (kernel_study) finish in one call. */
 sphd_exec_status sphd_exec_advance(sphd_exec *x, long max_steps, double until, sphd_emit_fn emit,
                                    void *ud, sph_error *err);
+
+/* Why the latest advance returned SPHD_EXEC_PAUSE or SPHD_EXEC_STOP: "trigger 'P1 > 5000'
+ * at t = 0.41 s" (the case's triggers, sph_triggers.h: each fires once, at the first diag event
+ * that meets it, with a `trigger` event; the checkpoints keep which have fired). */
+const char *sphd_exec_halt_reason(const sphd_exec *x);
 
 /* Progress for status/query: {"t", "t_end", "step", "finished", "diag": {...latest diag...}}
  * (new ref; a kernel study has only step and finished). */
@@ -64,9 +71,10 @@ int sphd_exec_checkpoint(sphd_exec *x, sph_error *err);
  * parameters (sph_sim_steer) take effect from the next step; `set` (the assignments, an array of
  * strings) is recorded with the step and time into the job's steering history, which the
  * checkpoints keep (write one after this to commit it) and the result event carries. *record gets
- * the history's new entry (a new reference). SPH_ERR_INVALID (nothing changed) for an end time not
+ * the history's new entry (a new reference). The case's triggers become next's (those unchanged
+ * keep whether they fired). SPH_ERR_INVALID (nothing changed) for an end time not
  * past the job's time, a job without a simulation, or what sph_sim_steer refuses. */
-int sphd_exec_steer(sphd_exec *x, const sph_config *next, const json_t *set, json_t **record,
+int sphd_exec_steer(sphd_exec *x, const sph_case *next, const json_t *set, json_t **record,
                     sph_error *err);
 /* The steering history (borrowed; NULL when never steered). */
 const json_t *sphd_exec_steering(const sphd_exec *x);

@@ -99,7 +99,7 @@ int sphd_job_steer_apply(sphd_daemon *d, sphd_job *j, sphd_err *e)
     else if (!j->exec)
         sph_error_set(&err, SPH_ERR_INVALID, "", "the job has no simulation in memory to steer");
     else if (sph_case_from_json(next_json, next, &err) == 0 &&
-             sphd_exec_steer(j->exec, &next->sim, set, &rec, &err) == 0)
+             sphd_exec_steer(j->exec, next, set, &rec, &err) == 0)
         rc = 0;
     if (next) {
         sph_case_clear(next);
@@ -214,7 +214,7 @@ void sphd_job_set_state(sphd_daemon *d, sphd_job *j, sphd_job_state s, const cha
         j->step_until = INFINITY;
     }
     json_t *b = json_pack("{s:s}", "state", sphd_job_state_name(s));
-    if (b && s == SPHD_JOB_FAILED)
+    if (b && j->reason[0]) /* failed, or paused or stopped by a trigger */
         json_object_set_new(b, "reason", json_string(j->reason));
     /* the journal: every state change, appended and fsync'd before anyone hears of it */
     json_t *rec = json_pack("{s:f, s:s, s:I, s:I}", "t", sphd_now(), "state",
@@ -723,6 +723,15 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
             json_decref(j->result);
             j->result = json_incref(ev->body);
             write_json(j->dir, "result.json", ev->body);
+        } else if (strcmp(ev->type, "trigger") == 0) {
+            json_t *jr =
+                json_pack("{s:f, s:O, s:O, s:O, s:I}", "t", sphd_now(), "trigger",
+                          json_object_get(ev->body, "when"), "do", json_object_get(ev->body, "do"),
+                          "step", json_object_get(ev->body, "step"), "seq", (json_int_t)j->seq);
+            sph_error jerr;
+            if (jr && sphd_journal_append(j->dir, jr, &jerr) != 0)
+                sphd_log("job %s: %s", j->id, jerr.message);
+            json_decref(jr);
         }
         sphd_publish(d, j, ev->type, ev->body);
         if (!w && sphd_mono() - j->recorded_at > SPHD_REMOTE_RECORD_S) {
@@ -806,20 +815,21 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
         sphd_log("job %s failed: %s", j->id, ev->reason);
         sphd_job_set_state(d, j, SPHD_JOB_FAILED, ev->reason);
         break;
-    case SPHD_END_STOPPED:
-        sphd_job_set_state(d, j, SPHD_JOB_STOPPED, NULL);
+    case SPHD_END_STOPPED: /* on request, or by a trigger (its reason) */
+        sphd_job_set_state(d, j, SPHD_JOB_STOPPED, ev->reason[0] ? ev->reason : NULL);
         break;
     case SPHD_END_PAUSED:
     case SPHD_END_TARGET:
         if (j->stop_requested) {
             sphd_job_set_state(d, j, SPHD_JOB_STOPPED, NULL);
-        } else if (d->stopping || j->pause_requested || stepping) {
+        } else if (d->stopping || j->pause_requested || stepping || ev->reason[0]) {
             if (d->stopping)
                 sphd_publish(d, j, "log",
                              json_pack("{s:s, s:s}", "level", "info", "message",
                                        "paused: sphd is shutting down; the job is recorded for "
                                        "a later resume"));
-            sphd_job_set_state(d, j, SPHD_JOB_PAUSED, NULL);
+            /* a trigger's pause says which (ev->reason) */
+            sphd_job_set_state(d, j, SPHD_JOB_PAUSED, ev->reason[0] ? ev->reason : NULL);
             if (d->stopping)
                 sphd_job_record(d, j, 1);
         } else {

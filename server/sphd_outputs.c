@@ -307,6 +307,14 @@ json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err)
     return json_pack("{s:s, s:f, s:I}", "file", e->file, "t", e->t, "step", (json_int_t)e->step);
 }
 
+json_t *sphd_outputs_snapshot_extra(sphd_outputs *o, const sph_sim *s, sph_error *err)
+{
+    json_t *ev = sphd_outputs_snapshot(o, s, err);
+    if (ev)
+        o->skip--; /* (nentries + skip) every: the next time is the one it was */
+    return ev;
+}
+
 json_t *sphd_outputs_state(const sphd_outputs *o)
 {
     json_t *list = json_array();
@@ -315,7 +323,7 @@ json_t *sphd_outputs_state(const sphd_outputs *o)
                               json_pack("{s:s, s:f, s:I, s:I}", "file", o->entries[i].file, "t",
                                         o->entries[i].t, "step", (json_int_t)o->entries[i].step,
                                         "n", (json_int_t)o->entries[i].n));
-    return json_pack("{s:o}", "snapshots", list);
+    return json_pack("{s:o, s:I}", "snapshots", list, "skip", (json_int_t)o->skip);
 }
 
 int sphd_outputs_restore(sphd_outputs *o, const json_t *state, double t, sph_error *err)
@@ -338,9 +346,10 @@ int sphd_outputs_restore(sphd_outputs *o, const json_t *state, double t, sph_err
     free(o->entries);
     o->entries = e;
     o->nentries = o->capentries = (int)n;
+    o->skip = (long)json_integer_value(json_object_get(state, "skip")); /* trigger snapshots */
     /* a schedule the state is already past (the case's output.every made shorter before the
      * resume): the next output is the first time due from t on, not a burst of late ones */
-    if (o->cfg.every > 0.0 && (double)o->nentries * o->cfg.every <= t) {
+    if (o->cfg.every > 0.0 && (double)(o->nentries + o->skip) * o->cfg.every <= t) {
         const double k = floor(t / o->cfg.every + 1e-9) + 1.0; /* the first time after t */
         if (k < 1e15)
             o->skip = (long)k - o->nentries;

@@ -32,6 +32,8 @@ double sphd_outputs_next_time(const sphd_outputs *o);
 /* Writes the snapshot of s's current state, rewrites the XDMF, and returns the `output` event's
  * body (new reference) or NULL with err. */
 json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err);
+/* The same out of the schedule (a trigger's): the next scheduled time stays what it was. */
+json_t *sphd_outputs_snapshot_extra(sphd_outputs *o, const sph_sim *s, sph_error *err);
 
 /* The state to checkpoint (new reference), and its restoration for a sim at time t [s] (output
  * times already behind t are passed over). */

@@ -214,6 +214,22 @@ int sphd_run(const sphd_run_opts *o)
         }
     } else if (st == SPHD_EXEC_DONE) {
         emit_state(&em, "done", NULL);
+    } else if (st == SPHD_EXEC_PAUSE) { /* a trigger's: resumable, as an interrupted run */
+        if (sphd_exec_checkpoint(x, &err) == 0) {
+            emit_state(&em, "paused", sphd_exec_halt_reason(x));
+            fprintf(stderr, "sphd: %s paused by a %s; checkpoint written: --resume continues\n",
+                    job, sphd_exec_halt_reason(x));
+            rc = SPHD_EX_TEMPFAIL;
+        } else {
+            char reason[SPH_ERROR_TEXT_MAX + 64];
+            snprintf(reason, sizeof reason, "paused, and the checkpoint failed: %s: %s",
+                     sph_error_code_name(err.code), err.message);
+            emit_state(&em, "failed", reason);
+            rc = SPHD_EX_FAILED;
+        }
+    } else if (st == SPHD_EXEC_STOP) {
+        emit_state(&em, "stopped", sphd_exec_halt_reason(x));
+        rc = SPHD_EX_FAILED;
     } else {
         char reason[SPH_ERROR_TEXT_MAX + 32];
         snprintf(reason, sizeof reason, "%s: %s", sph_error_code_name(err.code), err.message);
@@ -222,7 +238,11 @@ int sphd_run(const sphd_run_opts *o)
     }
     sphd_exec_free(x);
     if (rc != SPHD_EX_TEMPFAIL)
-        fprintf(stderr, "sphd: %s %s; outputs in %s\n", job, rc == 0 ? "done" : "failed", outdir);
+        fprintf(stderr, "sphd: %s %s; outputs in %s\n", job,
+                rc == 0                ? "done"
+                : st == SPHD_EXEC_STOP ? "stopped"
+                                       : "failed",
+                outdir);
     sph_case_clear(c);
     free(c);
     json_decref(root);

@@ -226,6 +226,10 @@ void sphd_run_job(sphd_worker *w, sphd_link *sock, sphd_wcmd *cmd)
         if (st == SPHD_EXEC_DONE) {
             end.end = SPHD_END_DONE;
             ended = 1;
+        } else if (st == SPHD_EXEC_PAUSE || st == SPHD_EXEC_STOP) { /* a trigger's */
+            end.end = st == SPHD_EXEC_PAUSE ? SPHD_END_PAUSED : SPHD_END_STOPPED;
+            snprintf(end.reason, sizeof end.reason, "%s", sphd_exec_halt_reason(x));
+            ended = 1;
         } else if (st == SPHD_EXEC_FAILED) {
             end.end = SPHD_END_FAILED;
             snprintf(end.reason, sizeof end.reason, "%s: %s%s%s", sph_error_code_name(err.code),
