@@ -29,7 +29,7 @@ int sph_fill_prepare(sph_config *c, sph_error *err)
     if (!sc)
         return err ? err->code : SPH_ERR_INVALID;
     sph_scene_counts n;
-    const int rc = sph_scene_fill(sc, c, &n, NULL, NULL, err);
+    const int rc = sph_scene_fill(sc, c, &n, NULL, NULL, NULL, err);
     sph_scene_destroy(sc);
     if (rc)
         return rc;
@@ -110,7 +110,7 @@ static int fill_scene(const sph_config *c, sph_particles *P)
     double *rho = malloc((size_t)(n > 0 ? n : 1) * sizeof *rho);
     double *const at[3] = {P->x, P->y, P->z};
     sph_scene_counts cnt;
-    int rc = rho ? sph_scene_fill(sc, c, &cnt, at, rho, NULL) : -1;
+    int rc = rho ? sph_scene_fill(sc, c, &cnt, at, rho, NULL, NULL) : -1;
     sph_scene_destroy(sc);
     if (rc == 0 && (cnt.fluid != c->geometry_fluid || cnt.wall != c->geometry_wall))
         rc = -1;
