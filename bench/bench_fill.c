@@ -139,7 +139,7 @@ int main(int argc, char **argv)
             }
             const double t1 = now();
             sph_scene_counts n;
-            if (sph_scene_fill(s, &c, &n, NULL, NULL, &err)) {
+            if (sph_scene_fill(s, &c, &n, NULL, NULL, NULL, &err)) {
                 fprintf(stderr, "bench_fill: %s\n", err.message);
                 return 1;
             }
@@ -148,7 +148,7 @@ int main(int argc, char **argv)
             double *x = malloc((size_t)np * sizeof *x), *y = malloc((size_t)np * sizeof *y),
                    *z = malloc((size_t)np * sizeof *z), *rho = malloc((size_t)np * sizeof *rho);
             double *const pos[3] = {x, y, z};
-            if (!x || !y || !z || !rho || sph_scene_fill(s, &c, &n, pos, rho, &err))
+            if (!x || !y || !z || !rho || sph_scene_fill(s, &c, &n, pos, rho, NULL, &err))
                 return 1;
             const double t3 = now();
             printf("%-9s %10ld %10ld %9.3f %9.3f %9.3f %9.3f %12.0f\n",

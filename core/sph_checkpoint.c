@@ -3,8 +3,10 @@
  * server puts them in a checkpoint file). Saved: the configuration, the scalars of the time
  * integration (t, step, dt, the latest max acceleration and speed), the latest diagnostics, and
  * every per-particle array that lives from one step to the next, in the particles' current
- * (cell-sorted) order (the method lists them), then the rigid bodies' state. Not saved: what every
- * step rebuilds (the cell list, the probes' histogram, the force loop's scratch arrays).
+ * (cell-sorted) order (the method lists them), then the rigid bodies' state, then the geometry
+ * walls' mirror points (mDBC; by id: a restored state has no surfaces to find them again). Not
+ * saved: what every step rebuilds (the cell list, the probes' histogram, the force loop's scratch
+ * arrays).
  */
 #include "sph_sim_impl.h"
 
@@ -22,8 +24,8 @@
  * 14: sph_config.wall_density; 15: sph_config.device; 16: a pressure probe's normal
  * (sph_pressure_spec); 17: sph_config.delta_form; 18: sph_config.precision, float arrays
  * under mixed precision; 19: WCSPH saves no pressure array (derived from the density) */
-#define SIM_VERSION 21u /* 20: the geometry list (sph_config.geometry); 21: polygon bodies
-                          * (sph_body_spec.corners) */
+#define SIM_VERSION 22u /* 20: the geometry list (sph_config.geometry); 21: polygon bodies
+                          * (sph_body_spec.corners); 22: geometry walls' mirror points (mDBC) */
 
 typedef struct {
     char magic[8];
@@ -31,6 +33,7 @@ typedef struct {
     uint32_t sps; /* 1 if the SPS arrays are present */
     int64_t n;    /* particles */
     int64_t nactive, nfluid, nboundary, step, failed, nbodies;
+    int64_t nmirror; /* wall particles with a mirror point in the state (dim doubles each) */
     double t, dt, amax, vmax;
     sph_config cfg;
     sph_diag diag;
@@ -43,8 +46,9 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     const int na = s->ops->arrays(s, arrays, 40);
     const size_t n = (size_t)s->P.n;
     const size_t nbs = (size_t)s->bodies.n;
+    const size_t nm = (size_t)s->nmirror * (size_t)s->cfg.dim;
     const size_t size = sizeof(sim_header) + sph_method_arrays_size(arrays, na) * n +
-                        n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state);
+                        n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state) + nm * sizeof(double);
     unsigned char *b = malloc(size);
     if (!b)
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for a %zu-byte checkpoint",
@@ -59,6 +63,7 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     h.nfluid = s->nfluid;
     h.nboundary = s->nboundary;
     h.nbodies = s->bodies.n;
+    h.nmirror = s->nmirror;
     h.step = s->step;
     h.failed = s->failed;
     h.t = s->t;
@@ -83,6 +88,8 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
         memcpy(p, &s->bodies.b[k].s, sizeof(sph_body_state));
         p += sizeof(sph_body_state);
     }
+    if (nm)
+        memcpy(p, s->mirror, nm * sizeof(double));
     *buf = b;
     *len = size;
     return 0;
@@ -137,8 +144,11 @@ static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
     const size_t n = (size_t)s->P.n;
     const size_t nbs = (size_t)s->bodies.n;
     const size_t per = sph_method_arrays_size(arrays, na);
+    const size_t nm = (size_t)s->nmirror * (size_t)s->cfg.dim;
     if (h.n != s->P.n || (s->P.txx != NULL) != (h.sps != 0) || h.nbodies != s->bodies.n ||
-        len != sizeof h + per * n + n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state)) {
+        h.nmirror != s->nmirror ||
+        len != sizeof h + per * n + n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state) +
+                   nm * sizeof(double)) {
         sph_sim_destroy(s);
         sph_error_set(err, SPH_ERR_IO, "", "simulation state does not match its configuration");
         return NULL;
@@ -182,6 +192,16 @@ static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
     for (size_t k = 0; k < nbs; k++) {
         memcpy(&s->bodies.b[k].s, p, sizeof(sph_body_state));
         p += sizeof(sph_body_state);
+    }
+    if (nm) {
+        memcpy(s->mirror, p, nm * sizeof(double));
+        for (size_t k = 0; k < nm; k++)
+            if (!isfinite(s->mirror[k])) {
+                sph_sim_destroy(s);
+                sph_error_set(err, SPH_ERR_IO, "",
+                              "simulation state has a mirror point that is not a number");
+                return NULL;
+            }
     }
     s->nactive = h.nactive;
     s->step = h.step;

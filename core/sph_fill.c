@@ -29,20 +29,25 @@ int sph_fill_prepare(sph_config *c, sph_error *err)
     if (!sc)
         return err ? err->code : SPH_ERR_INVALID;
     sph_scene_counts n;
-    const int rc = sph_scene_fill(sc, c, &n, NULL, NULL, err);
+    int rc = sph_scene_fill(sc, c, &n, NULL, NULL, NULL, err);
+    /* the domain's max faces out to the whole lattice cells they cut: a tank whose inside is
+     * the domain has its walls on the lattice, up to dx beyond the faces given, and the water
+     * between is not lost */
+    sph_box domain = c->domain;
+    for (int d = 0; d < c->dim; d++) {
+        const double o = c->domain.min[d] + 0.5 * c->dx;
+        const double cell = o + (floor((c->domain.max[d] - o) / c->dx + 1e-9) + 0.5) * c->dx;
+        if (cell > domain.max[d])
+            domain.max[d] = cell;
+    }
+    /* mDBC: every geometry wall has a face to mirror across (found again by sph_fill) */
+    if (rc == 0 && sph_fill_has_mirrors(c))
+        rc = sph_scene_mark_wet(sc, &domain, err);
     sph_scene_destroy(sc);
     if (rc)
         return rc;
     c->geometry_filled = 1;
-    /* the domain's max faces out to the whole lattice cells they cut: a tank whose inside is
-     * the domain has its walls on the lattice, up to dx beyond the faces given, and the water
-     * between is not lost */
-    for (int d = 0; d < c->dim; d++) {
-        const double o = c->domain.min[d] + 0.5 * c->dx;
-        const double cell = o + (floor((c->domain.max[d] - o) / c->dx + 1e-9) + 0.5) * c->dx;
-        if (cell > c->domain.max[d])
-            c->domain.max[d] = cell;
-    }
+    c->domain = domain;
     c->geometry_fluid = n.fluid;
     c->geometry_wall = n.wall;
     for (int d = 0; d < 3; d++) {
@@ -98,36 +103,74 @@ static void settle(const sph_config *c, sph_particles *P, long i0, long i1, int 
     }
 }
 
-/* The geometry's particles (the built-in shapes among them) from its scene; 0, or -1 when the
- * scene cannot be built or filled (a restored state's surfaces are not at hand: its particles
- * come from the state). */
-static int fill_scene(const sph_config *c, sph_particles *P)
+int sph_fill_has_mirrors(const sph_config *c)
+{
+    if (c->wall_density != SPH_WALL_MDBC || c->boundary != SPH_BOUNDARY_DYNAMIC)
+        return 0;
+    for (int k = 0; k < c->ngeometry; k++)
+        if (c->geometry[k].role == SPH_ROLE_WALL || c->geometry[k].role == SPH_ROLE_OBSTACLE)
+            return 1;
+    return 0;
+}
+
+/* The walls' mirror points (sph_fill): wall k of the scene at P's particle i0 + k, of shape
+ * owner[k], into mirror[dim k ..]. */
+static int mirrors(sph_scene *sc, const sph_config *c, const sph_particles *P, long i0, long nwall,
+                   const int *owner, double *mirror, sph_error *err)
+{
+    const int rc = sph_scene_mark_wet(sc, &c->domain, err);
+    if (rc)
+        return rc;
+    const int dim = c->dim;
+#pragma omp parallel for schedule(dynamic, 256)
+    for (long k = 0; k < nwall; k++) {
+        const long i = i0 + k;
+        const double x[3] = {P->x[i], P->y[i], P->z ? P->z[i] : 0.0};
+        double g[3];
+        if (sph_scene_item(sc, owner[k]) < 0)
+            sph_shapes_wall_mirror(c, x, g);
+        else
+            sph_scene_mirror(sc, owner[k], x, g);
+        for (int d = 0; d < dim; d++)
+            mirror[(size_t)dim * (size_t)k + (size_t)d] = g[d];
+    }
+    return 0;
+}
+
+/* The geometry's particles (the built-in shapes among them) from its scene, and the walls'
+ * mirror points with mirror not NULL; 0, -1 when the scene cannot be built or filled (a restored
+ * state's surfaces are not at hand: its particles come from the state), or sph_scene_mark_wet's
+ * error. */
+static int fill_scene(const sph_config *c, sph_particles *P, double *mirror, sph_error *err)
 {
     sph_scene *sc = sph_scene_create(c, NULL);
     if (!sc)
         return -1;
     const long n = c->geometry_fluid + c->geometry_wall;
     double *rho = malloc((size_t)(n > 0 ? n : 1) * sizeof *rho);
+    const long nw = c->geometry_wall > 0 ? c->geometry_wall : 1;
+    int *owner = mirror ? malloc((size_t)nw * sizeof *owner) : NULL;
     double *const at[3] = {P->x, P->y, P->z};
     sph_scene_counts cnt;
-    int rc = rho ? sph_scene_fill(sc, c, &cnt, at, rho, NULL) : -1;
-    sph_scene_destroy(sc);
+    int rc = rho && (owner || !mirror) ? sph_scene_fill(sc, c, &cnt, at, rho, owner, NULL) : -1;
     if (rc == 0 && (cnt.fluid != c->geometry_fluid || cnt.wall != c->geometry_wall))
         rc = -1;
     if (rc == 0) {
         settle(c, P, 0, cnt.fluid, SPH_FLUID, 0.0, rho);
         settle(c, P, cnt.fluid, n, SPH_BOUNDARY, 0.0, rho + cnt.fluid);
+        if (mirror)
+            rc = mirrors(sc, c, P, cnt.fluid, cnt.wall, owner, mirror, err);
     }
+    sph_scene_destroy(sc);
+    free(owner);
     free(rho);
     return rc;
 }
 
-void sph_fill(const sph_config *c, sph_particles *P)
+int sph_fill(const sph_config *c, sph_particles *P, double *mirror, sph_error *err)
 {
-    if (sph_config_by_scene(c)) {
-        fill_scene(c, P);
-        return;
-    }
+    if (sph_config_by_scene(c))
+        return fill_scene(c, P, mirror, err);
     long i = 0;
     for (int b = 0; b < c->nfluid; b++) {
         double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};
@@ -142,13 +185,14 @@ void sph_fill(const sph_config *c, sph_particles *P)
         i += n;
     }
     if (c->boundary != SPH_BOUNDARY_DYNAMIC)
-        return;
+        return 0;
     for (int k = 0; k < c->nobstacles; k++) { /* the obstacles, after the tank's walls */
         double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};
         const long n = sph_shapes_obstacle_points(c, &c->obstacles[k], at);
         settle(c, P, i, i + n, SPH_BOUNDARY, 0.0, NULL);
         i += n;
     }
+    return 0;
 }
 
 long sph_fill_ghosts_estimate(const sph_config *c, double band)

@@ -61,7 +61,8 @@ long sph_shapes_obstacle_points(const sph_config *c, const sph_box *b, double *c
  * nearest point of the tank's inside, so that a particle in an edge or a corner of the walls is
  * reflected through that edge or corner. The faces are those the particles stand for: dx / 2
  * beyond the outermost particles (on the scene's lattice when the scene filled the case:
- * sph_config_by_scene). g = x for a point that belongs to no wall. */
+ * sph_config_by_scene). g = x for a point that belongs to no wall. (The walls of the geometry
+ * list are mirrored across their own shapes' wet faces: sph_scene_mirror, through sph_fill.) */
 void sph_shapes_wall_mirror(const sph_config *c, const double *x, double *g);
 
 /* 1 if the point x lies where an obstacle is: within dx of the region of one's lattice (a fluid

@@ -83,8 +83,12 @@ double sph_sim_estimate_bytes(const sph_config *cfg_in, long *nfluid, long *nbou
         span = fmax(span, hi[2] - lo[2]);
     const double bins = (span / cfg->dx + 2.0) * 12.0;
     const double ghosts = 1.25 * (double)ghosts_estimate(cfg);
+    /* the geometry walls' mirror points (mDBC) */
+    const double mirrors =
+        sph_fill_has_mirrors(cfg) ? (double)cfg->geometry_wall * cfg->dim * sizeof(double) : 0.0;
     /* per cell: its start, and with mDBC its wet flag */
-    return (double)(nf + nb + ghosts) * per + cells * (sizeof(int) + 1) + bins + sizeof(sph_sim);
+    return (double)(nf + nb + ghosts) * per + cells * (sizeof(int) + 1) + bins + mirrors +
+           sizeof(sph_sim);
 }
 
 /* The names that a gauge may not take: the diag series' own and diag.h5's tables (PROTOCOL.md
@@ -222,14 +226,6 @@ static int geometry_check(const sph_config *c, sph_error *err)
             return sph_error_set(err, SPH_ERR_INVALID, path,
                                  "a wall or obstacle is made of dynamic wall particles: it needs "
                                  "boundary.type \"dynamic\"");
-        /* TODO(issue 44): mDBC for the geometry's walls: a mirror point per wall particle across
-         * the nearest wet face of its shape (sph_scene_distance on the faces whose outside holds
-         * no other wall), kept with the particles (permuted, saved, on the GPU) */
-        if (walls && c->wall_density == SPH_WALL_MDBC)
-            return sph_error_set(err, SPH_ERR_INVALID, path,
-                                 "mDBC walls from the geometry list are not in this version (their "
-                                 "mirror points need the surface's normals): use "
-                                 "boundary.density \"continuity\"");
         if (walls && !(g->layers >= 1))
             return sph_error_set(err, SPH_ERR_INVALID, path, "a wall needs at least one layer");
         if (!(g->transform.scale > 0.0) || !isfinite(g->transform.scale)) {
@@ -408,7 +404,13 @@ sph_sim *sph_sim_create(const sph_config *cfg_in, sph_error *err)
     s->nbins = nbins_of(cfg);
     s->bin_count = calloc((size_t)s->nbins, sizeof *s->bin_count);
     s->bin_max = calloc((size_t)s->nbins, sizeof *s->bin_max);
-    if (!s->bin_count || !s->bin_max ||
+    if (sph_fill_has_mirrors(cfg)) { /* the geometry walls' mirror points, by id (mDBC) */
+        s->mirror_first = nf;
+        s->nmirror = cfg->geometry_wall;
+        s->mirror =
+            calloc((size_t)(s->nmirror > 0 ? s->nmirror : 1) * (size_t)cfg->dim, sizeof *s->mirror);
+    }
+    if (!s->bin_count || !s->bin_max || (sph_fill_has_mirrors(cfg) && !s->mirror) ||
         sph_particles_alloc(&s->P, nf + nb, cfg->dim, sph_sim_particle_opts(cfg)) ||
         sph_particles_reserve(&s->P, cap) ||
         sph_cells_alloc(&s->cells, cfg->dim, lo, hi, s->kernel.support, cap) ||
@@ -417,7 +419,12 @@ sph_sim *sph_sim_create(const sph_config *cfg_in, sph_error *err)
         sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for %ld particles", nf + nb);
         return NULL;
     }
-    sph_fill(cfg, &s->P); /* fluid and walls, then the bodies' particles from their state */
+    /* fluid and walls (a restored state's come from it: -1 here), then the bodies' particles from
+     * their state */
+    if (sph_fill(cfg, &s->P, s->mirror, err) > 0) {
+        sph_sim_destroy(s);
+        return NULL;
+    }
     for (int k = 0; k < SPH_CONFIG_MAX_GEOMETRY; k++) /* the case's surfaces, not the sim's */
         s->cfg.geometry[k].mesh = NULL;
     sph_bodies_fill(&s->bodies, cfg, &s->P);
@@ -608,7 +615,8 @@ double sph_sim_bytes(const sph_sim *s)
 {
     const double n = (double)s->P.n;
     return n * (double)s->ops->bytes_per_particle(&s->cfg) +
-           (double)(s->cells.ncells + 4) * sizeof(int) + (double)s->nbins * 12.0 + sizeof *s;
+           (double)(s->cells.ncells + 4) * sizeof(int) + (double)s->nbins * 12.0 +
+           (double)s->nmirror * s->cfg.dim * sizeof(double) + sizeof *s;
 }
 
 void sph_sim_destroy(sph_sim *s)
@@ -622,6 +630,7 @@ void sph_sim_destroy(sph_sim *s)
     sph_bodies_free(&s->bodies);
     free(s->bin_count);
     free(s->bin_max);
+    free(s->mirror);
     free(s);
 }
 

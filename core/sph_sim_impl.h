@@ -39,6 +39,12 @@ struct sph_sim {
     long nboundary;            /* boundary particles [-] */
     sph_bodies bodies;         /* rigid bodies (their particles follow the walls') */
     sph_wall_ghost ghost;      /* the free-slip walls, with boundary == SPH_BOUNDARY_GHOST */
+    double *mirror;            /* mDBC's ghost nodes of the wall particles of a case with geometry
+                                  walls (sph_fill_has_mirrors): dim coordinates per wall particle,
+                                  by its id - mirror_first, so that no sort moves them; NULL: the
+                                  built-in boxes' rule (sph_shapes_wall_mirror) [m] */
+    long mirror_first;         /* the first wall particle's id [-] */
+    long nmirror;              /* wall particles in the table [-] */
     long nghost;               /* ghosts of the latest force evaluation [-] */
     long max_lost;             /* more lost fluid particles than this is a blow-up [-] */
     double t;                  /* time [s] */

@@ -2,9 +2,10 @@
  * sph_mdbc: the density of a fixed wall particle under modified dynamic boundary conditions
  * (mDBC; English, Dominguez, Vacondio, Crespo, Stansby, Lind, Chiapponi & Gomez-Gesteira 2021,
  * Comp. Part. Mech. 9: 1-15). Instead of evolving by continuity (DBC), a wall particle's density
- * is interpolated from the fluid at its ghost node (its mirror point across the wall,
- * sph_shapes_wall_mirror) with a first-order consistent correction (Liu & Liu 2006), and carried
- * back to the particle along the density gradient found there:
+ * is interpolated from the fluid at its ghost node (its mirror point across the wall:
+ * sph_shapes_wall_mirror for the built-in boxes, sph_scene_mirror across the nearest wet face of a
+ * geometry item's shape, kept in the sim's table) with a first-order consistent correction (Liu &
+ * Liu 2006), and carried back to the particle along the density gradient found there:
  *
  *   A = sum_j V_j [ W_j, W_j r_j ; gradW_j, gradW_j (x) r_j ],  b = sum_j m_j [ W_j ; gradW_j ],
  *   A [rho_g ; -grad rho] = b,  rho_wall = rho_g + grad rho . (x_wall - x_g),

@@ -20,6 +20,11 @@
 
 #define PI 3.14159265358979323846
 
+/* The most shapes a scene holds: the built-in ones (fluid boxes, the tank's 5 walls, obstacles)
+ * and the geometry list's (the fill marks a wall point with its shape in a byte). */
+#define SCENE_MAX_SHAPES (SPH_CONFIG_MAX_BOXES * 2 + 8 + SPH_CONFIG_MAX_GEOMETRY)
+_Static_assert(SCENE_MAX_SHAPES + 2 <= 255, "a lattice point's byte names its wall's shape");
+
 typedef struct shape {
     sph_geom_kind kind;
     sph_geom_role role;
@@ -30,6 +35,12 @@ typedef struct shape {
     sph_mesh m; /* polygon, mesh: in world coordinates (a copy) */
     double lo[3], hi[3];
     RTCScene rtc; /* a 3D mesh's hierarchy */
+    int item;     /* the geometry item it is (its index in the case's list), -1 built in */
+    /* mDBC's wet faces (sph_scene_mark_wet): per triangle or side of a surface (wet), per face of
+     * a box (2 d + side) or cap of a 3D cylinder (side) */
+    unsigned char *wet;
+    unsigned char face_wet[6];
+    double orient; /* a surface's winding: +1 when its faces wind outwards, -1 inwards */
 } shape;
 
 struct sph_scene {
@@ -38,7 +49,8 @@ struct sph_scene {
     int n;
     shape *s;
     RTCDevice dev;
-    long long rtc_bytes; /* what Embree holds (its memory monitor) */
+    long long rtc_bytes;         /* what Embree holds (its memory monitor) */
+    double dom_lo[3], dom_hi[3]; /* the domain, for the wet faces [m] */
 };
 
 static bool memory_monitor(void *user, ssize_t bytes, bool post)
@@ -53,7 +65,7 @@ double sph_scene_bytes(const sph_scene *s)
     double b = (double)sizeof *s + (double)s->n * sizeof *s->s + (double)s->rtc_bytes;
     for (int k = 0; k < s->n; k++)
         b += (double)s->s[k].m.nv * 3 * sizeof(double) +
-             (double)s->s[k].m.nt * (s->dim == 3 ? 3 : 2) * sizeof(int);
+             (double)s->s[k].m.nt * ((s->dim == 3 ? 3 : 2) * sizeof(int) + (s->s[k].wet ? 1 : 0));
     return b;
 }
 
@@ -249,12 +261,15 @@ static void closest_on_triangle(const double *p, const double *a, const double *
 
 typedef struct point_query {
     const sph_mesh *m;
+    const unsigned char *wet; /* NULL: every triangle; else only those with wet[t] */
     double p[3], q[3], best2;
 } point_query;
 
 static bool point_query_cb(struct RTCPointQueryFunctionArguments *args)
 {
     point_query *u = (point_query *)args->userPtr;
+    if (u->wet && !u->wet[args->primID])
+        return false;
     const int *t = u->m->t + 3 * (size_t)args->primID;
     double q[3];
     closest_on_triangle(u->p, u->m->v + 3 * (size_t)t[0], u->m->v + 3 * (size_t)t[1],
@@ -270,11 +285,12 @@ static bool point_query_cb(struct RTCPointQueryFunctionArguments *args)
     return false;
 }
 
-/* Distance to a mesh's surface, looking no farther than reach (INFINITY: anywhere); reach or
- * more when nothing is nearer. */
-static double mesh_distance(const shape *sh, const double *x, double reach, double *near)
+/* Distance to a mesh's surface (its triangles t with wet[t], wet not NULL), looking no farther
+ * than reach (INFINITY: anywhere); reach or more when nothing is nearer. */
+static double mesh_distance(const shape *sh, const double *x, double reach,
+                            const unsigned char *wet, double *near)
 {
-    point_query u = {.m = &sh->m, .p = {x[0], x[1], x[2]}, .best2 = reach * reach};
+    point_query u = {.m = &sh->m, .wet = wet, .p = {x[0], x[1], x[2]}, .best2 = reach * reach};
     struct RTCPointQuery q;
     q.x = (float)x[0];
     q.y = (float)x[1];
@@ -289,10 +305,14 @@ static double mesh_distance(const shape *sh, const double *x, double reach, doub
     return u.best2 < reach * reach ? sqrt(u.best2) : reach;
 }
 
-static double polygon_distance(const shape *sh, const double *x, double *near)
+/* Distance to a polygon's sides (those k with wet[k], wet not NULL; INFINITY when none). */
+static double polygon_distance(const shape *sh, const double *x, const unsigned char *wet,
+                               double *near)
 {
     double best2 = INFINITY;
     for (long k = 0; k < sh->m.nt; k++) {
+        if (wet && !wet[k])
+            continue;
         const double *a = sh->m.v + 3 * (size_t)sh->m.t[2 * k];
         const double *b = sh->m.v + 3 * (size_t)sh->m.t[2 * k + 1];
         const double ex = b[0] - a[0], ey = b[1] - a[1];
@@ -400,9 +420,9 @@ double sph_scene_distance(const sph_scene *s, int k, const double *x, double *ne
 {
     const shape *sh = &s->s[k];
     if (sh->kind == SPH_GEOM_POLYGON)
-        return polygon_distance(sh, x, near);
+        return polygon_distance(sh, x, NULL, near);
     if (sh->kind == SPH_GEOM_MESH)
-        return mesh_distance(sh, x, INFINITY, near);
+        return mesh_distance(sh, x, INFINITY, NULL, near);
     double p[3], q[3];
     to_local(sh, x, p);
     const double d = prim_distance(sh, s->dim, p, q);
@@ -419,6 +439,7 @@ void sph_scene_destroy(sph_scene *s)
         if (s->s[k].rtc)
             rtcReleaseScene(s->s[k].rtc);
         sph_mesh_free(&s->s[k].m);
+        free(s->s[k].wet);
     }
     if (s->dev)
         rtcReleaseDevice(s->dev);
@@ -528,6 +549,7 @@ static void builtin_box(shape *sh, sph_geom_role role, int layers, const double 
 {
     memset(sh, 0, sizeof *sh);
     sh->kind = SPH_GEOM_BOX;
+    sh->item = -1;
     sh->role = role;
     sh->layers = layers;
     sh->s = 1.0;
@@ -581,7 +603,7 @@ sph_scene *sph_scene_create(const sph_config *c, sph_error *err)
 {
     char path[SPH_ERROR_PATH_MAX];
     sph_scene *s = calloc(1, sizeof *s);
-    const int cap = SPH_CONFIG_MAX_BOXES * 2 + 8 + SPH_CONFIG_MAX_GEOMETRY;
+    const int cap = SCENE_MAX_SHAPES;
     if (!s || !(s->s = calloc((size_t)cap, sizeof *s->s))) {
         free(s);
         sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the scene");
@@ -597,6 +619,7 @@ sph_scene *sph_scene_create(const sph_config *c, sph_error *err)
         shape *sh = &s->s[s->n++];
         memset(sh, 0, sizeof *sh);
         sh->kind = g->kind;
+        sh->item = k;
         sh->role = g->role;
         sh->layers = g->layers;
         sh->s = g->transform.scale;
@@ -639,6 +662,7 @@ sph_scene *sph_scene_create(const sph_config *c, sph_error *err)
                 sph_error_set(err, SPH_ERR_NOMEM, path, "out of memory for the surface");
                 goto fail;
             }
+            sh->orient = sph_mesh_volume(&sh->m) < 0.0 ? -1.0 : 1.0;
             if (g->kind == SPH_GEOM_MESH) {
                 if (!s->dev) {
                     if (!(s->dev = rtcNewDevice("threads=1"))) {
@@ -678,6 +702,301 @@ sph_scene *sph_scene_create(const sph_config *c, sph_error *err)
 fail:
     sph_scene_destroy(s);
     return NULL;
+}
+
+/* ---- mDBC's mirror points ---- */
+
+int sph_scene_item(const sph_scene *s, int k)
+{
+    return s->s[k].item;
+}
+
+static int is_wall(const shape *sh)
+{
+    return sh->role == SPH_ROLE_WALL || sh->role == SPH_ROLE_OBSTACLE;
+}
+
+/* 1 if o, a point of shape k's surface moved dx/2 out along its normal, is wet: inside the domain
+ * and inside no other wall or obstacle shape of the scene. */
+static int wet_at(const sph_scene *s, int k, const double *o)
+{
+    for (int d = 0; d < s->dim; d++)
+        if (!(o[d] >= s->dom_lo[d] && o[d] <= s->dom_hi[d]))
+            return 0;
+    for (int j = 0; j < s->n; j++)
+        if (j != k && is_wall(&s->s[j]) && sph_scene_inside(s, j, o))
+            return 0;
+    return 1;
+}
+
+/* 1 if a face of shape k (world coordinates: its centroid c, its corners p[0 .. np), its unit
+ * outward normal n) is wet: the outside point of its centroid, or of a point half way from the
+ * centroid to a corner, is (wet_at; so that a large face partly covered by another wall is wet). */
+static int face_wet(const sph_scene *s, int k, const double *c, const double (*p)[3], int np,
+                    const double *n)
+{
+    for (int m = -1; m < np; m++) {
+        double o[3];
+        for (int d = 0; d < 3; d++)
+            o[d] = (m < 0 ? c[d] : 0.5 * (c[d] + p[m][d])) + 0.5 * s->dx * n[d];
+        if (wet_at(s, k, o))
+            return 1;
+    }
+    return 0;
+}
+
+/* The world direction of the local direction u (a unit vector: rotated, not scaled). */
+static void rotate_to_world(const shape *sh, const double *u, double *n)
+{
+    for (int i = 0; i < 3; i++)
+        n[i] = sh->R[i][0] * u[0] + sh->R[i][1] * u[1] + sh->R[i][2] * u[2];
+}
+
+/* A surface's triangles (3D) or sides (2D): wet[t]. Returns how many are wet, or -1 when out of
+ * memory. */
+static long mark_surface(sph_scene *s, int k)
+{
+    shape *sh = &s->s[k];
+    const sph_mesh *m = &sh->m;
+    const int per = s->dim == 3 ? 3 : 2;
+    sh->wet = calloc((size_t)(m->nt > 0 ? m->nt : 1), 1);
+    if (!sh->wet)
+        return -1;
+    long nwet = 0;
+    for (long f = 0; f < m->nt; f++) {
+        double p[3][3], c[3] = {0, 0, 0}, n[3];
+        for (int v = 0; v < per; v++)
+            for (int d = 0; d < 3; d++) {
+                p[v][d] = m->v[3 * (size_t)m->t[per * f + v] + d];
+                c[d] += p[v][d] / per;
+            }
+        if (per == 3) {
+            const double ab[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+            const double ac[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+            n[0] = ab[1] * ac[2] - ab[2] * ac[1];
+            n[1] = ab[2] * ac[0] - ab[0] * ac[2];
+            n[2] = ab[0] * ac[1] - ab[1] * ac[0];
+        } else { /* a side a -> b of a counter-clockwise polygon has the outside on its right */
+            n[0] = p[1][1] - p[0][1];
+            n[1] = -(p[1][0] - p[0][0]);
+            n[2] = 0.0;
+        }
+        const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (!(len > 0.0))
+            continue; /* no area: no normal, never wet */
+        for (int d = 0; d < 3; d++)
+            n[d] *= sh->orient / len;
+        sh->wet[f] = (unsigned char)face_wet(s, k, c, (const double(*)[3])p, per, n);
+        nwet += sh->wet[f];
+    }
+    return nwet;
+}
+
+/* A box's faces (2 d + side) and a 3D cylinder's caps (side): face_wet[]. Returns how many are
+ * wet. */
+static int mark_flat_faces(sph_scene *s, int k)
+{
+    shape *sh = &s->s[k];
+    const int dim = s->dim;
+    int nwet = 0;
+    if (sh->kind == SPH_GEOM_BOX) {
+        for (int d = 0; d < dim; d++)
+            for (int side = 0; side < 2; side++) {
+                /* the face's centre and corners, local */
+                int other[2] = {0, 0}, no = 0;
+                for (int e = 0; e < dim; e++)
+                    if (e != d)
+                        other[no++] = e;
+                const int np = 1 << no;
+                double cl[3], pl[4][3];
+                for (int e = 0; e < 3; e++)
+                    cl[e] = e >= dim ? 0.0
+                            : e == d ? (side ? sh->max[e] : sh->min[e])
+                                     : 0.5 * (sh->min[e] + sh->max[e]);
+                for (int q = 0; q < np; q++) {
+                    memcpy(pl[q], cl, sizeof cl);
+                    for (int o = 0; o < no; o++)
+                        pl[q][other[o]] = q & (1 << o) ? sh->max[other[o]] : sh->min[other[o]];
+                }
+                double c[3], p[4][3], n[3], u[3] = {0, 0, 0};
+                u[d] = side ? 1.0 : -1.0;
+                to_world(sh, cl, c);
+                for (int q = 0; q < np; q++)
+                    to_world(sh, pl[q], p[q]);
+                rotate_to_world(sh, u, n);
+                if (dim == 2)
+                    c[2] = p[0][2] = p[1][2] = n[2] = 0.0;
+                sh->face_wet[2 * d + side] =
+                    (unsigned char)face_wet(s, k, c, (const double(*)[3])p, np, n);
+                nwet += sh->face_wet[2 * d + side];
+            }
+    } else if (sh->kind == SPH_GEOM_CYLINDER && dim == 3) {
+        const int a = sh->axis, e1 = (a + 1) % 3, e2 = (a + 2) % 3;
+        for (int side = 0; side < 2; side++) {
+            double cl[3], pl[4][3];
+            for (int e = 0; e < 3; e++)
+                cl[e] = sh->center[e];
+            cl[a] += (side ? 0.5 : -0.5) * sh->length;
+            for (int q = 0; q < 4; q++) {
+                memcpy(pl[q], cl, sizeof cl);
+                pl[q][q < 2 ? e1 : e2] += (q & 1 ? 1.0 : -1.0) * sh->radius;
+            }
+            double c[3], p[4][3], n[3], u[3] = {0, 0, 0};
+            u[a] = side ? 1.0 : -1.0;
+            to_world(sh, cl, c);
+            for (int q = 0; q < 4; q++)
+                to_world(sh, pl[q], p[q]);
+            rotate_to_world(sh, u, n);
+            sh->face_wet[side] = (unsigned char)face_wet(s, k, c, (const double(*)[3])p, 4, n);
+            nwet += sh->face_wet[side];
+        }
+    }
+    return nwet;
+}
+
+int sph_scene_mark_wet(sph_scene *s, const sph_box *domain, sph_error *err)
+{
+    for (int d = 0; d < 3; d++) {
+        s->dom_lo[d] = d < s->dim ? domain->min[d] : 0.0;
+        s->dom_hi[d] = d < s->dim ? domain->max[d] : 0.0;
+    }
+    for (int k = 0; k < s->n; k++) {
+        shape *sh = &s->s[k];
+        if (sh->item < 0 || !is_wall(sh))
+            continue;
+        long nwet;
+        if (sh->kind == SPH_GEOM_MESH || sh->kind == SPH_GEOM_POLYGON) {
+            free(sh->wet);
+            sh->wet = NULL;
+            nwet = mark_surface(s, k);
+        } else {
+            nwet = mark_flat_faces(s, k);
+            /* a sphere's and a cylinder's round side are wet point by point (sph_scene_mirror) */
+            if (sh->kind != SPH_GEOM_BOX)
+                nwet = 1;
+        }
+        char path[SPH_ERROR_PATH_MAX];
+        item_path(path, sizeof path, sh->item, "");
+        if (nwet < 0)
+            return sph_error_set(err, SPH_ERR_NOMEM, path, "out of memory for the wet faces");
+        if (nwet == 0)
+            return sph_error_set(
+                err, SPH_ERR_INVALID, path,
+                "no face of this %s has water on its outer side (dx/2 out along its normal: in the "
+                "domain, in no other wall): mDBC has nothing to mirror its particles across. A "
+                "container is the solid of its walls (scripts/make-meshes.py --only test2), not a "
+                "shape holding the water; or use boundary.density \"continuity\"",
+                sh->role == SPH_ROLE_WALL ? "wall" : "obstacle");
+    }
+    return 0;
+}
+
+/* The nearest point s (world) of a round side (a sphere, a circle, a 3D cylinder's side; the
+ * local point p, not on the axis) and its distance (local units) if the side is wet there
+ * (INFINITY if not). */
+static double round_side(const sph_scene *s, int k, const double *p, double *near)
+{
+    const shape *sh = &s->s[k];
+    const int cyl3 = sh->kind == SPH_GEOM_CYLINDER && s->dim == 3;
+    double u[3] = {0, 0, 0}, r2 = 0.0;
+    for (int d = 0; d < s->dim; d++)
+        if (!cyl3 || d != sh->axis) {
+            u[d] = p[d] - sh->center[d];
+            r2 += u[d] * u[d];
+        }
+    const double r = sqrt(r2);
+    if (!(r > 0.0))
+        return INFINITY;
+    double q[3] = {p[0], p[1], p[2]};
+    for (int d = 0; d < s->dim; d++)
+        if (!cyl3 || d != sh->axis) {
+            u[d] /= r;
+            q[d] = sh->center[d] + sh->radius * u[d];
+        }
+    if (cyl3) /* the side's point nearest p, within the cylinder's length */
+        q[sh->axis] = fmin(fmax(p[sh->axis], sh->center[sh->axis] - 0.5 * sh->length),
+                           sh->center[sh->axis] + 0.5 * sh->length);
+    double n[3], o[3];
+    to_world(sh, q, near);
+    rotate_to_world(sh, u, n);
+    for (int d = 0; d < 3; d++)
+        o[d] = d < s->dim ? near[d] + 0.5 * s->dx * n[d] : 0.0;
+    if (!wet_at(s, k, o))
+        return INFINITY;
+    double e2 = 0.0;
+    for (int d = 0; d < 3; d++)
+        e2 += (p[d] - q[d]) * (p[d] - q[d]);
+    return sqrt(e2);
+}
+
+/* The nearest point (world) of a primitive's wet faces to x, and its distance (local units;
+ * INFINITY when none is wet). */
+static double prim_wet_distance(const sph_scene *s, int k, const double *x, double *near)
+{
+    const shape *sh = &s->s[k];
+    const int dim = s->dim;
+    double p[3], q[3] = {0, 0, 0}, best = INFINITY;
+    to_local(sh, x, p);
+    if (sh->kind == SPH_GEOM_BOX) {
+        for (int d = 0; d < dim; d++)
+            for (int side = 0; side < 2; side++) {
+                if (!sh->face_wet[2 * d + side])
+                    continue;
+                double f[3] = {p[0], p[1], p[2]}, e2 = 0.0;
+                for (int e = 0; e < dim; e++) {
+                    f[e] = e == d ? (side ? sh->max[e] : sh->min[e])
+                                  : fmin(fmax(p[e], sh->min[e]), sh->max[e]);
+                    e2 += (p[e] - f[e]) * (p[e] - f[e]);
+                }
+                if (e2 < best * best) {
+                    best = sqrt(e2);
+                    memcpy(q, f, sizeof q);
+                }
+            }
+        if (isfinite(best))
+            to_world(sh, q, near);
+        return best;
+    }
+    best = round_side(s, k, p, near);
+    if (sh->kind == SPH_GEOM_CYLINDER && dim == 3) {
+        const int a = sh->axis;
+        for (int side = 0; side < 2; side++) {
+            if (!sh->face_wet[side])
+                continue;
+            double f[3] = {p[0], p[1], p[2]}, r2 = 0.0;
+            f[a] = sh->center[a] + (side ? 0.5 : -0.5) * sh->length;
+            for (int d = 0; d < 3; d++)
+                if (d != a)
+                    r2 += (p[d] - sh->center[d]) * (p[d] - sh->center[d]);
+            if (r2 > sh->radius * sh->radius) /* beyond the cap's rim: onto it */
+                for (int d = 0; d < 3; d++)
+                    if (d != a)
+                        f[d] = sh->center[d] + (p[d] - sh->center[d]) * sh->radius / sqrt(r2);
+            double e2 = 0.0;
+            for (int d = 0; d < 3; d++)
+                e2 += (p[d] - f[d]) * (p[d] - f[d]);
+            if (e2 < best * best) {
+                best = sqrt(e2);
+                to_world(sh, f, near);
+            }
+        }
+    }
+    return best;
+}
+
+int sph_scene_mirror(const sph_scene *s, int k, const double *x, double *g)
+{
+    const shape *sh = &s->s[k];
+    double near[3] = {0, 0, 0}, dist;
+    if (sh->kind == SPH_GEOM_MESH)
+        dist = sh->wet ? mesh_distance(sh, x, INFINITY, sh->wet, near) : INFINITY;
+    else if (sh->kind == SPH_GEOM_POLYGON)
+        dist = sh->wet ? polygon_distance(sh, x, sh->wet, near) : INFINITY;
+    else
+        dist = prim_wet_distance(s, k, x, near);
+    for (int d = 0; d < 3; d++)
+        g[d] = d >= s->dim ? 0.0 : isfinite(dist) ? 2.0 * near[d] - x[d] : x[d];
+    return isfinite(dist) ? 0 : -1;
 }
 
 /* ---- the fill ---- */
@@ -810,10 +1129,18 @@ static int surface_crossings(const shape *sh, int dim, const double *o, double d
     return 0;
 }
 
+/* A lattice point's state: none, fluid, or a wall particle of shape k (CELL_WALL + k; the scene
+ * holds fewer than 254 shapes). */
 enum { CELL_NONE = 0, CELL_FLUID = 1, CELL_WALL = 2 };
 
+/* 1 if a lattice point in state cell is what pass `want` (CELL_FLUID or CELL_WALL) writes. */
+static int cell_is(unsigned char cell, unsigned char want)
+{
+    return want == CELL_WALL ? cell >= CELL_WALL : cell == want;
+}
+
 int sph_scene_fill(const sph_scene *s, const sph_config *c, sph_scene_counts *cnt,
-                   double *const *pos, double *rho, sph_error *err)
+                   double *const *pos, double *rho, int *owner, sph_error *err)
 {
     const int dim = c->dim, up = dim - 1;
     const double dx = c->dx;
@@ -928,11 +1255,11 @@ int sph_scene_fill(const sph_scene *s, const sph_config *c, sph_scene_counts *cn
                     default: {
                         double dist;
                         if (sh->kind == SPH_GEOM_MESH)
-                            dist = mesh_distance(sh, x, shell, NULL);
+                            dist = mesh_distance(sh, x, shell, NULL, NULL);
                         else
                             dist = sph_scene_distance(s, q, x, NULL);
                         if (dist < shell)
-                            *cell = CELL_WALL;
+                            *cell = (unsigned char)(CELL_WALL + q);
                         else if (sh->role == SPH_ROLE_OBSTACLE && *cell == CELL_FLUID)
                             *cell = CELL_NONE;
                     }
@@ -971,11 +1298,11 @@ int sph_scene_fill(const sph_scene *s, const sph_config *c, sph_scene_counts *cn
             long first = at; /* this column's points are written bottom up */
             long here = 0;
             for (long u = 0; u < nup; u++)
-                here += grid[dim == 3 ? AT(i, j, u) : AT(i, u, 0)] == want;
+                here += cell_is(grid[dim == 3 ? AT(i, j, u) : AT(i, u, 0)], want);
             count += here;
             if (!pos) {
                 for (long u = nup - 1; u >= 0; u--) {
-                    if (grid[dim == 3 ? AT(i, j, u) : AT(i, u, 0)] != want)
+                    if (!cell_is(grid[dim == 3 ? AT(i, j, u) : AT(i, u, 0)], want))
                         continue;
                     double x[3] = {o[0] + (double)(i0[0] + i) * dx, 0.0, 0.0};
                     if (dim == 3) {
@@ -1001,9 +1328,11 @@ int sph_scene_fill(const sph_scene *s, const sph_config *c, sph_scene_counts *cn
                     if (above != CELL_FLUID)
                         top = z + 0.5 * dx;
                 }
-                if (cell != want)
+                if (!cell_is(cell, want))
                     continue;
                 w--;
+                if (owner && want == CELL_WALL)
+                    owner[w - cnt->fluid] = cell - CELL_WALL;
                 pos[0][w] = o[0] + (double)(i0[0] + i) * dx;
                 if (dim == 3) {
                     pos[1][w] = o[1] + (double)(i0[1] + j) * dx;

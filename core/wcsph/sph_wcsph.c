@@ -419,6 +419,23 @@ fluid_within(const int D, const sph_cells *g, const sph_particles *P, const unsi
     return 0;
 }
 
+/* The mirror point (mDBC's ghost node) of wall particle i at x into g: the sim's table where it
+ * has one (the geometry's walls, by id: sph_fill.h), else the built-in boxes' rule. */
+static inline __attribute__((always_inline)) void wall_mirror(const int D, const sph_sim *s,
+                                                              const sph_particles *P, long i,
+                                                              const double *x, double *g)
+{
+    const long k = (long)P->id[i] - s->mirror_first;
+    if (s->mirror && k >= 0 && k < s->nmirror) {
+        const double *m = s->mirror + (size_t)D * (size_t)k;
+        g[0] = m[0];
+        g[1] = m[1];
+        g[2] = D == 3 ? m[2] : 0.0;
+        return;
+    }
+    sph_shapes_wall_mirror(&s->cfg, x, g);
+}
+
 /* mDBC (sph_mdbc.h): wall particle i's density from the fluid around its mirror point. The
  * fluid is searched in the 3 x 3 (x 3) cells around the mirror point, a column of 3 cells at a
  * time; one that falls outside the grid's inner cells (no wall of this geometry sends it there)
@@ -446,7 +463,7 @@ static inline __attribute__((always_inline)) void mdbc_one(const int D, const sp
         return;
     }
     double gx[3];
-    sph_shapes_wall_mirror(&s->cfg, x, gx);
+    wall_mirror(D, s, P, i, x, gx);
     double rho = s->cfg.rho0;
     if (sph_cells_locate(D, g, gx, c)) {
         sph_mdbc_sum sum;
@@ -528,7 +545,7 @@ static inline __attribute__((always_inline)) void nopen_one(const int D, const s
             if (dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2] >= near2)
                 continue;
             double gb[3];
-            sph_shapes_wall_mirror(&s->cfg, xb, gb);
+            wall_mirror(D, s, P, j, xb, gb);
             const double bn[3] = {gb[0] - xb[0], gb[1] - xb[1], D == 3 ? gb[2] - xb[2] : 0.0};
             const double norm2 = bn[0] * bn[0] + bn[1] * bn[1] + bn[2] * bn[2];
             if (!(norm2 > 0.0 && norm2 < first2))

@@ -35,8 +35,9 @@ static int gpu_check(const sph_config *c, sph_error *err)
                              "the GPU runs dynamic walls only (\"type\": \"dynamic\"); ghost walls "
                              "run on the CPU (\"device\": \"cpu\")");
     /* TODO(issue 23): mDBC on the device (a thread per wall particle running mdbc_one's fit,
-     * sph_mdbc.h, and one per fluid particle running nopen_one), for Test 2's report with mDBC
-     * walls at 30 over the depth, about 4 hours to 6 s on this project's 2-core machine */
+     * sph_mdbc.h, and one per fluid particle running nopen_one; the geometry walls' mirror
+     * table, s->mirror, up with the particles), for Test 2's report with mDBC walls at 30 over
+     * the depth, about 4 hours to 6 s on this project's 2-core machine */
     if (c->wall_density != SPH_WALL_CONTINUITY)
         return sph_error_set(err, SPH_ERR_INVALID, "/boundary/density",
                              "the GPU runs the walls' density by continuity only; mdbc runs on "

@@ -4,7 +4,8 @@
  * reader (protocol/sph_mesh_io.h: assimp in a child process, whose crashes and loops must come
  * back as errors); 't': the rest is a triangle soup (9 floats a triangle), welded and checked in
  * this process (core/scene/sph_mesh.h). A mesh that passes its checks is then filled as fluid on
- * a coarse lattice (core/scene/sph_scene.h). Small limits: 64 kB, 20000 triangles.
+ * a coarse lattice (core/scene/sph_scene.h), and as an obstacle whose wall points get their mDBC
+ * mirror points (its wet faces, then sph_scene_mirror). Small limits: 64 kB, 20000 triangles.
  * May call: sph_mesh_io.h, sph_mesh.h, sph_scene.h.
  */
 #include "fuzz_util.h"
@@ -50,7 +51,28 @@ static void fill(const sph_mesh *m)
     if (!s)
         return;
     sph_scene_counts n;
-    (void)sph_scene_fill(s, &c, &n, NULL, NULL, &err);
+    (void)sph_scene_fill(s, &c, &n, NULL, NULL, NULL, &err);
+    sph_scene_destroy(s);
+    /* as an obstacle (at most 14^3 lattice points), its wall points mirrored */
+    c.geometry[0].role = SPH_ROLE_OBSTACLE;
+    c.boundary = SPH_BOUNDARY_DYNAMIC;
+    c.wall_density = SPH_WALL_MDBC;
+    if (!(s = sph_scene_create(&c, &err)))
+        return;
+    double *x = malloc(3 * 3000 * sizeof *x), *rho = malloc(3000 * sizeof *rho);
+    int *owner = malloc(3000 * sizeof *owner);
+    double *const pos[3] = {x, x + 3000, x + 6000};
+    if (x && rho && owner && sph_scene_fill(s, &c, &n, NULL, NULL, NULL, &err) == 0 &&
+        n.fluid + n.wall <= 3000 && sph_scene_fill(s, &c, &n, pos, rho, owner, &err) == 0 &&
+        sph_scene_mark_wet(s, &c.domain, &err) == 0)
+        for (long k = n.fluid; k < n.fluid + n.wall; k++) {
+            const double p[3] = {pos[0][k], pos[1][k], pos[2][k]};
+            double g[3];
+            (void)sph_scene_mirror(s, owner[k - n.fluid], p, g);
+        }
+    free(x);
+    free(rho);
+    free(owner);
     sph_scene_destroy(s);
 }
 

@@ -6,8 +6,9 @@
  *   make_seeds FUZZDIR           writes the files below into FUZZDIR (tests/fuzz), then checks them
  *   make_seeds --check FUZZDIR   only checks them
  *
- * corpus/sim_restore/small_wcsph.bin, small_body.bin: sph_sim_save of a tiny dam break, and of
- *   one with a rigid body, each stepped a few steps.
+ * corpus/sim_restore/small_wcsph.bin, small_body.bin, small_mdbc_geometry.bin: sph_sim_save of a
+ *   tiny dam break, of one with a rigid body, and of one with mDBC walls and a polygon obstacle
+ *   of the geometry list (its state holds the walls' mirror points), each stepped a few steps.
  * corpus/ckpt/valid.bin, valid_fixup.bin, prev.bin: the checkpoint and checkpoint.prev of a run
  *   of fuzz_ckpt's case through sphd_exec (the server's writer), behind fuzz_ckpt's flag byte
  *   (0, or 7 for valid_fixup: the harness recomputes the checksums, to the same values).
@@ -50,6 +51,7 @@ typedef struct {
     uint32_t sps;
     int64_t n;
     int64_t nactive, nfluid, nboundary, step, failed, nbodies;
+    int64_t nmirror;
     double t, dt, amax, vmax;
     sph_config cfg;
     sph_diag diag;
@@ -71,6 +73,23 @@ static const char body_case_text[] =
     "\"boundary\":{\"type\":\"dynamic\",\"layers\":3,\"tank\":{\"min\":[0,0],\"max\":[0.2,0.2]}},"
     "\"bodies\":[{\"name\":\"c\",\"shape\":\"circle\",\"diameter\":0.06,\"density\":500,"
     "\"center\":[0.15,0.12],\"velocity\":[0,-0.5],\"free\":[\"x\",\"y\",\"rotation\"]}],"
+    "\"physics\":{\"rho0\":1000,\"gravity\":[0,-9.81],\"eos\":{\"type\":\"linear\",\"c0\":10},"
+    "\"viscosity\":{\"type\":\"artificial\",\"alpha\":0.1}},"
+    "\"time\":{\"end\":0.01,\"cfl\":0.2},"
+    "\"output\":{\"every\":0.005,\"fields\":[\"pos\",\"rho\"]},"
+    "\"diagnostics\":{\"every\":1,\"probes\":[\"front_x\"]}}";
+
+/* The same with mDBC walls and a polygon obstacle of the geometry list on the floor: its state
+ * holds the walls' mirror points (sph_sim_impl.h, mirror). */
+static const char mdbc_case_text[] =
+    "{\"name\":\"fzm\",\"method\":\"wcsph\",\"dim\":2,"
+    "\"kernel\":{\"type\":\"wendland_c2\",\"h_over_dx\":1.3},\"dx\":0.02,"
+    "\"domain\":{\"min\":[0,0],\"max\":[0.2,0.2]},"
+    "\"fluid\":[{\"box\":{\"min\":[0,0],\"max\":[0.1,0.06]}}],"
+    "\"boundary\":{\"type\":\"dynamic\",\"layers\":3,\"density\":\"mdbc\","
+    "\"tank\":{\"min\":[0,0],\"max\":[0.2,0.2]}},"
+    "\"geometry\":[{\"polygon\":[[0.14,0],[0.18,0],[0.18,0.04],[0.14,0.04]],"
+    "\"role\":\"obstacle\",\"layers\":2}],"
     "\"physics\":{\"rho0\":1000,\"gravity\":[0,-9.81],\"eos\":{\"type\":\"linear\",\"c0\":10},"
     "\"viscosity\":{\"type\":\"artificial\",\"alpha\":0.1}},"
     "\"time\":{\"end\":0.01,\"cfl\":0.2},"
@@ -141,11 +160,12 @@ static bytes read_file(const char *path)
 
 /* Where the state's parts are, from its layout. */
 typedef struct {
-    size_t n;     /* particles */
-    size_t x;     /* offset of the x array */
-    size_t types; /* offset of the types */
-    long fluid;   /* index of the first fluid particle */
-    long body;    /* index of the first body particle, -1 if none */
+    size_t n;      /* particles */
+    size_t x;      /* offset of the x array */
+    size_t types;  /* offset of the types */
+    long fluid;    /* index of the first fluid particle */
+    long body;     /* index of the first body particle, -1 if none */
+    size_t mirror; /* offset of the walls' mirror points, 0 if none */
 } state_layout;
 
 static bytes make_state(const char *text, state_layout *L)
@@ -165,10 +185,12 @@ static bytes make_state(const char *text, state_layout *L)
     const int na = s->ops->arrays(s, arrays, 40);
     const size_t n = (size_t)s->P.n, nbs = (size_t)s->bodies.n;
     const size_t per = sph_method_arrays_size(arrays, na);
+    const size_t nm = (size_t)s->nmirror * (size_t)s->cfg.dim * sizeof(double);
     if (r.len !=
-        sizeof(sim_header) + per * n + n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state))
+        sizeof(sim_header) + per * n + n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state) + nm)
         die("sim_header", "out of date with core/sph_checkpoint.c (the state's length differs)");
     L->n = n;
+    L->mirror = nm ? r.len - nm : 0;
     L->x = SIZE_MAX;
     for (int i = 0, off = 0; i < na; off += (int)arrays[i].size, i++)
         if (arrays[i].p == s->P.x)
@@ -198,7 +220,7 @@ static void put(bytes *s, size_t off, const void *v, size_t n)
 
 typedef struct {
     const char *name;
-    int body;             /* on the state with a body */
+    int body;             /* on the state with a body (1), with mirror points (2) */
     const char *expected; /* the refusal meant for it; NULL: restores, the probe copes */
 } sim_fault;
 
@@ -210,6 +232,7 @@ static const sim_fault sim_faults[] = {
     {"body_type_on_fluid", 1, "bad particle types"},
     {"ghost_type_saved", 1, "bad particle types"},
     {"h_over_dx_huge", 0, "h_over_dx must be in"},
+    {"mirror_not_a_number", 2, "mirror point that is not a number"},
 };
 
 /* Applies the named fault to a copy of the valid state. */
@@ -232,6 +255,11 @@ static bytes apply_sim_fault(const char *name, const bytes *valid, const state_l
     } else if (strcmp(name, "h_over_dx_huge") == 0) { /* front probe's gap: double to long */
         const double v = 7e30;
         put(&s, offsetof(sim_header, cfg) + offsetof(sph_config, h_over_dx), &v, sizeof v);
+    } else if (strcmp(name, "mirror_not_a_number") == 0) { /* mDBC's ghost nodes */
+        const double v = NAN;
+        if (!L->mirror)
+            die(name, "the state has no mirror points");
+        put(&s, L->mirror + sizeof v, &v, sizeof v);
     } else if (strcmp(name, "body_particle_typed_fluid") == 0) {
         put(&s, L->types + (size_t)L->body, &fluid, 1);
     } else if (strcmp(name, "body_type_on_fluid") == 0) { /* bodies' tables read by id */
@@ -369,9 +397,12 @@ static void generate(const char *fuzzdir)
     snprintf(cc, sizeof cc, "%s/corpus/ckpt", fuzzdir);
     snprintf(rs, sizeof rs, "%s/regress/sim_restore", fuzzdir);
     snprintf(rc, sizeof rc, "%s/regress/ckpt", fuzzdir);
-    state_layout Lw, Lb;
+    state_layout Lw, Lb, Lm;
     bytes wcsph = make_state(fuzz_ckpt_case_text, &Lw);
     bytes body = make_state(body_case_text, &Lb);
+    bytes mdbc = make_state(mdbc_case_text, &Lm);
+    if (!Lm.mirror)
+        die("mDBC state", "no mirror points");
     if (Lb.body < 0)
         die("body state", "no body particle");
     printf("state layout: header %zu bytes; dam break %zu particles, x at %zu, types at %zu; "
@@ -379,9 +410,11 @@ static void generate(const char *fuzzdir)
            sizeof(sim_header), Lw.n, Lw.x, Lw.types, Lb.n, Lb.x, Lb.types);
     write_file(cs, "small_wcsph.bin", 256, wcsph.b, wcsph.len);
     write_file(cs, "small_body.bin", 256, body.b, body.len);
+    write_file(cs, "small_mdbc_geometry.bin", 256, mdbc.b, mdbc.len);
     for (size_t i = 0; i < sizeof sim_faults / sizeof *sim_faults; i++) {
         const sim_fault *f = &sim_faults[i];
-        bytes s = apply_sim_fault(f->name, f->body ? &body : &wcsph, f->body ? &Lb : &Lw);
+        const bytes *v = f->body == 2 ? &mdbc : f->body ? &body : &wcsph;
+        bytes s = apply_sim_fault(f->name, v, f->body == 2 ? &Lm : f->body ? &Lb : &Lw);
         write_file(rs, f->name, 256, s.b, s.len);
         free(s.b);
     }
@@ -397,6 +430,7 @@ static void generate(const char *fuzzdir)
     }
     free(wcsph.b);
     free(body.b);
+    free(mdbc.b);
     free(prev.b);
     free(latest.b);
 }
@@ -478,8 +512,8 @@ static int check(const char *fuzzdir)
 {
     char p[4096];
     int ok = 1;
-    const char *seeds[] = {"small_wcsph.bin", "small_body.bin"};
-    for (int i = 0; i < 2; i++) {
+    const char *seeds[] = {"small_wcsph.bin", "small_body.bin", "small_mdbc_geometry.bin"};
+    for (int i = 0; i < 3; i++) {
         snprintf(p, sizeof p, "%s/corpus/sim_restore/%s", fuzzdir, seeds[i]);
         ok &= check_sim(p, NULL, 1);
     }

@@ -6,7 +6,10 @@
  *   - cases/hydrostatic3d.json (3D, issue 23): H = 1 m at dx = H/40 in a tank 0.5 x 0.25 m,
  *     2 s, bound 2%;
  *   - tests/cases/ghost_still3d.json (3D, free-slip ghost walls): H = 0.5 m at dx = H/20 in a
- *     tank 0.25 x 0.25 m, 1 s, bound 2%.
+ *     tank 0.25 x 0.25 m, 1 s, bound 2%;
+ *   - tests/cases/mdbc_geometry_still3d.json (3D, mDBC walls from the geometry list: the tank a
+ *     mesh, its files read from the case's folder): H = 0.5 m at dx = H/20 in a tank 0.2 x
+ *     0.2 m, 1 s, bound 2%.
  * The vertical is the last axis (y in 2D, z in 3D).
  * SPH_TEST_DEVICE=gpu runs it on the GPU (exit 77, skipped, when the case is refused there).
  * Usage: test_hydrostatic SOURCE_DIR [CASE [PRESSURE_BOUND]]   (CASE relative to SOURCE_DIR)
@@ -30,8 +33,12 @@ int main(int argc, char **argv)
     sph_error err;
     json_t *root;
     sph_case *c = calloc(1, sizeof *c);
-    if (!c || sph_case_load(file, &root, &err) || sph_case_from_json(root, c, &err)) {
-        fprintf(stderr, "FAIL: %s: %s\n", file, err.message);
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%s", file);
+    *strrchr(dir, '/') = '\0'; /* the case's folder: its meshes are named relative to it */
+    if (!c || sph_case_load(file, &root, &err) || sph_case_from_json(root, c, &err) ||
+        sph_case_load_meshes(c, dir, NULL, &err)) {
+        fprintf(stderr, "FAIL: %s: %s %s\n", file, err.path, err.message);
         return 1;
     }
     json_decref(root);
@@ -79,6 +86,7 @@ int main(int argc, char **argv)
     int ok = np > 0 && speed < SPEED_BOUND && perr < pressure_bound;
     printf("%s\n", ok ? "PASS" : "FAIL");
     sph_sim_destroy(s);
+    sph_case_clear(c);
     free(c);
     return ok ? 0 : 1;
 }
