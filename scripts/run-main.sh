@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The README's main command: set up (scripts/setup.sh --main: only what sphd and sphctl need),
 # build sphd and sphctl alone into build/ (the tests not configured: scripts/build.sh configures
-# them again), start sphd in the background, submit the dam break and
+# them again), start sphd in the background with its web dashboard on this machine (its address
+# printed), submit the dam break and
 # watch it to the end (a progress line on a terminal, JSON Lines otherwise), print where the
 # results are, and stop the daemon. The daemon never outlives this script.
 # MAIN_CASE=FILE runs another case the same way.
@@ -16,8 +17,9 @@ job=$(basename "$case_file" .json)-$(date +%Y%m%d-%H%M%S)
 state="$PWD/out/state"
 run=$(mktemp -d "${TMPDIR:-/tmp}/sphd-main.XXXXXX")
 export SPHD_ENDPOINT="ipc://$run/control"
+# the dashboard on this machine only, on a free port (MAIN_HTTP=HOST:PORT to choose)
 build/bin/sphd --listen "$SPHD_ENDPOINT" --publish "ipc://$run/stream" --state-dir "$state" \
-  2>"$run/sphd.log" &
+  --http "${MAIN_HTTP:-127.0.0.1:0}" 2>"$run/sphd.log" &
 pid=$!
 cleanup() {
   if kill -0 "$pid" 2>/dev/null; then
@@ -33,6 +35,8 @@ for _ in $(seq 1 100); do
   sleep 0.05
 done
 echo "sphd is running (pid $pid, $SPHD_ENDPOINT); submitting $case_file as job $job" >&2
+dash=$(grep -o 'dashboard on http://[^ ]*' "$run/sphd.log" | head -n1 | cut -d' ' -f3 || true)
+[ -n "$dash" ] && echo "dashboard: $dash?job=$job (open it in a browser while the job runs)" >&2
 rc=0
 build/bin/sphctl submit "$case_file" --id "$job" --watch || rc=$?
 build/bin/sphctl status "$job" >&2 || true

@@ -12,9 +12,10 @@ case "${1:-}" in
   *) echo "usage: $0 [--main]" >&2; exit 64 ;;
 esac
 # sphd and sphctl (the top CMakeLists.txt: OpenMP comes with gcc; meshes are read with assimp and
-# queried over Embree's hierarchies, core/scene and protocol/sph_mesh_io.c)
+# queried over Embree's hierarchies, core/scene and protocol/sph_mesh_io.c; the dashboard is
+# served with libmicrohttpd)
 pkgs=(gcc libc6-dev make cmake pkg-config libzmq3-dev libjansson-dev libhdf5-dev zlib1g-dev
-      libassimp-dev libembree-dev)
+      libassimp-dev libembree-dev libmicrohttpd-dev)
 if [ "$main_only" -eq 0 ]; then
   # the unit tests, and the tools the tests read results with
   pkgs+=(libcmocka-dev python3 python3-zmq python3-h5py python3-numpy python3-jsonschema
@@ -23,6 +24,9 @@ if [ "$main_only" -eq 0 ]; then
   pkgs+=(clang libomp-dev libclang-rt-dev)
   # the CURVE test captures loopback traffic
   pkgs+=(tcpdump)
+  # the dashboard's browser test: Debian's chromium driven by Playwright (from the npm registry,
+  # its version pinned in tests/web/package-lock.json)
+  pkgs+=(chromium nodejs npm)
   # the Slurm executor's test runs a one-node Slurm cluster (scripts/slurm-local.sh)
   pkgs+=(slurm-wlm munge)
   # the clang build of test.sh builds with hypre's AMG (-DSPH_HYPRE=ON: mps.preconditioner "amg")

@@ -5,6 +5,7 @@
  */
 #include "sphd.h"
 #include "sphd_daemon.h"
+#include "sphd_http.h"
 
 #include "sph_events.h"
 #include "sphd_curve.h"
@@ -480,6 +481,7 @@ int sphd_daemon_main(const sphd_opts *opts)
     d->started_at = sphd_now();
     atomic_init(&d->busy, 0);
     int rc = SPHD_EX_SOFTWARE, locks[3] = {-1, -1, -1};
+    sphd_http *http = NULL;
 
     /* Directories and locks before any bind: a second sphd must not steal the sockets. */
     char jobs_dir[SPHD_PATH_MAX + 8];
@@ -563,6 +565,21 @@ int sphd_daemon_main(const sphd_opts *opts)
     if (sphd_workers_start(d) != 0 || sphd_files_start(d) != 0 ||
         (d->runners && sphd_slurm_start(d) != 0))
         goto out;
+    if (d->opts.http[0]) { /* the dashboard: a client of the sockets bound above */
+        char url[320];
+        sph_error herr;
+        sph_error_clear(&herr);
+        http = sphd_http_start(d->opts.http, d->ctx, d->opts.listen, d->opts.publish,
+                               d->opts.state_dir, d->opts.max_msg_size, url, sizeof url, &herr);
+        if (!http) {
+            fprintf(stderr, "sphd: %s\n", herr.message);
+            rc = herr.code == SPH_ERR_INVALID ? SPHD_EX_USAGE : SPHD_EX_UNAVAILABLE;
+            goto out;
+        }
+        sphd_log("dashboard on %s%s", url,
+                 sphd_http_needs_token(http) ? " (its token: http.token in the state directory)"
+                                             : "");
+    }
     /* the loop joins the ZeroMQ threads' CPU after the workers start, so that they and their
      * OpenMP threads keep every CPU (sphd_sched.c) */
     if (sphd_sched_pin_self(request_cpu) != 0) {
@@ -586,7 +603,8 @@ int sphd_daemon_main(const sphd_opts *opts)
             sphd_job_record(d, j, 1);
     sphd_log("stopped");
 out:
-    sphd_files_stop(d); /* its last answers go out before the sockets close */
+    sphd_http_stop(http); /* its connections' sockets close before the context ends */
+    sphd_files_stop(d);   /* its last answers go out before the sockets close */
     sphd_slurm_stop(d);
     if (d->workers)
         sphd_workers_stop(d);

@@ -47,6 +47,7 @@ typedef struct sphd_opts {
     char runner_connect[SPH_ENDPOINT_MAX]; /* the same, as the nodes reach it */
     char exe[SPHD_PATH_MAX];               /* this sphd binary, for the batch scripts */
     double runner_wait;                    /* a runner waits this long for the daemon (s) */
+    char http[256];                        /* --http HOST:PORT: the dashboard ("": none) */
 } sphd_opts;
 
 typedef enum {

@@ -52,6 +52,9 @@ static const char usage_text[] =
     "                     DIR/clients/ holds the authorised clients' public keys, one file\n"
     "                     each; SIGHUP reads clients/ again (a removed key is refused at once)\n"
     "  --insecure         allow a non-loopback tcp:// endpoint without CURVE keys\n"
+    "  --http HOST:PORT   serve the web dashboard there (off by default; 127.0.0.1:8080 for\n"
+    "                     this machine only; any other address needs the token sphd keeps in\n"
+    "                     STATE/http.token, sent as the header X-Sphd-Token; not with --curve)\n"
     "  --request-cpu CPU  the CPU that the socket loop and the ZeroMQ I/O thread share\n"
     "                     (default 'auto': the last CPU sphd may use; 'any': not pinned): a\n"
     "                     request then passes between them without waking another CPU, which\n"
@@ -178,6 +181,7 @@ int main(int argc, char **argv)
         OPT_MAXMSG,
         OPT_DIAGRATE,
         OPT_INSECURE,
+        OPT_HTTP,
         OPT_CURVE,
         OPT_REQCPU,
         OPT_WNICE,
@@ -205,6 +209,7 @@ int main(int argc, char **argv)
         {"max-msg-size", required_argument, NULL, OPT_MAXMSG},
         {"diag-rate", required_argument, NULL, OPT_DIAGRATE},
         {"insecure", no_argument, NULL, OPT_INSECURE},
+        {"http", required_argument, NULL, OPT_HTTP},
         {"curve", required_argument, NULL, OPT_CURVE},
         {"request-cpu", required_argument, NULL, OPT_REQCPU},
         {"worker-nice", required_argument, NULL, OPT_WNICE},
@@ -360,6 +365,14 @@ int main(int argc, char **argv)
             dopts.insecure = 1;
             daemon_only = 1;
             break;
+        case OPT_HTTP:
+            if (!*optarg || strlen(optarg) >= sizeof dopts.http) {
+                fputs("sphd: the value of --http is empty or too long\n", stderr);
+                return SPHD_EX_USAGE;
+            }
+            snprintf(dopts.http, sizeof dopts.http, "%s", optarg);
+            daemon_only = 1;
+            break;
         case OPT_EXECUTOR:
             if (strcmp(optarg, "slurm") != 0 && strcmp(optarg, "local") != 0) {
                 fprintf(stderr, "sphd: --executor is local or slurm, not '%s'\n", optarg);
@@ -451,6 +464,12 @@ int main(int argc, char **argv)
         return SPHD_EX_USAGE;
     if (strcmp(dopts.listen, dopts.publish) == 0) {
         fputs("sphd: --listen and --publish must differ\n", stderr);
+        return SPHD_EX_USAGE;
+    }
+    if (dopts.http[0] && dopts.curve_dir[0]) {
+        fputs("sphd: --http does not go with --curve in this version (the dashboard talks to sphd "
+              "as a client without keys)\n",
+              stderr);
         return SPHD_EX_USAGE;
     }
     if (dopts.runner_wait <= 0)
