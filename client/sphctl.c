@@ -417,8 +417,8 @@ static int cmd_set(sphctl *c, int argc, char **argv)
         "Usage: sphctl set JOB PATH=VALUE...\n"
         "Changes a running or paused job's parameters at its next step boundary (steering):\n"
         "physics.viscosity.alpha, physics.viscosity.nu, physics.delta_sph, physics.gravity (or\n"
-        "physics.gravity.K), time.cfl, time.end, triggers. VALUE is JSON (a bare word is a\n"
-        "string).\n"
+        "physics.gravity.K), time.cfl, time.end, output.every, diagnostics.every,\n"
+        "diagnostics.interval, triggers. VALUE is JSON (a bare word is a string).\n"
         "Replies once the change is made, with the step it took effect at; exit 1 when sphd\n"
         "refuses it (the reason names the path).\n";
     const sphctl_argspec spec = {.help = help, .optstring = "+h", .min_args = 2, .max_args = 33};

@@ -579,6 +579,8 @@ int sph_sim_steer(sph_sim *s, const sph_config *next, sph_error *err)
     c->delta_sph = next->delta_sph;
     c->cfl = next->cfl;
     c->t_end = next->t_end;
+    c->diag_every = next->diag_every; /* (the caller's schedule; kept here for a restore) */
+    c->diag_interval = next->diag_interval;
     for (int d = 0; d < 3; d++) {
         c->gravity[d] = next->gravity[d];
         s->bodies.gravity[d] = next->gravity[d];

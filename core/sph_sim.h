@@ -148,7 +148,8 @@ double sph_sim_h(const sph_sim *s);
 const sph_config *sph_sim_config(const sph_sim *s);
 /* Steering: takes from next, between two steps, the parameters a simulation can change without a
  * new set-up (PROTOCOL.md 3.12): the viscous term's coefficients (alpha, nu), delta-SPH's
- * coefficient, gravity, the CFL number and the end time; the rest of next is not looked at.
+ * coefficient, gravity, the CFL number, the end time and the diagnostics' schedule (diag_every,
+ * diag_interval: the caller's, kept for a restore); the rest of next is not looked at.
  * What each step derives from them is derived afresh (the pair loop's constants; the bodies'
  * gravity). SPH_ERR_INVALID (s unchanged) on the GPU (its copy of the parameters is made once)
  * and for a new gravity under ghost walls (their pressure's hydrostatic part is set up for the

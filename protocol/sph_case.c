@@ -753,6 +753,9 @@ static const char *const steerable[] = {"physics.viscosity.alpha",
                                         "time.cfl",
                                         "time.end",
                                         "triggers",
+                                        "output.every",
+                                        "diagnostics.every",
+                                        "diagnostics.interval",
                                         NULL};
 
 int sph_case_steerable(const char *path, sph_error *err)
@@ -767,17 +770,17 @@ int sph_case_steerable(const char *path, sph_error *err)
     if (strncmp(path, "output.", 7) == 0 || strcmp(path, "output") == 0 ||
         strncmp(path, "diagnostics.", 12) == 0 || strcmp(path, "diagnostics") == 0)
         return sph_error_set(err, SPH_ERR_INVALID, "",
-                             "'%.200s' is not changed in a running job in this version (the "
-                             "output and diagnostics schedules fix the times the steps land "
-                             "on); the fields that are: physics.viscosity.alpha, "
-                             "physics.viscosity.nu, physics.delta_sph, physics.gravity, time.cfl, "
-                             "time.end, triggers",
+                             "'%.200s' is not changed in a running job: of the outputs and "
+                             "diagnostics only output.every, diagnostics.every and "
+                             "diagnostics.interval are (the fields, the probes, gauges and "
+                             "series of diag.h5 are fixed when it is made)",
                              path);
     return sph_error_set(err, SPH_ERR_INVALID, "",
                          "'%.200s' is not changed in a running job: it is part of the set-up (the "
                          "particles, the method, the models or the walls); submit a new job with "
                          "--set. The fields a running job takes: physics.viscosity.alpha, "
                          "physics.viscosity.nu, physics.delta_sph, physics.gravity, time.cfl, "
-                         "time.end, triggers",
+                         "time.end, triggers, output.every, diagnostics.every, "
+                         "diagnostics.interval",
                          path);
 }

@@ -94,8 +94,8 @@ int sph_case_file_names(const json_t *root, const char **names, int max);
 
 /* Steering (PROTOCOL.md 3.12): 0 if the case field at a dotted path (an assignment's left side,
  * "physics.viscosity.alpha") may change in a running job: the viscous term's coefficients,
- * delta-SPH's, gravity (or one of its components), the CFL number, the end time and the
- * triggers. Else SPH_ERR_INVALID with the reason (err's path left empty: the caller knows where
+ * delta-SPH's, gravity (or one of its components), the CFL number, the end time, the triggers,
+ * the snapshots' period and the diagnostics' schedule. Else SPH_ERR_INVALID with the reason (err's path left empty: the caller knows where
  * the path was). */
 int sph_case_steerable(const char *path, sph_error *err);
 

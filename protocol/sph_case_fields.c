@@ -368,6 +368,17 @@ static int parse_body_polygon(const json_t *v, const char *path, sph_config *c,
     return 0;
 }
 
+/* "steering": the history sphd records in a steered job's case.json; an array, else ignored. */
+static int parse_steering(const json_t *v, const char *path, sph_config *c, sph_output_config *o,
+                          sph_error *err)
+{
+    (void)c;
+    (void)o;
+    return json_is_array(v) ? 0
+                            : sph_error_set(err, SPH_ERR_INVALID, path,
+                                            "'steering' is the array of changes sphd records");
+}
+
 /* "triggers": sph_triggers.h (after the diagnostics' and bodies' rows: it checks the series). */
 static int parse_triggers(const json_t *v, const char *path, sph_config *c, sph_output_config *o,
                           sph_error *err)
@@ -820,6 +831,10 @@ const sph_case_field sph_case_fields[] = {
      .doc = "the wall's normal into the fluid at the point (dim components, any length): the "
             "probe reads 1.5 h along it, off the wall's bias, as the peers do; absent or all 0: "
             "at the point"},
+    {.path = "/steering", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS, .parse = parse_steering,
+     .doc = "written by sphd into a steered job's case.json: the changes `set` made, "
+            "[{\"step\", \"t\", \"set\"}, ...] (section 3.12); ignored when a case is "
+            "submitted"},
     {.path = "/triggers", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS, .parse = parse_triggers,
      OUT(triggers),
      .doc = "array of 0-16 {\"when\": \"SERIES OP VALUE\", \"do\": pause|stop|checkpoint|"

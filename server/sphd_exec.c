@@ -491,9 +491,10 @@ int sphd_exec_checkpoint(sphd_exec *x, sph_error *err)
     json_t *ex =
         json_pack("{s:o, s:f, s:I}", "outputs", x->out ? sphd_outputs_state(x->out) : json_object(),
                   "wall", x->wall, "last_diag", (json_int_t)x->last_diag);
-    if (ex && x->steering) { /* with the triggers as steered */
+    if (ex && x->steering) { /* with the triggers and the snapshots' period as steered */
         json_object_set(ex, "steering", x->steering);
         json_object_set_new(ex, "triggers", sph_triggers_json(&x->c.output));
+        json_object_set_new(ex, "output_every", json_real(x->c.output.every));
     }
     if (ex && x->fired)
         json_object_set_new(ex, "fired", json_integer((json_int_t)x->fired));
@@ -522,6 +523,8 @@ static void steer_case(sph_config *c, const sph_config *from)
     c->delta_sph = from->delta_sph;
     c->cfl = from->cfl;
     c->t_end = from->t_end;
+    c->diag_every = from->diag_every;
+    c->diag_interval = from->diag_interval;
     memcpy(c->gravity, from->gravity, sizeof c->gravity);
 }
 
@@ -550,6 +553,11 @@ int sphd_exec_steer(sphd_exec *x, const sph_case *next_case, const json_t *set, 
     x->fired = fired;
     x->c.output.ntriggers = n->ntriggers;
     memcpy(x->c.output.triggers, n->triggers, sizeof n->triggers);
+    if (n->every != o->every) { /* the snapshots: the first multiple of the new period after t */
+        x->c.output.every = n->every;
+        if (x->out)
+            sphd_outputs_set_every(x->out, n->every, d->t);
+    }
     json_t *rec =
         json_pack("{s:I, s:o, s:O}", "step", (json_int_t)d->step, "t", num(d->t), "set", set);
     if (!x->steering)
@@ -611,11 +619,14 @@ sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_bac
         const json_t *tr = json_object_get(ex, "triggers");
         if (tr && sph_triggers_parse(tr, "/triggers", &x->c.sim, &x->c.output, &terr) != 0)
             x->c.output.ntriggers = 0; /* (they parsed when they were set) */
+        const double every = json_number_value(json_object_get(ex, "output_every"));
+        if (every > 0.0)
+            x->c.output.every = every;
     }
     if (x->sim) {
         const sph_diag *d = sph_sim_diag(x->sim);
         x->diag = diag_json(d, &x->c.sim, sph_sim_solves_pressure(x->sim));
-        x->out = sphd_outputs_open(outdir, job_of(outdir), c, x->sim, d->step, err);
+        x->out = sphd_outputs_open(outdir, job_of(outdir), &x->c, x->sim, d->step, err);
         if (x->out && sphd_outputs_restore(x->out, json_object_get(ex, "outputs"), d->t, err)) {
             sphd_outputs_close(x->out);
             x->out = NULL;

@@ -122,7 +122,12 @@ int sphd_job_steer_apply(sphd_daemon *d, sphd_job *j, sphd_err *e)
     j->steering = json_deep_copy(sphd_exec_steering(j->exec));
     json_decref(j->case_now);
     j->case_now = next_json;
-    write_json(j->dir, "steering.json", j->steering);
+    /* case.json records the history (its "steering", which a case parses and ignores); the
+     * job's identity (j->case_json) stays the case as submitted */
+    json_t *rec_case = json_deep_copy(j->case_json);
+    if (rec_case && json_object_set(rec_case, "steering", j->steering) == 0)
+        write_json(j->dir, "case.json", rec_case);
+    json_decref(rec_case);
     json_t *jr = json_pack("{s:f, s:O, s:O, s:O, s:I}", "t", sphd_now(), "steer", set, "step",
                            json_object_get(rec, "step"), "sim_t", json_object_get(rec, "t"), "seq",
                            (json_int_t)j->seq);
@@ -989,8 +994,9 @@ static sphd_job *recover_one(sphd_daemon *d, const char *id)
         snprintf(j->reason, sizeof j->reason, "%s", reason ? reason : "");
         j->result = load_json(j->dir, "result.json");
     }
-    json_t *steering = load_json(j->dir, "steering.json");
-    if (json_array_size(steering) > 0) { /* a steered job: its case as steered */
+    json_t *steering = json_incref(json_object_get(case_json, "steering"));
+    json_object_del(case_json, "steering"); /* the job's identity: the case as submitted */
+    if (json_array_size(steering) > 0) {    /* a steered job: its case as steered */
         j->steering = steering;
         j->case_now = json_deep_copy(case_json);
         size_t k, i;

@@ -307,6 +307,16 @@ json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err)
     return json_pack("{s:s, s:f, s:I}", "file", e->file, "t", e->t, "step", (json_int_t)e->step);
 }
 
+void sphd_outputs_set_every(sphd_outputs *o, double every, double t)
+{
+    o->cfg.every = every;
+    if (every > 0.0) {
+        const double k = floor(t / every + 1e-9) + 1.0; /* the first time after t */
+        if (k < 1e15)
+            o->skip = (long)k - o->nentries;
+    }
+}
+
 json_t *sphd_outputs_snapshot_extra(sphd_outputs *o, const sph_sim *s, sph_error *err)
 {
     json_t *ev = sphd_outputs_snapshot(o, s, err);

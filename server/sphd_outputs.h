@@ -32,6 +32,9 @@ double sphd_outputs_next_time(const sphd_outputs *o);
 /* Writes the snapshot of s's current state, rewrites the XDMF, and returns the `output` event's
  * body (new reference) or NULL with err. */
 json_t *sphd_outputs_snapshot(sphd_outputs *o, const sph_sim *s, sph_error *err);
+/* A new period of the snapshots (steering) at time t: the next one at its first multiple after
+ * t. */
+void sphd_outputs_set_every(sphd_outputs *o, double every, double t);
 /* The same out of the schedule (a trigger's): the next scheduled time stays what it was. */
 json_t *sphd_outputs_snapshot_extra(sphd_outputs *o, const sph_sim *s, sph_error *err);
 

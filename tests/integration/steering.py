@@ -2,7 +2,7 @@
 """Steering (op `set`, PROTOCOL.md 3.12) through a real sphd over its socket.
 
 A 2D dam break (dx 0.005 m) is steered three times while it runs (the viscosity's alpha, gravity,
-the end time), then sphd is killed with SIGKILL and started again on the same state directory:
+the end time with the snapshots' period and the diagnostics' schedule), then sphd is killed with SIGKILL and started again on the same state directory:
 the job resumes from its checkpoint and finishes. A second job of the same case, on the new
 sphd, is stepped to the very steps the first was changed at (`step`), changed there while paused
 (`sphctl set` for one of them), and run to its end. The two jobs' snapshots and diagnostics must
@@ -19,7 +19,8 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sphd_harness import Daemon, Failures  # noqa: E402
 
-SETS = [["physics.viscosity.alpha=0.05"], ["physics.gravity=[0.5, -8.5]"], ["time.end=0.55"]]
+SETS = [["physics.viscosity.alpha=0.05"], ["physics.gravity=[0.5, -8.5]"],
+        ["time.end=0.55", "output.every=0.03", "diagnostics.every=20"]]
 
 
 def same(a, b):
@@ -60,7 +61,8 @@ def main(sphd, sphctl, src):
                     f"change {k} is the history's last, at step {history[-1]['step']}", history)
         vals = d.ok("query", {"job": "live"})["steering"]["values"]
         t.check(vals == {"physics.viscosity.alpha": 0.05, "physics.gravity": [0.5, -8.5],
-                         "time.end": 0.55}, "query shows the values in effect", vals)
+                         "time.end": 0.55, "output.every": 0.03, "diagnostics.every": 20},
+                "query shows the values in effect", vals)
         # kill -9 while it runs, then a new sphd on the same state directory
         d.proc.kill()
         d.proc.wait()
@@ -98,6 +100,28 @@ def main(sphd, sphctl, src):
                            capture_output=True, text=True)
         t.check(p.returncode == 0, "killed and resumed equals never killed, bit for bit: "
                 + p.stdout.strip(), p.stdout + p.stderr)
+        with open(os.path.join(jobs, "live", "case.json")) as f:
+            rec = json.load(f)
+        t.check(same(rec.get("steering"), history) and rec["dx"] == case["dx"],
+                "case.json: the case as submitted, with the history under steering",
+                rec.get("steering"))
+        # after the change, the snapshots every 0.03 s and a diag every 20 steps
+        import h5py
+        times = []
+        for name in sorted(os.listdir(os.path.join(jobs, "live"))):
+            if name.startswith("snap_") and name.endswith(".h5"):
+                with h5py.File(os.path.join(jobs, "live", name), "r") as h:
+                    times.append(float(h.attrs["time"]))
+        t_set = history[-1]["t"]
+        later = [x for x in times if t_set + 1e-9 < x < 0.55 - 1e-9]  # (and one at the end)
+        t.check(len(later) >= 10 and all(abs(x / 0.03 - round(x / 0.03)) < 1e-6 for x in later)
+                and later[0] < t_set + 0.03 + 1e-9,
+                f"snapshots every 0.03 s from the change on ({len(later)})", later[:4])
+        with h5py.File(os.path.join(jobs, "live", "diag.h5"), "r") as h:
+            steps = [int(x) for x in h["step"][:]]
+        after = [x for x in steps if x > history[-1]["step"]]
+        t.check(after and all(x % 20 == 0 for x in after[:-1]),
+                "a diag every 20 steps from the change on", after[:5])
         for job in ("live", "ref"):
             with open(os.path.join(jobs, job, "result.json")) as f:
                 res = json.load(f)
@@ -118,8 +142,8 @@ def main(sphd, sphctl, src):
         d2.wait_state("third", ["paused"])
         refused({"job": "third", "set": ["dx=0.02"]}, "bad_request", "/args/set/0",
                 ["'dx'", "set-up"])
-        refused({"job": "third", "set": ["time.end=0.4", "output.every=0.1"]}, "bad_request",
-                "/args/set/1", ["output.every", "schedule"])
+        refused({"job": "third", "set": ["time.end=0.4", "output.fields=[\"pos\"]"]},
+                "bad_request", "/args/set/1", ["output.fields", "output.every"])
         refused({"job": "third", "set": ["physics.viscosity.alpha=-1"]}, "invalid_case",
                 "/physics/viscosity/alpha", ["alpha"])
         refused({"job": "third", "set": ["time.end=0.0001"]}, "invalid_case", "/time/end",
