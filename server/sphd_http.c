@@ -25,8 +25,10 @@
 
 #define REQUEST_TIMEOUT_MS 120000 /* a deferred reply (pause, set) comes at a step boundary */
 #define EVENT_POLL_MS      250    /* how often an event stream looks at sphd_http_stop */
-#define HEARTBEAT_S        10.0   /* a comment line on a quiet stream keeps proxies from closing */
-#define TOKEN_BYTES        24
+#define HEARTBEAT_S                                                                                \
+    10.0 /* a comment line on a quiet stream keeps it open (the                                    \
+            connections time out after 60 s without traffic) */
+#define TOKEN_BYTES 24
 
 struct sphd_http {
     struct MHD_Daemon *mhd;
@@ -495,7 +497,7 @@ sphd_http *sphd_http_start(const char *addr, void *ctx, const char *control, con
                              (ai->ai_family == AF_INET6 ? MHD_USE_IPv6 : 0),
                          0, NULL, NULL, handler, h, MHD_OPTION_SOCK_ADDR, ai->ai_addr,
                          MHD_OPTION_NOTIFY_COMPLETED, completed, h, MHD_OPTION_CONNECTION_LIMIT,
-                         64u, MHD_OPTION_CONNECTION_TIMEOUT, 0u, MHD_OPTION_END);
+                         64u, MHD_OPTION_CONNECTION_TIMEOUT, 60u, MHD_OPTION_END);
     freeaddrinfo(ai);
     if (!h->mhd) {
         sph_error_set(err, SPH_ERR_IO, "", "--http %s: cannot serve there (in use?)", addr);

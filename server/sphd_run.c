@@ -70,6 +70,24 @@ static void emit_state(emitter *em, const char *state, const char *reason)
     emit(em, "state", b);
 }
 
+/* A run that stops here to go on later (a signal, a trigger's pause): a checkpoint, the last
+ * state `paused` with why; SPHD_EX_TEMPFAIL, or SPHD_EX_FAILED when the checkpoint fails. */
+static int pause_here(sphd_exec *x, emitter *em, const char *job, const char *why)
+{
+    sph_error err;
+    sph_error_clear(&err);
+    if (sphd_exec_checkpoint(x, &err) == 0) {
+        emit_state(em, "paused", why);
+        fprintf(stderr, "sphd: %s paused (%s); checkpoint written: --resume continues\n", job, why);
+        return SPHD_EX_TEMPFAIL;
+    }
+    char reason[SPH_ERROR_TEXT_MAX + 256];
+    snprintf(reason, sizeof reason, "%.160s, and the checkpoint failed: %s: %s", why,
+             sph_error_code_name(err.code), err.message);
+    emit_state(em, "failed", reason);
+    return SPHD_EX_FAILED;
+}
+
 static int write_json(const char *dir, const char *name, const json_t *j)
 {
     int rc = sphd_write_json(dir, name, j);
@@ -199,34 +217,12 @@ int sphd_run(const sphd_run_opts *o)
         ;
     if (run_interrupted && st == SPHD_EXEC_RUNNING) {
         const int sig = (int)run_interrupted;
-        if (sphd_exec_checkpoint(x, &err) == 0) {
-            emit_state(&em, "paused",
-                       sig == SIGINT ? "interrupted by SIGINT" : "interrupted by SIGTERM");
-            fprintf(stderr, "sphd: %s interrupted (%s); checkpoint written: --resume continues\n",
-                    job, sig == SIGINT ? "SIGINT" : "SIGTERM");
-            rc = SPHD_EX_TEMPFAIL;
-        } else {
-            char reason[SPH_ERROR_TEXT_MAX + 64];
-            snprintf(reason, sizeof reason, "interrupted, and the checkpoint failed: %s: %s",
-                     sph_error_code_name(err.code), err.message);
-            emit_state(&em, "failed", reason);
-            rc = SPHD_EX_FAILED;
-        }
+        rc = pause_here(x, &em, job,
+                        sig == SIGINT ? "interrupted by SIGINT" : "interrupted by SIGTERM");
     } else if (st == SPHD_EXEC_DONE) {
         emit_state(&em, "done", NULL);
     } else if (st == SPHD_EXEC_PAUSE) { /* a trigger's: resumable, as an interrupted run */
-        if (sphd_exec_checkpoint(x, &err) == 0) {
-            emit_state(&em, "paused", sphd_exec_halt_reason(x));
-            fprintf(stderr, "sphd: %s paused by a %s; checkpoint written: --resume continues\n",
-                    job, sphd_exec_halt_reason(x));
-            rc = SPHD_EX_TEMPFAIL;
-        } else {
-            char reason[SPH_ERROR_TEXT_MAX + 64];
-            snprintf(reason, sizeof reason, "paused, and the checkpoint failed: %s: %s",
-                     sph_error_code_name(err.code), err.message);
-            emit_state(&em, "failed", reason);
-            rc = SPHD_EX_FAILED;
-        }
+        rc = pause_here(x, &em, job, sphd_exec_halt_reason(x));
     } else if (st == SPHD_EXEC_STOP) {
         emit_state(&em, "stopped", sphd_exec_halt_reason(x));
         rc = SPHD_EX_FAILED;
