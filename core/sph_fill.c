@@ -57,15 +57,19 @@ int sph_fill_prepare(sph_config *c, sph_error *err)
     return 0;
 }
 
+const sph_config *sph_fill_prepared(const sph_config *c, sph_config *tmp, sph_error *err)
+{
+    if (!sph_config_by_scene(c) || c->geometry_filled)
+        return c;
+    *tmp = *c; /* the scene's counts and reach, found once, in the copy */
+    return sph_fill_prepare(tmp, err) == 0 ? tmp : NULL;
+}
+
 void sph_fill_count(const sph_config *c, sph_fill_counts *n)
 {
     if (sph_config_by_scene(c)) { /* the scene holds the built-in shapes too */
         sph_config tmp;
-        const sph_config *f = c;
-        if (!c->geometry_filled) {
-            tmp = *c;
-            f = sph_fill_prepare(&tmp, NULL) == 0 ? &tmp : NULL;
-        }
+        const sph_config *f = sph_fill_prepared(c, &tmp, NULL);
         n->fluid = f ? f->geometry_fluid : 0;
         n->wall = f ? f->geometry_wall : 0;
         n->body = sph_body_count(c);

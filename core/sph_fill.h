@@ -32,6 +32,11 @@ typedef struct sph_fill_counts {
  * when its lattice is too large. */
 int sph_fill_prepare(sph_config *c, sph_error *err);
 
+/* The config to count and fill with: c itself when it needs no preparing (no scene, or the
+ * scene's figures already in it), else *tmp, a copy of c prepared (sph_fill_prepare). NULL (err
+ * filled, when not NULL) when the preparing fails. */
+const sph_config *sph_fill_prepared(const sph_config *c, sph_config *tmp, sph_error *err);
+
 /* Counts the particles of c. */
 void sph_fill_count(const sph_config *c, sph_fill_counts *n);
 

@@ -54,12 +54,9 @@ static long nbins_of(const sph_config *c)
 double sph_sim_estimate_bytes(const sph_config *cfg_in, long *nfluid, long *nboundary)
 {
     sph_config prepared;
-    const sph_config *cfg = cfg_in;
-    if (sph_config_by_scene(cfg_in) && !cfg_in->geometry_filled && cfg_in->dx > 0.0) {
-        prepared = *cfg_in; /* the geometry's counts and reach, found once */
-        if (sph_fill_prepare(&prepared, NULL) == 0)
-            cfg = &prepared;
-    }
+    const sph_config *cfg = cfg_in->dx > 0.0 ? sph_fill_prepared(cfg_in, &prepared, NULL) : NULL;
+    if (!cfg)
+        cfg = cfg_in;
     long nf = 0, nb = 0;
     if (cfg->dx > 0.0) {
         sph_fill_counts n;
@@ -344,14 +341,10 @@ sph_sim *sph_sim_create(const sph_config *cfg_in, sph_error *err)
 {
     if (sph_sim_check(cfg_in, err))
         return NULL;
-    sph_config prepared;
-    const sph_config *cfg = cfg_in;
-    if (sph_config_by_scene(cfg_in) && !cfg_in->geometry_filled) {
-        prepared = *cfg_in; /* the scene's counts and reach, in the sim's copy of the config */
-        if (sph_fill_prepare(&prepared, err))
-            return NULL;
-        cfg = &prepared;
-    }
+    sph_config prepared; /* the scene's counts and reach, in the sim's copy of the config */
+    const sph_config *cfg = sph_fill_prepared(cfg_in, &prepared, err);
+    if (!cfg)
+        return NULL;
     long nf, nb;
     const double bytes = sph_sim_estimate_bytes(cfg, &nf, &nb);
     if (nf <= 0 && cfg->nbodies == 0) {
