@@ -9,8 +9,9 @@ the result and the last snapshot bit for bit.
 - a stray second runner of a running job is told to quit (a job never runs twice);
 - kill -9 of a runner: the job is submitted again and continues from its checkpoint;
 - scancel: the job is paused with the reason; resume continues it;
-- kill -9 of the daemon while two Slurm jobs run: after a restart both are found, their streams
-  come back and both finish;
+- kill -9 of the daemon while two Slurm jobs run, one with a pause pending: after a restart both
+  are found, the stream's seq goes on with no gap and no repeat, the paused one ends paused and
+  both finish;
 - CURVE: the runners use their own key pair (kept by sphd in STATE/runner), which opens the
   runners' socket only; a client's key does not;
 - a slow sbatch does not hold up the daemon (it runs on sphd's Slurm thread);
@@ -301,8 +302,38 @@ try:
             break
         time.sleep(0.1)
     seq0 = {j: st[j]["seq"] for j in ("D1", "D2")}
+    # D2 is paused just before the kill: its runner held (SIGSTOP) so that the pause is pending
+    # when sphd dies; after the restart it still ends paused (issue 47)
+    sub1 = d.subscribe(b"D1")
+    time.sleep(0.3)
+    held = runner_pids("D2")
+    for p in held:
+        os.kill(p, signal.SIGSTOP)
+    pause = subprocess.Popen([sphctl, "--endpoint", d.control, "--json", "pause", "D2"],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    j2 = os.path.join(d.state, "jobs", "D2", "journal.jsonl")
+    deadline = time.time() + 10
+    while time.time() < deadline and '"pause":true' not in open(j2).read():
+        time.sleep(0.05)
+    F.check('"pause":true' in open(j2).read(), "a pause of a running Slurm job is journaled")
+    seen1 = []  # D1's seqs on the stream up to the kill
+    while sub1.poll(200):
+        seen1.append(json.loads(sub1.recv_multipart()[1])["seq"])
     d.proc.send_signal(signal.SIGKILL)
     d.proc.wait()
+    pause.kill()
+    pause.wait()
+    while sub1.poll(100):
+        seen1.append(json.loads(sub1.recv_multipart()[1])["seq"])
+    for p in held:
+        os.kill(p, signal.SIGCONT)
+    j1 = os.path.join(d.state, "jobs", "D1", "journal.jsonl")
+    with open(j1) as f:
+        lines = f.readlines()
+    jseq = max(json.loads(x).get("seq", 0) for x in lines)
+    F.check(bool(seen1) and seen1 == list(range(seen1[0], seen1[-1] + 1)) and
+            seen1[-1] <= jseq, "D1's stream before the kill: no gap, every seq journaled first",
+            (seen1[:3], seen1[-3:], jseq))
     time.sleep(0.5)
     state = d.state
     d2 = Daemon(sphd, "--threads", "1", "--checkpoint-interval", "0.2", "--executor", "slurm",
@@ -314,18 +345,30 @@ try:
             "after a restart both Slurm jobs are found, running",
             {j: st.get(j, {}).get("state") for j in ("D1", "D2")})
     sub = d2.subscribe(b"D1")
-    got = None
+    got = []
     deadline = time.time() + 30
-    while time.time() < deadline and not got:
+    while time.time() < deadline and len(got) < 5:
         if sub.poll(1000):
             ev = json.loads(sub.recv_multipart()[1])
             if ev["type"] in ("diag", "log", "output", "result"):
-                got = ev
-    F.check(got is not None and got["seq"] > seq0["D1"],
-            "D1's stream comes back after the restart (seq goes on)", got)
-    st = wait_states(d2, ["D1", "D2"], ("done", "failed"), timeout=300)
-    F.check(all(st[j]["state"] == "done" for j in ("D1", "D2")), "both finish",
-            {j: (st[j]["state"], st[j].get("reason")) for j in ("D1", "D2")})
+                got.append(ev["seq"])
+    F.check(bool(got) and seq0["D1"] < got[0] < jseq + 1000 and
+            got == list(range(got[0], got[0] + len(got))),
+            "D1's stream comes back after the restart: seq goes on, no jump", (jseq, got))
+    # the journal's first record after the restart: the seq after the last one published
+    with open(j1) as f:
+        after = [json.loads(x) for x in f.readlines()[len(lines):]]
+    F.check(after and after[0].get("seq") == jseq + 1,
+            "after a restart the next event's seq follows the last published (no gap, no repeat)",
+            (jseq, after[:2]))
+    st = wait_states(d2, ["D1", "D2"], ("done", "failed", "paused"), timeout=300)
+    F.check(st["D1"]["state"] == "done", "D1 finishes", (st["D1"]["state"], st["D1"].get("reason")))
+    F.check(st["D2"]["state"] == "paused",
+            "a pause pending when sphd was killed: after the restart the job ends paused",
+            (st["D2"]["state"], st["D2"].get("reason")))
+    d2.ok("resume", {"job": "D2"})
+    st = wait_states(d2, ["D2"], ("done", "failed"), timeout=300)
+    F.check(st["D2"]["state"] == "done", "D2, resumed, finishes", st["D2"].get("reason"))
     d2.ok("submit", {"case": case, "job": "LD", "set": long_sets,
                      "resources": {"executor": "local"}})
     wait_states(d2, ["LD"], ("done",), timeout=300)
