@@ -55,8 +55,11 @@ for i in 1 2 3 4 5; do
   jmax=$("$PY" -c "$seqs" "$jn" 0 | tail -1)
   start_sphd --threads 1
   expect_rc "the job is still known after restart $i" 0 "$SPHCTL" --json status db
-  check "after restart $i the next seq follows the last published (no gap, no repeat)" \
-    test "$("$PY" -c "$seqs" "$jn" "$jlines" | head -1)" = $((jmax + 1))
+  next=$("$PY" -c "$seqs" "$jn" "$jlines" | head -1)
+  if [ -n "$next" ] || ! jtrue "$tmp/out" 'd["state"] == "done"'; then
+    check "after restart $i the next seq follows the last published (no gap, no repeat)" \
+      test "$next" = $((jmax + 1))
+  fi # (else it was done before the kill: a finished job publishes nothing when taken up)
   check "it is queued, running or done" jtrue "$tmp/out" 'd["state"] in ("queued", "running", "done")'
 done
 expect_rc "watch it to the end" 0 "$SPHCTL" --json watch db
