@@ -6,9 +6,11 @@
 #   scripts/slurm-local.sh start DIR   # prints the line to source: export SLURM_CONF=DIR/slurm.conf
 #   scripts/slurm-local.sh stop DIR
 #
-# The node has this machine's CPUs and 2000 MB; one partition "debug" (the default) and a second
-# "short" with a 1-minute limit (to test refusals). Ports 16817/16818 unless SLURM_LOCAL_PORT
-# (controller; the node daemon takes the next) says otherwise.
+# The node has this machine's CPUs, at least 2 (two 1-CPU jobs always run at once: the tests'
+# kill -9 of the daemon needs two running; a 1-CPU machine shares its core), and 2000 MB; one
+# partition "debug" (the default) and a second "short" with a 1-minute limit (to test refusals).
+# Ports 16817/16818 unless SLURM_LOCAL_PORT (controller; the node daemon takes the next) says
+# otherwise.
 set -euo pipefail
 cmd=${1:-}
 dir=${2:-}
@@ -47,6 +49,7 @@ fi
 port=${SLURM_LOCAL_PORT:-16817}
 host=$(hostname -s)
 cpus=$(nproc)
+[ "$cpus" -ge 2 ] || cpus=2 # config_overrides below: slurmd takes the node as configured
 mkdir -p "$dir/spool" "$dir/state" "$dir/munge"
 chmod 700 "$dir/munge"
 [ -f "$dir/munge/munge.key" ] || mungekey -c -f -k "$dir/munge/munge.key" >/dev/null 2>&1 ||
@@ -81,6 +84,7 @@ AccountingStorageType=accounting_storage/none
 JobAcctGatherType=jobacct_gather/none
 MpiDefault=none
 ReturnToService=2
+SlurmdParameters=config_overrides
 EnforcePartLimits=ALL
 MinJobAge=600
 KillWait=5

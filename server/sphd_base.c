@@ -4,6 +4,7 @@
  * the inproc PAIRs between threads, the log and the clocks. The types are in sphd_daemon.h.
  */
 #include "sphd_daemon.h"
+#include "sphd_journal.h"
 
 #include "sph_events.h"
 
@@ -235,7 +236,19 @@ void sphd_reply(sphd_daemon *d, const sphd_pending *to, json_t *result, const sp
 void sphd_publish(sphd_daemon *d, sphd_job *j, const char *type, json_t *body)
 {
     sphd_job_touch(j); /* its seq changes */
-    json_t *ev = sph_event_new(j->id, ++j->seq, type);
+    ++j->seq;
+    if (j->seq > j->seq_on_disk) {
+        /* the seq in the journal before anyone sees it: a restarted sphd (kill -9 included)
+         * goes on from it, with no gap and no repeat (a state change wrote it already) */
+        json_t *rec = json_pack("{s:I}", "seq", (json_int_t)j->seq);
+        sph_error err;
+        if (rec && sphd_journal_note(j->dir, rec, &err) == 0)
+            j->seq_on_disk = j->seq;
+        else if (rec && !j->seq_unwritten++) /* said once per job */
+            sphd_log("job %s: %s", j->id, err.message);
+        json_decref(rec);
+    }
+    json_t *ev = sph_event_new(j->id, j->seq, type);
     if (ev && body)
         json_object_update_missing(ev, body); /* job, seq and type are ours */
     json_decref(body);

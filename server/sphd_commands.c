@@ -617,10 +617,15 @@ static int op_pause(sphd_request *r, json_t **result, sphd_err *e)
         cancel_remote(r->d, j, SPHD_JOB_PAUSED);
     } else if (j->state == SPHD_JOB_RUNNING) {
         if (!j->pause_requested) {
-            sphd_wcmd cmd = {.kind = SPHD_W_PAUSE, .job = j};
-            if (sphd_jobs_send(r->d, j, &cmd) != 0)
-                return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's runner");
+            /* journaled first: a pause its runner may act on is never forgotten by a restart */
             j->pause_requested = 1;
+            sphd_job_journal_requests(r->d, j);
+            sphd_wcmd cmd = {.kind = SPHD_W_PAUSE, .job = j};
+            if (sphd_jobs_send(r->d, j, &cmd) != 0) {
+                j->pause_requested = 0;
+                sphd_job_journal_requests(r->d, j);
+                return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's runner");
+            }
         }
         return defer_until_run_ends(r, e);
     }
@@ -737,7 +742,10 @@ static int op_resume(sphd_request *r, json_t **result, sphd_err *e)
         j->started = 1;
         sphd_job_set_state(r->d, j, SPHD_JOB_QUEUED, NULL);
     } else if (j->state == SPHD_JOB_RUNNING) {
-        j->pause_requested = 0; /* the run's end will queue it again */
+        if (j->pause_requested) {
+            j->pause_requested = 0; /* the run's end will queue it again */
+            sphd_job_journal_requests(r->d, j);
+        }
         j->stepping = 0;
     }
     return reply_status(r, result);
@@ -754,10 +762,14 @@ static int op_stop(sphd_request *r, json_t **result, sphd_err *e)
         cancel_remote(r->d, j, SPHD_JOB_STOPPED);
     } else if (j->state == SPHD_JOB_RUNNING) {
         if (!j->stop_requested) {
-            sphd_wcmd cmd = {.kind = SPHD_W_STOP, .job = j};
-            if (sphd_jobs_send(r->d, j, &cmd) != 0)
-                return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's runner");
             j->stop_requested = 1;
+            sphd_job_journal_requests(r->d, j);
+            sphd_wcmd cmd = {.kind = SPHD_W_STOP, .job = j};
+            if (sphd_jobs_send(r->d, j, &cmd) != 0) {
+                j->stop_requested = 0;
+                sphd_job_journal_requests(r->d, j);
+                return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's runner");
+            }
         }
         return defer_until_run_ends(r, e);
     }

@@ -112,31 +112,33 @@ typedef struct sphd_job {
     sphd_job_state state;
     char reason[SPHD_REASON_MAX];
     long seq;          /* last published event's seq */
+    long seq_on_disk;  /* the largest seq its journal holds (written before it is published) */
+    int seq_unwritten; /* a seq could not be journaled (said once) */
     int started;       /* has ever been queued to run */
     int resume;        /* the next run continues from the checkpoint in dir (recovered job) */
     int worker;        /* worker index while running, else -1 */
     long step_n;       /* pending `step`: steps to do (0: none) */
     double step_until; /* pending `step`: time to reach (INFINITY: none) */
     int stepping;      /* the current run ends paused (a `step`) */
-    int pause_requested, stop_requested;
-    int slurm;          /* runs on the Slurm executor */
-    json_t *resources;  /* the job's `resources` (new ref) or NULL */
-    char slurm_id[48];  /* its current (or last) Slurm job, "" before the first */
-    int held;           /* a sweep's job waiting for its array's sbatch */
-    int runner_seen;    /* the runner of the current Slurm job said hello */
-    int retries;        /* Slurm jobs resubmitted after one ended without a result */
-    double gone_since;  /* monotonic time Slurm first reported its job ended, or 0 */
-    double recorded_at; /* monotonic time job.json was last written (a remote job's seq) */
-    long run_max_steps; /* the current remote run's step target (0: none) */
-    double run_until;   /* ... its time target (INFINITY: none) */
-    int readers;        /* requests the files thread serves on this job: not forgotten meanwhile */
-    int exec_readers;   /* of which particle queries: its executor is not run nor freed meanwhile */
-    json_t *progress;   /* latest executor progress (new ref) */
-    json_t *diag;       /* latest diag event body (new ref) */
-    json_t *result;     /* result event body, when done (new ref) */
-    double submitted;   /* unix time */
-    double wall;        /* seconds spent running, finished runs */
-    double run_wall;    /* seconds into the current run */
+    int pause_requested, stop_requested; /* journaled (sphd_job_journal_requests) */
+    int requests_unsent; /* recovered with a pause/stop pending: told to its runner when back */
+    int slurm;           /* runs on the Slurm executor */
+    json_t *resources;   /* the job's `resources` (new ref) or NULL */
+    char slurm_id[48];   /* its current (or last) Slurm job, "" before the first */
+    int held;            /* a sweep's job waiting for its array's sbatch */
+    int runner_seen;     /* the runner of the current Slurm job said hello */
+    int retries;         /* Slurm jobs resubmitted after one ended without a result */
+    double gone_since;   /* monotonic time Slurm first reported its job ended, or 0 */
+    long run_max_steps;  /* the current remote run's step target (0: none) */
+    double run_until;    /* ... its time target (INFINITY: none) */
+    int readers;         /* requests the files thread serves on this job: not forgotten meanwhile */
+    int exec_readers; /* of which particle queries: its executor is not run nor freed meanwhile */
+    json_t *progress; /* latest executor progress (new ref) */
+    json_t *diag;     /* latest diag event body (new ref) */
+    json_t *result;   /* result event body, when done (new ref) */
+    double submitted; /* unix time */
+    double wall;      /* seconds spent running, finished runs */
+    double run_wall;  /* seconds into the current run */
     double steps_per_s, eta; /* from the worker, while running */
     sphd_pending *waiters;   /* replies due when the current run ends */
     /* steering (op `set`, PROTOCOL.md 3.12) */
@@ -205,10 +207,8 @@ typedef struct sphd_link {
     sphd_job *job; /* a runner's own job (wire) */
 } sphd_link;
 
-#define SPHD_WORKER_REMOTE   (-2) /* sphd_job.worker: the job runs in a runner on the cluster */
-#define SPHD_SLURM_RETRIES   3   /* resubmissions of a job whose Slurm job ended without a result */
-#define SPHD_REMOTE_RECORD_S 2.0 /* a remote job's job.json (its seq) is written this often */
-#define SPHD_REMOTE_SEQ_GAP  100000 /* after a restart a remote job's seq goes on this far ahead */
+#define SPHD_WORKER_REMOTE (-2) /* sphd_job.worker: the job runs in a runner on the cluster */
+#define SPHD_SLURM_RETRIES 3    /* resubmissions of a job whose Slurm job ended without a result */
 
 typedef struct sphd_worker {
     struct sphd_daemon *d;
@@ -384,6 +384,8 @@ json_t *sphd_job_steering(const sphd_job *j);
  * 0, or -1 with e (and j->steer_error) when it is refused; the change is no longer pending. */
 int sphd_job_steer_apply(sphd_daemon *d, sphd_job *j, sphd_err *e);
 void sphd_job_record(sphd_daemon *d, sphd_job *j, int interrupted);
+/* Journals the job's pending pause and stop (fsync'd): a restarted sphd still carries them out. */
+void sphd_job_journal_requests(sphd_daemon *d, sphd_job *j);
 void sphd_jobs_schedule(sphd_daemon *d);
 void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev);
 void sphd_jobs_free(sphd_daemon *d);

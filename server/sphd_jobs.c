@@ -221,18 +221,36 @@ void sphd_job_set_state(sphd_daemon *d, sphd_job *j, sphd_job_state s, const cha
     json_t *b = json_pack("{s:s}", "state", sphd_job_state_name(s));
     if (b && j->reason[0]) /* failed, or paused or stopped by a trigger */
         json_object_set_new(b, "reason", json_string(j->reason));
-    /* the journal: every state change, appended and fsync'd before anyone hears of it */
+    /* the journal: every state change, appended and fsync'd before anyone hears of it, with
+     * the seq of its `state` event */
     json_t *rec = json_pack("{s:f, s:s, s:I, s:I}", "t", sphd_now(), "state",
-                            sphd_job_state_name(s), "seq", (json_int_t)j->seq, "step",
+                            sphd_job_state_name(s), "seq", (json_int_t)(j->seq + 1), "step",
                             (json_int_t)json_integer_value(json_object_get(j->progress, "step")));
     if (rec && j->reason[0])
         json_object_set_new(rec, "reason", json_string(j->reason));
+    if (rec && s == SPHD_JOB_RUNNING && j->pause_requested)
+        json_object_set_new(rec, "pause", json_true()); /* still pending (a recovered job) */
+    if (rec && s == SPHD_JOB_RUNNING && j->stop_requested)
+        json_object_set_new(rec, "stop", json_true());
+    sph_error err;
+    if (rec && sphd_journal_append(j->dir, rec, &err) != 0)
+        sphd_log("job %s: %s", j->id, err.message);
+    else if (rec && j->seq + 1 > j->seq_on_disk)
+        j->seq_on_disk = j->seq + 1;
+    json_decref(rec);
+    sphd_publish(d, j, "state", b);
+    sphd_job_record(d, j, 0);
+}
+
+void sphd_job_journal_requests(sphd_daemon *d, sphd_job *j)
+{
+    (void)d;
+    json_t *rec = json_pack("{s:f, s:b, s:b, s:I}", "t", sphd_now(), "pause", j->pause_requested,
+                            "stop", j->stop_requested, "seq", (json_int_t)j->seq);
     sph_error err;
     if (rec && sphd_journal_append(j->dir, rec, &err) != 0)
         sphd_log("job %s: %s", j->id, err.message);
     json_decref(rec);
-    sphd_publish(d, j, "state", b);
-    sphd_job_record(d, j, 0);
 }
 
 static void job_free(sphd_job *j)
@@ -739,11 +757,6 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
             json_decref(jr);
         }
         sphd_publish(d, j, ev->type, ev->body);
-        if (!w && sphd_mono() - j->recorded_at > SPHD_REMOTE_RECORD_S) {
-            /* a remote job's seq on disk, now and then: a restarted sphd goes on past it */
-            j->recorded_at = sphd_mono();
-            sphd_job_record(d, j, 0);
-        }
         return;
     case SPHD_WEV_PROGRESS:
         sphd_job_touch(j);
@@ -843,7 +856,7 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
         }
         break;
     }
-    j->pause_requested = j->stop_requested = 0;
+    j->pause_requested = j->stop_requested = j->requests_unsent = 0;
     sphd_jobs_answer_waiters(d, j);
     sphd_log("job %s %s after %.3f s", j->id, sphd_job_state_name(j->state), ev->wall);
 }
@@ -867,16 +880,29 @@ void sphd_jobs_free(sphd_daemon *d)
 /* ---- recovery ---- */
 
 typedef struct {
-    json_t *last; /* the latest journal record (new ref) */
+    json_t *last;    /* the latest state record (new ref) */
+    long seq;        /* the largest seq in any record */
+    int pause, stop; /* a pause or stop requested since it, not yet carried out */
 } replay_ctx;
 
 static void keep_last(void *ud, const json_t *rec)
 {
     replay_ctx *r = ud;
-    if (!json_object_get(rec, "state"))
-        return; /* a change's record (steering): the state is the latest state record's */
-    json_decref(r->last);
-    r->last = json_deep_copy(rec);
+    const json_t *seq = json_object_get(rec, "seq");
+    if (json_is_integer(seq) && json_integer_value(seq) > r->seq)
+        r->seq = (long)json_integer_value(seq);
+    const json_t *pause = json_object_get(rec, "pause"), *stop = json_object_get(rec, "stop");
+    /* a state change: what was pending is done with (a change's record, steering or a trigger,
+     * leaves the state to the latest state record) */
+    if (json_object_get(rec, "state")) {
+        json_decref(r->last);
+        r->last = json_deep_copy(rec);
+        r->pause = json_is_true(pause);
+        r->stop = json_is_true(stop);
+    } else if (json_is_boolean(pause) || json_is_boolean(stop)) { /* `pause`, `resume`, `stop` */
+        r->pause = json_is_true(pause);
+        r->stop = json_is_true(stop);
+    }
 }
 
 static json_t *load_json(const char *dir, const char *name)
@@ -939,9 +965,13 @@ static sphd_job *recover_one(sphd_daemon *d, const char *id)
     const json_t *src = r.last ? r.last : rec;
     int st = src ? state_from_name(json_string_value(json_object_get(src, "state"))) : -1;
     const char *reason = src ? json_string_value(json_object_get(src, "reason")) : NULL;
+    /* every published seq was journaled first: the next event follows the last one */
     j->seq = (long)json_integer_value(json_object_get(rec, "seq"));
-    if (r.last && json_integer_value(json_object_get(r.last, "seq")) > j->seq)
-        j->seq = (long)json_integer_value(json_object_get(r.last, "seq"));
+    if (r.seq > j->seq)
+        j->seq = r.seq;
+    if (j->seq < 0)
+        j->seq = 0;
+    j->seq_on_disk = j->seq;
     j->submitted = json_number_value(json_object_get(rec, "submitted"));
     j->slurm = json_is_string(json_object_get(rec, "executor")) &&
                strcmp(json_string_value(json_object_get(rec, "executor")), "slurm") == 0;
@@ -977,12 +1007,17 @@ static sphd_job *recover_one(sphd_daemon *d, const char *id)
     if (j->slurm && sid && sid[0] && st == SPHD_JOB_RUNNING) {
         /* its Slurm job may still run: its runner reconnects, or the poll finds it ended */
         snprintf(j->slurm_id, sizeof j->slurm_id, "%s", sid);
-        /* its events since the last record were not written down: seq jumps past them (a gap,
-         * never a step back) */
-        j->seq += SPHD_REMOTE_SEQ_GAP + (long)(4 * SPHD_REMOTE_RECORD_S * d->opts.diag_rate);
         j->state = SPHD_JOB_RUNNING;
         j->worker = SPHD_WORKER_REMOTE;
         j->resume = 1;
+        /* a pause or stop its runner may not have carried out: told again when it is back
+         * (or the job ends so when its Slurm job is found gone) */
+        j->pause_requested = r.pause;
+        j->stop_requested = r.stop;
+        j->requests_unsent = r.pause || r.stop;
+    } else if (st == SPHD_JOB_RUNNING && r.pause && !r.stop) {
+        j->state = SPHD_JOB_PAUSED; /* it was pausing: paused, at its latest checkpoint */
+        j->resume = has_ckpt;
     } else if (st < 0 || st == SPHD_JOB_RUNNING || st == SPHD_JOB_QUEUED) {
         j->state = SPHD_JOB_QUEUED;
         j->resume = has_ckpt;

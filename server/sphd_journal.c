@@ -12,7 +12,7 @@ static void journal_path(char *buf, size_t n, const char *jobdir)
     snprintf(buf, n, "%s/journal.jsonl", jobdir);
 }
 
-int sphd_journal_append(const char *jobdir, const json_t *record, sph_error *err)
+static int append(const char *jobdir, const json_t *record, int sync, sph_error *err)
 {
     char path[4096];
     journal_path(path, sizeof path, jobdir);
@@ -36,7 +36,7 @@ int sphd_journal_append(const char *jobdir, const json_t *record, sph_error *err
         else if (w > 0)
             done += (size_t)w;
     }
-    if (rc == 0)
+    if (rc == 0 && sync)
         rc = fsync(fd);
     int saved = errno;
     if (fd >= 0)
@@ -46,6 +46,16 @@ int sphd_journal_append(const char *jobdir, const json_t *record, sph_error *err
         return sph_error_set(err, SPH_ERR_IO, "", "appending to journal '%s' failed: %s", path,
                              strerror(saved));
     return 0;
+}
+
+int sphd_journal_append(const char *jobdir, const json_t *record, sph_error *err)
+{
+    return append(jobdir, record, 1, err);
+}
+
+int sphd_journal_note(const char *jobdir, const json_t *record, sph_error *err)
+{
+    return append(jobdir, record, 0, err);
 }
 
 int sphd_journal_replay(const char *jobdir, void (*cb)(void *ud, const json_t *record), void *ud,

@@ -69,6 +69,24 @@ static void send_away(sphd_daemon *d, const char *runner, const char *sid)
     }
 }
 
+/* A pause or stop journaled before a restart and not carried out yet: told to the runner (a
+ * second word to a runner that had it already is dropped when its run has ended). */
+static void send_requests(sphd_daemon *d, sphd_job *j)
+{
+    if (!j->requests_unsent)
+        return;
+    j->requests_unsent = 0;
+    sphd_wcmd cmd = {.kind = j->stop_requested ? SPHD_W_STOP : SPHD_W_PAUSE, .job = j};
+    if (!j->pause_requested && !j->stop_requested)
+        return;
+    if (sphd_jobs_send(d, j, &cmd) != 0) {
+        sphd_log("job %s: cannot reach its runner", j->id);
+        return;
+    }
+    say(d, j, "info", "its %s, requested before sphd restarted, is sent to its runner",
+        j->stop_requested ? "stop" : "pause");
+}
+
 static void on_hello(sphd_daemon *d, const char *runner, json_t *hello)
 {
     const char *sid = "";
@@ -90,6 +108,7 @@ static void on_hello(sphd_daemon *d, const char *runner, json_t *hello)
     }
     say(d, j, "info", "running on %s (Slurm job %s)",
         json_string_value(json_object_get(hello, "host")) ?: "?", j->slurm_id);
+    send_requests(d, j);
 }
 
 void sphd_remote_on_message(sphd_daemon *d)
@@ -123,6 +142,8 @@ void sphd_remote_on_message(sphd_daemon *d)
         if (!j->runner_seen) { /* sphd was restarted while the runner ran: it is back */
             j->runner_seen = 1;
             say(d, j, "info", "its runner (Slurm job %s) is back", j->slurm_id);
+            if (ev.kind != SPHD_WEV_END) /* else its run ended: what it says is the answer */
+                send_requests(d, j);
         }
         j->gone_since = 0;
         ev.job = j;
@@ -238,7 +259,7 @@ static void on_states(sphd_daemon *d, const char *lines)
             j->step_n = j->run_max_steps;
             j->step_until = j->run_until;
         }
-        j->pause_requested = j->stop_requested = j->stepping = 0;
+        j->pause_requested = j->stop_requested = j->stepping = j->requests_unsent = 0;
         if (stop) {
             sphd_job_set_state(d, j, SPHD_JOB_STOPPED, NULL);
         } else if (pause) {

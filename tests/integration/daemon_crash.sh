@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Crash test (daemon): a dam-break job submitted to sphd, sphd killed with SIGKILL at 5 moments
 # (one of them in the middle of a checkpoint write) and started again on the same state dir each
-# time: the job is never lost, it continues from its checkpoint and finishes, and its snapshots
+# time: the job is never lost, it continues from its checkpoint and finishes (its events' seq
+# following the last one published before each kill), and its snapshots
 # and diagnostics are bitwise equal to those of an uninterrupted run (1 thread). After each kill
 # the latest files are whole.
 # Usage: daemon_crash.sh SPHD SPHCTL SOURCE_DIR [SEED]
@@ -20,6 +21,13 @@ runtime=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { print b - a }')
 
 whole() { "$PY" "$(dirname "$0")/h5check.py" whole "$STATE/jobs/db"; }
 
+# the seqs in a journal from line N on, in order (a torn line skipped)
+seqs='import json, sys
+for line in open(sys.argv[1]).readlines()[int(sys.argv[2]):]:
+    try:
+        print(json.loads(line)["seq"])
+    except (ValueError, KeyError):
+        pass'
 start_sphd --threads 1
 expect_rc "submit the dam break" 0 "$SPHCTL" submit "$SRC/cases/dambreak.json" --id db "${sets[@]}"
 kills=0
@@ -41,8 +49,17 @@ for i in 1 2 3 4 5; do
   kills=$((kills+1))
   check "latest files whole after kill $kills" whole
   check "the job's case is on disk" test -s "$STATE/jobs/db/case.json"
+  # every published seq is journaled first: the largest, and where the restart's records begin
+  jn="$STATE/jobs/db/journal.jsonl"
+  jlines=$(wc -l <"$jn")
+  jmax=$("$PY" -c "$seqs" "$jn" 0 | tail -1)
   start_sphd --threads 1
   expect_rc "the job is still known after restart $i" 0 "$SPHCTL" --json status db
+  next=$("$PY" -c "$seqs" "$jn" "$jlines" | head -1)
+  if [ -n "$next" ] || ! jtrue "$tmp/out" 'd["state"] == "done"'; then
+    check "after restart $i the next seq follows the last published (no gap, no repeat)" \
+      test "$next" = $((jmax + 1))
+  fi # (else it was done before the kill: a finished job publishes nothing when taken up)
   check "it is queued, running or done" jtrue "$tmp/out" 'd["state"] in ("queued", "running", "done")'
 done
 expect_rc "watch it to the end" 0 "$SPHCTL" --json watch db

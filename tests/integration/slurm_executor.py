@@ -9,8 +9,9 @@ the result and the last snapshot bit for bit.
 - a stray second runner of a running job is told to quit (a job never runs twice);
 - kill -9 of a runner: the job is submitted again and continues from its checkpoint;
 - scancel: the job is paused with the reason; resume continues it;
-- kill -9 of the daemon while two Slurm jobs run: after a restart both are found, their streams
-  come back and both finish;
+- kill -9 of the daemon while two Slurm jobs run, one with a pause pending: after a restart both
+  are found, the stream's seq goes on with no gap and no repeat, the paused one ends paused and
+  both finish;
 - CURVE: the runners use their own key pair (kept by sphd in STATE/runner), which opens the
   runners' socket only; a client's key does not;
 - a slow sbatch does not hold up the daemon (it runs on sphd's Slurm thread);
@@ -288,21 +289,58 @@ try:
     wait_states(d, ["C", "LK"], ("done",), timeout=300)
     F.check(same_run(d, "C", "LK"), "cancelled and resumed: bit for bit the local run")
 
-    # TODO(issue 47): this scenario does not hold (D2 starts on the one-node cluster only once D1
-    # is done, so two checks below fail), and the script exits 0 whatever its checks say (F.done()
-    # is not its exit code); the fix of the Slurm gaps (reverted in d33cd6d) waits on both
-    # -- kill -9 of the daemon while two Slurm jobs run
+    # -- kill -9 of the daemon while two Slurm jobs run (one node with room for both:
+    # scripts/slurm-local.sh), D2 with a pause pending. Long enough (about 10 s each here) that
+    # D1 is still running through the kill, the restart and its first events after it.
+    d_sets = ["dx=0.005", "time.end=2.0", "output.every=0.5"]
     for j in ("D1", "D2"):
-        d.ok("submit", {"case": case, "job": j, "set": long_sets})
+        d.ok("submit", {"case": case, "job": j, "set": d_sets})
     deadline = time.time() + 60
     while time.time() < deadline:
         st = {j["job"]: j for j in d.ok("list")["jobs"]}
-        if all(st[j]["progress"]["steps"] > 50 for j in ("D1", "D2")):
+        if all(st[j]["progress"]["steps"] > 50 and runner_pids(j) for j in ("D1", "D2")):
             break
         time.sleep(0.1)
     seq0 = {j: st[j]["seq"] for j in ("D1", "D2")}
+    # D2 is paused just before the kill: its runner held (SIGSTOP) until after the restart so
+    # that the pause is pending when sphd dies; after the restart it still ends paused (issue 47)
+    sub1 = d.subscribe(b"D1")
+    time.sleep(0.3)
+    held = runner_pids("D2")
+    for p in held:
+        os.kill(p, signal.SIGSTOP)
+    pause = subprocess.Popen([sphctl, "--endpoint", d.control, "--json", "pause", "D2"],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    j2 = os.path.join(d.state, "jobs", "D2", "journal.jsonl")
+    deadline = time.time() + 10
+    while time.time() < deadline and '"pause":true' not in open(j2).read():
+        time.sleep(0.05)
+    F.check('"pause":true' in open(j2).read(), "a pause of a running Slurm job is journaled")
+    seen1 = []  # D1's seqs on the stream up to the kill (it publishes all the while)
+    until = time.time() + 1.0
+    while time.time() < until and sub1.poll(200):
+        seen1.append(json.loads(sub1.recv_multipart()[1])["seq"])
+    st = {j["job"]: j for j in d.ok("list")["jobs"]}
+    F.check(all(st[j]["state"] == "running" for j in ("D1", "D2")) and len(held) == 1,
+            "both Slurm jobs run at the kill, D2's runner held",
+            ({j: st[j]["state"] for j in ("D1", "D2")}, held))
     d.proc.send_signal(signal.SIGKILL)
     d.proc.wait()
+    pause.kill()
+    pause.wait()
+    while sub1.poll(100):
+        seen1.append(json.loads(sub1.recv_multipart()[1])["seq"])
+    sub1.close()
+
+    def journal(j):
+        with open(os.path.join(d.state, "jobs", j, "journal.jsonl")) as f:
+            return [json.loads(x) for x in f]
+    before = {j: journal(j) for j in ("D1", "D2")}
+    jseq = {j: max(r.get("seq", 0) for r in before[j]) for j in ("D1", "D2")}
+    F.check(bool(seen1) and seen1 == list(range(seen1[0], seen1[-1] + 1)) and
+            seen1[0] > seq0["D1"] and seen1[-1] <= jseq["D1"],
+            "D1's stream before the kill: no gap, every seq journaled first",
+            (seen1[:3], seen1[-3:], jseq["D1"]))
     time.sleep(0.5)
     state = d.state
     d2 = Daemon(sphd, "--threads", "1", "--checkpoint-interval", "0.2", "--executor", "slurm",
@@ -313,22 +351,42 @@ try:
     F.check(all(st.get(j, {}).get("state") == "running" for j in ("D1", "D2")),
             "after a restart both Slurm jobs are found, running",
             {j: st.get(j, {}).get("state") for j in ("D1", "D2")})
-    sub = d2.subscribe(b"D1")
-    got = None
-    deadline = time.time() + 30
-    while time.time() < deadline and not got:
-        if sub.poll(1000):
-            ev = json.loads(sub.recv_multipart()[1])
-            if ev["type"] in ("diag", "log", "output", "result"):
-                got = ev
-    F.check(got is not None and got["seq"] > seq0["D1"],
-            "D1's stream comes back after the restart (seq goes on)", got)
-    st = wait_states(d2, ["D1", "D2"], ("done", "failed"), timeout=300)
-    F.check(all(st[j]["state"] == "done" for j in ("D1", "D2")), "both finish",
-            {j: (st[j]["state"], st[j].get("reason")) for j in ("D1", "D2")})
-    d2.ok("submit", {"case": case, "job": "LD", "set": long_sets,
+    # D2's runner goes on now: it finds the pause (sent before the kill, or again by the new
+    # daemon when it hears from the runner) and ends paused; without the journaled pause the new
+    # daemon took its `end: paused` for a stale one and ran it on
+    for p in held:
+        os.kill(p, signal.SIGCONT)
+    # the local run both are compared with, alongside (D2 is held, then paused)
+    d2.ok("submit", {"case": case, "job": "LD", "set": d_sets,
                      "resources": {"executor": "local"}})
-    wait_states(d2, ["LD"], ("done",), timeout=300)
+    sub = d2.subscribe(b"D1")
+    got = []  # D1's seqs on the new daemon's stream, every event
+    deadline = time.time() + 30
+    while time.time() < deadline and len(got) < 20:
+        if sub.poll(1000):
+            got.append(json.loads(sub.recv_multipart()[1])["seq"])
+    sub.close()
+    after = {j: journal(j)[len(before[j]):] for j in ("D1", "D2")}
+    seqs1 = sorted({r["seq"] for r in after["D1"] if "seq" in r})
+    F.check(len(got) == 20 and got == list(range(got[0], got[0] + len(got))) and
+            got[0] > jseq["D1"] and set(got) <= set(seqs1),
+            "D1's stream comes back after the restart: seq goes on, no gap, no jump",
+            (jseq["D1"], got[:3], got[-3:]))
+    # the journal after the restart: the seqs after the last one published, one by one
+    for j in ("D1", "D2"):
+        seqs = sorted({r["seq"] for r in after[j] if "seq" in r})
+        F.check(after[j] and after[j][0].get("seq") == jseq[j] + 1 and
+                seqs == list(range(jseq[j] + 1, jseq[j] + 1 + len(seqs))),
+                f"{j}: after a restart the next event's seq follows the last published (no gap, "
+                "no repeat)", (jseq[j], after[j][:2], seqs[-3:]))
+    st = wait_states(d2, ["D1", "D2"], ("done", "failed", "paused", "stopped"), timeout=300)
+    F.check(st["D1"]["state"] == "done", "D1 finishes", (st["D1"]["state"], st["D1"].get("reason")))
+    F.check(st["D2"]["state"] == "paused",
+            "a pause pending when sphd was killed: after the restart the job ends paused",
+            (st["D2"]["state"], st["D2"].get("reason")))
+    d2.ok("resume", {"job": "D2"})
+    st = wait_states(d2, ["D2", "LD"], ("done", "failed", "paused", "stopped"), timeout=300)
+    F.check(st["D2"]["state"] == "done", "D2, resumed, finishes", st["D2"].get("reason"))
     F.check(same_run(d2, "D1", "LD") and same_run(d2, "D2", "LD"),
             "both are bit for bit the local run")
 
@@ -485,4 +543,4 @@ finally:
     subprocess.run([os.path.join(src, "scripts", "slurm-local.sh"), "stop", cluster], env=env)
     shutil.rmtree(cluster, ignore_errors=True)
 print(f"slurm_executor: {time.time() - T0:.0f} s in all")
-F.done()
+sys.exit(F.done())

@@ -1,5 +1,5 @@
-/* Job journal: records come back in order; a torn last line (crash mid-append) is skipped and
- * reported; appends after it still replay; a missing journal is an io_error. */
+/* Job journal: records (appended or noted) come back in order; a torn last line (crash mid-append)
+ * is skipped and reported; appends after it still replay; a missing journal is an io_error. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -59,6 +59,15 @@ static void test_journal(void **state)
     assert_int_equal(sphd_journal_replay(dir, collect, NULL, &torn, &err), 0);
     assert_int_equal(nseen, 6);
     assert_int_equal(seen[5], 5);
+
+    /* a note (no fsync: an event's seq) is a record like the others, in order */
+    r = json_pack("{s:s, s:i}", "event", "seq", "n", 6);
+    assert_int_equal(sphd_journal_note(dir, r, &err), 0);
+    json_decref(r);
+    nseen = 0;
+    assert_int_equal(sphd_journal_replay(dir, collect, NULL, &torn, &err), 0);
+    assert_int_equal(nseen, 7);
+    assert_int_equal(seen[6], 6);
 
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
