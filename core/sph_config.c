@@ -33,6 +33,9 @@ sph_config sph_config_default(void)
     c.probes = SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT;
     c.max_bytes = SPH_CONFIG_DEFAULT_MAX_BYTES;
     c.mps = sph_mps_config_default();
+    c.wavemaker.layers = 3;
+    c.wavemaker.ramp = SPH_WAVEMAKER_RAMP_DEFAULT;
+    c.absorption.beta = SPH_DAMPING_BETA_DEFAULT;
     /* at rest; the standing wave's parameters and the solitary wave's order (the third slot) at
      * the defaults the case table gives them */
     c.initial.type = SPH_INITIAL_REST;

@@ -185,6 +185,52 @@ typedef struct sph_body_spec {
     sph_body_pressure pressure; /* its particles' pressure: from the fluid or continuity */
 } sph_body_spec;
 
+/* A wavemaker (boundary/sph_wavemaker.h): a paddle of wall particles moved by a law of time. */
+typedef enum {
+    SPH_WAVEMAKER_NONE = 0,
+    SPH_WAVEMAKER_PISTON, /* moved rigidly in x */
+    SPH_WAVEMAKER_FLAP,   /* turned about a hinge (refused in this version) */
+    SPH_WAVEMAKER_COUNT
+} sph_wavemaker_type;
+
+/* The waves a wavemaker makes. */
+typedef enum { SPH_WAVES_REGULAR = 0, SPH_WAVES_COUNT } sph_waves_type;
+
+/* A case's "wavemaker": a piston of `layers` columns of wall particles, the tank's height, whose
+ * wet face (towards +x) rests at x; regular waves of height H and period T by first-order
+ * wavemaker theory, ramped up over `ramp` periods. */
+typedef struct sph_wavemaker_spec {
+    sph_wavemaker_type type; /* none (no wavemaker), piston or flap */
+    double x;                /* the paddle's wet face at rest [m] */
+    int layers;              /* columns of wall particles behind the face [-] */
+    double ramp;             /* periods over which the motion rises to its full stroke [-] */
+    sph_waves_type waves;    /* regular */
+    double height;           /* the target wave height H [m] */
+    double period;           /* the wave period T [s] */
+} sph_wavemaker_spec;
+
+/* A case's "absorption": a passive damping zone (Altomare et al. 2017) that relaxes the fluid's
+ * velocity towards zero after every step, v *= 1 - dt beta f(x), f rising from 0 at `from` to 1
+ * at `to` quadratically (boundary/sph_wavemaker.h). */
+typedef struct sph_absorption_spec {
+    int type;        /* 0: none, 1: damping */
+    double from, to; /* where the weight is 0 and where it reaches 1 [m] */
+    double beta;     /* relaxation rate [1/s] */
+} sph_absorption_spec;
+
+/* What first-order wavemaker theory gives for a case's wavemaker (sph_sim_wave_design). */
+typedef struct sph_wave_design {
+    double depth;  /* still water depth d [m] */
+    double omega;  /* 2 pi / T [rad/s] */
+    double k;      /* wave number [1/m] */
+    double length; /* wave length L = 2 pi / k [m] */
+    double stroke; /* S = H / (H/S)(kd) [m] */
+    double cg;     /* group velocity (omega / k) (1 + 2kd / sinh 2kd) / 2 [m/s] */
+} sph_wave_design;
+
+#define SPH_DAMPING_BETA_DEFAULT   10.0 /* [1/s] */
+#define SPH_WAVEMAKER_RAMP_DEFAULT 2.0  /* periods [-] */
+
 /* The MPS method's fields (Koshizuka & Oka 1996; Sheu, Chiao & Huang 2011): defaults from
  * sph_mps_config_default() (core/mps/sph_mps.c). */
 typedef struct sph_mps_config {
@@ -267,6 +313,9 @@ typedef struct sph_config {
     int geometry_filled;
     long geometry_fluid, geometry_wall;    /* particles of the geometry items' fluid and walls */
     double geometry_lo[3], geometry_hi[3]; /* the box the geometry's particles lie in [m] */
+
+    sph_wavemaker_spec wavemaker;   /* a paddle that makes waves (type none: no paddle) */
+    sph_absorption_spec absorption; /* a damping zone (type 0: none) */
 
     sph_device device;       /* where the steps run: the CPU (default) or a GPU (WCSPH only) */
     sph_precision precision; /* the particles' storage: double (default) or mixed */

@@ -2,8 +2,9 @@
  * sph_fill: the particles of a case from its shapes (sph_fill.h).
  *
  * Layer 4 of the set-up pipeline. May call: sph_shapes.h, sph_scene.h (a case with a geometry
- * list: every shape, the built-in ones too, on one lattice), sph_body_shape.h, sph_initial.h (the
- * velocity), sph_lattice.h, libm. Never sph_body.c or sph_sim.c.
+ * list: every shape, the built-in ones too, on one lattice), sph_body_shape.h, sph_wavemaker.h (the
+ * paddle's particles), sph_initial.h (the velocity), sph_lattice.h, libm. Never sph_body.c or
+ * sph_sim.c.
  */
 #include "sph_fill.h"
 
@@ -12,6 +13,7 @@
 #include "sph_lattice.h"
 #include "sph_scene.h"
 #include "sph_shapes.h"
+#include "sph_wavemaker.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -82,6 +84,8 @@ void sph_fill_count(const sph_config *c, sph_fill_counts *n)
     if (c->boundary == SPH_BOUNDARY_DYNAMIC)
         for (int k = 0; k < c->nobstacles; k++)
             n->wall += sph_shapes_obstacle_points(c, &c->obstacles[k], NULL);
+    if (has_walls(c))
+        n->wall += sph_wavemaker_points(c, NULL); /* the paddle: the last wall particles */
     n->body = sph_body_count(c);
 }
 
@@ -194,6 +198,12 @@ int sph_fill(const sph_config *c, sph_particles *P, double *mirror, sph_error *e
         double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};
         const long n = sph_shapes_obstacle_points(c, &c->obstacles[k], at);
         settle(c, P, i, i + n, SPH_BOUNDARY, 0.0, NULL);
+        i += n;
+    }
+    if (has_walls(c)) { /* a wavemaker's paddle, the last wall particles (sph_wavemaker.h) */
+        double *const at[3] = {P->x + i, P->y + i, NULL};
+        const long n = sph_wavemaker_points(c, at);
+        settle(c, P, i, i + n, SPH_BOUNDARY, (c->wavemaker.layers + 0.5) * c->dx, NULL);
         i += n;
     }
     return 0;

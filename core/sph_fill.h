@@ -2,7 +2,7 @@
  * sph_fill: the particles of a case at its start, from its shapes. It asks each shape how many
  * particles it has and where (sph_shapes.h, sph_body_shape.h), and writes them into the particle
  * arrays: the fluid boxes' particles first, then the tank's wall particles and the obstacles'
- * (dynamic walls), each
+ * (dynamic walls), then a wavemaker's paddle (sph_wavemaker.h), each
  * with its hydrostatic density, the fluid with the initial field's velocity (sph_initial.h), the
  * walls at rest. The rigid bodies' particles come last: sph_bodies_fill() places them from the
  * bodies' state (boundary/sph_body.h), after these.

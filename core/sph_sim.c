@@ -334,6 +334,8 @@ int sph_sim_check(const sph_config *c, sph_error *err)
         return err ? err->code : SPH_ERR_INVALID;
     if (gauge_check(c, err))
         return SPH_ERR_INVALID;
+    if (sph_wavemaker_check(c, err))
+        return err ? err->code : SPH_ERR_INVALID;
     return ops->check(c, err);
 }
 
@@ -420,6 +422,15 @@ sph_sim *sph_sim_create(const sph_config *cfg_in, sph_error *err)
     }
     for (int k = 0; k < SPH_CONFIG_MAX_GEOMETRY; k++) /* the case's surfaces, not the sim's */
         s->cfg.geometry[k].mesh = NULL;
+    /* a wavemaker's paddle: the last wall particles, before the bodies' (a restored state's
+     * particles overwrite these, its paddle where the state left it) */
+    if (sph_paddle_init(&s->paddle, cfg, &s->P,
+                        nf + nb - nbody - sph_wavemaker_points(cfg, NULL))) {
+        sph_sim_destroy(s);
+        sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the paddle");
+        return NULL;
+    }
+    sph_paddle_move(&s->paddle, &s->P, nf + nb, 0.0);
     sph_bodies_fill(&s->bodies, cfg, &s->P);
     s->vmax = sph_bodies_vmax(&s->bodies); /* the first step respects the bodies' speed */
     if (s->ops->init(s, err)) {
@@ -538,6 +549,13 @@ const sph_diag *sph_sim_diag(const sph_sim *s)
 {
     return &s->diag;
 }
+int sph_sim_wave_design(const sph_config *c, sph_wave_design *w)
+{
+    if (c->wavemaker.type == SPH_WAVEMAKER_NONE)
+        return -1;
+    return sph_wave_design_of(c, w);
+}
+
 double sph_sim_time(const sph_sim *s)
 {
     return s->t;
@@ -623,6 +641,7 @@ void sph_sim_destroy(sph_sim *s)
     sph_particles_free(&s->P);
     sph_cells_free(&s->cells);
     sph_bodies_free(&s->bodies);
+    sph_paddle_free(&s->paddle);
     free(s->bin_count);
     free(s->bin_max);
     free(s->mirror);

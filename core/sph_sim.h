@@ -140,6 +140,10 @@ int sph_sim_step(sph_sim *s, long nsteps, sph_error *err);
 
 const sph_diag *sph_sim_diag(const sph_sim *s);
 double sph_sim_time(const sph_sim *s);
+
+/* What first-order wavemaker theory gives for c's wavemaker (boundary/sph_wavemaker.h): 0, or -1
+ * without a wavemaker or when its depth or gravity leaves no waves. */
+int sph_sim_wave_design(const sph_config *c, sph_wave_design *w);
 /* 1 if the method solves a pressure equation every step (MPS): sph_diag's cg_iterations,
  * cg_residual and free_surface are its figures. */
 int sph_sim_solves_pressure(const sph_sim *s);

@@ -16,6 +16,7 @@
 #include "sph_particles.h"
 #include "sph_sim.h"
 #include "sph_wall_ghost.h"
+#include "sph_wavemaker.h"
 
 /* The particle storage options of a configuration (sph_particles_alloc). */
 static inline unsigned sph_sim_particle_opts(const sph_config *c)
@@ -38,27 +39,28 @@ struct sph_sim {
     long nfluid;               /* fluid particles created [-] */
     long nboundary;            /* boundary particles [-] */
     sph_bodies bodies;         /* rigid bodies (their particles follow the walls') */
-    sph_wall_ghost ghost;      /* the free-slip walls, with boundary == SPH_BOUNDARY_GHOST */
-    double *mirror;            /* mDBC's ghost nodes of the wall particles of a case with geometry
-                                  walls (sph_fill_has_mirrors): dim coordinates per wall particle,
-                                  by its id - mirror_first, so that no sort moves them; NULL: the
-                                  built-in boxes' rule (sph_shapes_wall_mirror) [m] */
-    long mirror_first;         /* the first wall particle's id [-] */
-    long nmirror;              /* wall particles in the table [-] */
-    long nghost;               /* ghosts of the latest force evaluation [-] */
-    long max_lost;             /* more lost fluid particles than this is a blow-up [-] */
-    double t;                  /* time [s] */
-    long step;                 /* steps done [-] */
-    double dt;                 /* latest time step [s] */
-    double amax;               /* largest fluid acceleration of the latest evaluation [m/s^2] */
-    double vmax;               /* largest fluid or body speed at the end of the latest step [m/s] */
-    int failed;                /* 1 after a blow-up */
-    sph_diag diag;             /* latest diagnostics */
-    sph_timing timing;         /* cumulative timers */
-    long nbins;                /* histogram bins of the front and height probes [-] */
-    int *bin_count;            /* particles per bin [-] */
-    double *bin_max;           /* largest coordinate in each bin [m] */
-    int has_theory;            /* 1 when the initial field has a theory to compare with */
+    sph_paddle paddle;    /* a wavemaker's paddle (np 0 without one): the last wall particles */
+    sph_wall_ghost ghost; /* the free-slip walls, with boundary == SPH_BOUNDARY_GHOST */
+    double *mirror;       /* mDBC's ghost nodes of the wall particles of a case with geometry
+                             walls (sph_fill_has_mirrors): dim coordinates per wall particle,
+                             by its id - mirror_first, so that no sort moves them; NULL: the
+                             built-in boxes' rule (sph_shapes_wall_mirror) [m] */
+    long mirror_first;    /* the first wall particle's id [-] */
+    long nmirror;         /* wall particles in the table [-] */
+    long nghost;          /* ghosts of the latest force evaluation [-] */
+    long max_lost;        /* more lost fluid particles than this is a blow-up [-] */
+    double t;             /* time [s] */
+    long step;            /* steps done [-] */
+    double dt;            /* latest time step [s] */
+    double amax;          /* largest fluid acceleration of the latest evaluation [m/s^2] */
+    double vmax;          /* largest fluid or body speed at the end of the latest step [m/s] */
+    int failed;           /* 1 after a blow-up */
+    sph_diag diag;        /* latest diagnostics */
+    sph_timing timing;    /* cumulative timers */
+    long nbins;           /* histogram bins of the front and height probes [-] */
+    int *bin_count;       /* particles per bin [-] */
+    double *bin_max;      /* largest coordinate in each bin [m] */
+    int has_theory;       /* 1 when the initial field has a theory to compare with */
     sph_initial_theory theory; /* what it says (period, decay rate, initial energy) */
     sph_envelope wave;         /* the kinetic-energy peaks, sampled every step */
 };

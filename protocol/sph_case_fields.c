@@ -60,6 +60,12 @@ static const char *const probe_names[] = {"front_x", "height_left", "ekin",  "ep
 /* ekin, epot and vmax are always in diag: accepted, no bit */
 static const int probe_bits[] = {SPH_PROBE_FRONT_X,     SPH_PROBE_HEIGHT_LEFT, 0, 0, 0,
                                  SPH_PROBE_PENETRATION, SPH_PROBE_RUNUP};
+static const char *const wavemaker_names[] = {"piston", "flap", NULL};
+static const int wavemaker_values[] = {SPH_WAVEMAKER_PISTON, SPH_WAVEMAKER_FLAP};
+static const char *const waves_names[] = {"regular", NULL};
+static const int waves_values[] = {SPH_WAVES_REGULAR};
+static const char *const absorption_names[] = {"damping", NULL};
+static const int absorption_values[] = {1};
 static const char *const shape_names[] = {"circle", "box", "polygon", NULL};
 static const int shape_values[] = {SPH_SHAPE_CIRCLE, SPH_SHAPE_BOX, SPH_SHAPE_POLYGON};
 static const char *const body_pressure_names[] = {"fluid", "continuity", NULL};
@@ -640,6 +646,54 @@ const sph_case_field sph_case_fields[] = {
      .doc = "where its particles' pressure comes from: fluid: the fluid around each, with the "
             "body's acceleration (Adami et al. 2012); continuity: their own density, as dynamic "
             "walls"},
+    {.path = "/wavemaker", .type = SPH_CF_OBJECT, .methods = SPH_CF_WCSPH,
+     .doc = "a paddle of wall particles that makes waves (section 1.8; 2D, dynamic walls with "
+            "continuity density, the built-in tank, the CPU); absent: none"},
+    {.path = "/wavemaker/type", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .names = wavemaker_names, .values = wavemaker_values,
+     CFG(wavemaker.type),
+     .doc = "piston (moved rigidly in x); flap (turned about a hinge: not in this version)"},
+    {.path = "/wavemaker/x", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .lo = -1e6, .hi = 1e6, CFG(wavemaker.x),
+     .doc = "the paddle's wet face at rest [m]: its particles behind it (towards -x), the fluid "
+            "boxes in front of it (from x on)"},
+    {.path = "/wavemaker/layers", .type = SPH_CF_INTEGER, .methods = SPH_CF_WCSPH, .lo = 1,
+     .hi = 8, .has_def = 1, .def = 3, CFG(wavemaker.layers),
+     .doc = "columns of wall particles behind the face, the tank's height"},
+    {.path = "/wavemaker/ramp", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH, .lo = 0.0,
+     .hi = 1e3, .has_def = 1, .def = SPH_WAVEMAKER_RAMP_DEFAULT, CFG(wavemaker.ramp),
+     .doc = "periods over which the stroke rises smoothly ((1 - cos(pi t / Tr)) / 2) to its "
+            "full value; 0: none"},
+    {.path = "/wavemaker/waves", .type = SPH_CF_OBJECT, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .doc = "the waves to make"},
+    {.path = "/wavemaker/waves/type", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .names = waves_names, .values = waves_values,
+     CFG(wavemaker.waves),
+     .doc = "regular: first-order wavemaker theory, the stroke S from H/S = 2 (cosh 2kd - 1) / "
+            "(sinh 2kd + 2kd), k from omega^2 = g k tanh(kd), d the fluid's top above the "
+            "tank's bottom"},
+    {.path = "/wavemaker/waves/height", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .lo = 0.0, .lo_open = 1, .hi = 1e3, CFG(wavemaker.height),
+     .doc = "the wave height H [m], below the breaking limit H/L = 0.142 tanh(kd)"},
+    {.path = "/wavemaker/waves/period", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .lo = 0.0, .lo_open = 1, .hi = 1e3, CFG(wavemaker.period),
+     .doc = "the wave period T [s]"},
+    {.path = "/absorption", .type = SPH_CF_OBJECT, .methods = SPH_CF_WCSPH,
+     .doc = "a passive damping zone (section 1.8; the CPU); absent: none"},
+    {.path = "/absorption/type", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .names = absorption_names, .values = absorption_values,
+     CFG(absorption.type),
+     .doc = "damping: after each step the fluid's velocity times 1 - dt beta f(x), f rising "
+            "from 0 at 'from' to 1 at 'to' quadratically (Altomare et al. 2017)"},
+    {.path = "/absorption/from", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .lo = -1e6, .hi = 1e6, CFG(absorption.from),
+     .doc = "where the zone starts (weight 0) [m], inside the domain, clear of the paddle"},
+    {.path = "/absorption/to", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .lo = -1e6, .hi = 1e6, CFG(absorption.to),
+     .doc = "where the weight reaches 1 [m] (beyond it, 1), inside the domain"},
+    {.path = "/absorption/beta", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH, .lo = 0.0,
+     .hi = 1e4, .has_def = 1, .def = SPH_DAMPING_BETA_DEFAULT, CFG(absorption.beta),
+     .doc = "the relaxation rate where the weight is 1 [1/s]"},
     {.path = "/physics", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
      .required = SPH_CF_SIMS, .doc = "the fluid and its models"},
     {.path = "/physics/rho0", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS, .lo = 1e-3,

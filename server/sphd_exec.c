@@ -6,6 +6,7 @@
 #include "sphd.h"
 #include "sphd_ckpt.h"
 #include "sphd_outputs.h"
+#include "sphd_waves.h"
 #include "sph_triggers.h"
 
 #include <limits.h>
@@ -31,6 +32,10 @@ struct sphd_exec {
                                  first: [{"step", "t", "set"}, ...]; saved with the checkpoint */
     unsigned fired;           /* the triggers that have fired (bit k: trigger k); saved */
     char halt[SPH_TRIGGER_WHEN_MAX + 96]; /* why the latest advance paused or stopped */
+    /* a wave flume's gauge series since this run started (sphd_waves.h): wn rows of the time
+     * and the gauges' heights [s], [m] */
+    double *wt, *wg;
+    long wn, wcap;
 };
 
 const char *sphd_exec_halt_reason(const sphd_exec *x)
@@ -195,6 +200,31 @@ static void result_physics(json_t *res, const sph_sim *s)
                                       "decay_rate_theory", num(w.decay_rate_theory)));
 }
 
+/* A wave flume's gauges into the series of its wave analysis (dropped when out of memory: the
+ * analysis then covers less). */
+static void keep_gauges(sphd_exec *x, const sph_diag *d)
+{
+    const sph_config *c = &x->c.sim;
+    const int ng = c->ngauges;
+    if (c->wavemaker.type == SPH_WAVEMAKER_NONE || ng == 0 || d->ngauges < ng)
+        return;
+    if (x->wn == x->wcap) {
+        const long cap = x->wcap ? 2 * x->wcap : 1024;
+        double *t = realloc(x->wt, (size_t)cap * sizeof *t);
+        if (t)
+            x->wt = t;
+        double *g = t ? realloc(x->wg, (size_t)cap * (size_t)ng * sizeof *g) : NULL;
+        if (!g)
+            return;
+        x->wg = g;
+        x->wcap = cap;
+    }
+    x->wt[x->wn] = d->t;
+    for (int k = 0; k < ng; k++)
+        x->wg[x->wn * ng + k] = d->gauge[k];
+    x->wn++;
+}
+
 static int emit_diag(sphd_exec *x, sphd_emit_fn emit, void *ud, sph_error *err)
 {
     const sph_diag *d = sph_sim_diag(x->sim);
@@ -202,6 +232,7 @@ static int emit_diag(sphd_exec *x, sphd_emit_fn emit, void *ud, sph_error *err)
     x->diag = diag_json(d, &x->c.sim, sph_sim_solves_pressure(x->sim));
     x->last_diag = d->step;
     emit(ud, "diag", json_deep_copy(x->diag));
+    keep_gauges(x, d);
     return x->out ? sphd_outputs_diag(x->out, d, err) : 0;
 }
 
@@ -344,6 +375,9 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
     if (res && d->nbody > 0) /* the bodies' particles, when there are bodies */
         json_object_set_new(json_object_get(res, "particles"), "body", json_integer(d->nbody));
     result_physics(res, x->sim);
+    json_t *waves = res ? sphd_waves_json(&x->c.sim, x->wt, x->wg, x->wn) : NULL;
+    if (waves)
+        json_object_set_new(res, "waves", waves);
     if (res && x->steering)
         json_object_set(res, "steering", x->steering);
     emit(ud, "result", res);
@@ -664,6 +698,8 @@ void sphd_exec_free(sphd_exec *x)
     sph_sim_destroy(x->sim);
     json_decref(x->diag);
     json_decref(x->steering);
+    free(x->wt);
+    free(x->wg);
     free(x->outdir);
     free(x);
 }

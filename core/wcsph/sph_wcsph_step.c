@@ -18,6 +18,9 @@
  * too many particles lost, a collapsing time step are blow-ups reported with the step.
  * With ghost walls, a particle the predictor takes across a wall is reflected back into the
  * tank (sph_wall_ghost_reflect).
+ * A wavemaker's paddle is placed at the step's end time after the predictor (its law is a
+ * function of time: sph_wavemaker.h); a damping zone relaxes the fluid's velocity after the
+ * corrector.
  */
 #include "sph_wcsph.h"
 #include "sph_wcsph_particle.h"
@@ -210,6 +213,7 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
                         : (c->dim == 3 ? predict30 : predict20)(&k, dt, n0);
     if (bad)
         return sph_wcsph_predict_failed(s, step, dt, bad, err);
+    sph_paddle_move(&s->paddle, P, n0, s->t + dt); /* a wavemaker's paddle at the step's end */
     if (s->bodies.n > 0) {
         const double tb = omp_get_wtime();
         const int out = sph_bodies_predict(&s->bodies, dt, &c->domain);
@@ -247,6 +251,7 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
         s->vmax = fmax(s->vmax, sph_bodies_vmax(&s->bodies));
         s->timing.bodies += omp_get_wtime() - tb;
     }
+    sph_damping_apply(c, P, n, dt); /* a damping zone (Altomare et al. 2017) */
     s->t += dt;
     s->step = step;
     s->timing.integration += omp_get_wtime() - t1;

@@ -1,0 +1,250 @@
+/*
+ * sph_wavemaker: a wave flume's paddle and damping zone (sph_wavemaker.h).
+ *
+ * Layer 4 of the set-up pipeline beside the fill (it makes the paddle's particles) and a step
+ * helper of the methods. May call: sph_wave_law.h, sph_lattice.h, libm.
+ */
+#include "sph_wavemaker.h"
+
+#include "sph_lattice.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#define PI 3.14159265358979323846
+
+int sph_wave_design_of(const sph_config *c, sph_wave_design *w)
+{
+    double top = -INFINITY;
+    for (int b = 0; b < c->nfluid; b++)
+        top = fmax(top, c->fluid[b].max[1]);
+    const double g = -c->gravity[1];
+    w->depth = top - c->tank.min[1];
+    w->omega = 2.0 * PI / c->wavemaker.period;
+    if (!(w->depth > 0.0) || !(g > 0.0) || !isfinite(w->depth) || !(w->omega > 0.0))
+        return -1;
+    w->k = sph_wave_number(w->omega, g, w->depth);
+    w->length = 2.0 * PI / w->k;
+    const double kd = w->k * w->depth;
+    w->stroke = c->wavemaker.height / sph_piston_transfer(kd);
+    w->cg = 0.5 * w->omega / w->k * (1.0 + 2.0 * kd / sinh(2.0 * kd));
+    return 0;
+}
+
+static int absorption_check(const sph_config *c, double lo, double hi, sph_error *err)
+{
+    const sph_absorption_spec *a = &c->absorption;
+    if (a->type == 0)
+        return 0;
+    if (a->type != 1)
+        return sph_error_set(err, SPH_ERR_INVALID, "/absorption/type",
+                             "unknown absorption: \"damping\"");
+    if (c->method != SPH_METHOD_WCSPH)
+        return sph_error_set(err, SPH_ERR_INVALID, "/absorption",
+                             "a damping zone needs the wcsph method in this version");
+    if (c->device != SPH_DEVICE_CPU)
+        return sph_error_set(err, SPH_ERR_INVALID, "/absorption",
+                             "a damping zone runs on the CPU in this version (device: gpu)");
+    if (!(a->beta >= 0.0) || !isfinite(a->beta))
+        return sph_error_set(err, SPH_ERR_INVALID, "/absorption/beta",
+                             "beta must be a number >= 0 [1/s]");
+    const double *dom = NULL;
+    const char *path = NULL;
+    if (!(a->from >= c->domain.min[0] && a->from <= c->domain.max[0]))
+        dom = &a->from, path = "/absorption/from";
+    else if (!(a->to >= c->domain.min[0] && a->to <= c->domain.max[0]))
+        dom = &a->to, path = "/absorption/to";
+    if (dom)
+        return sph_error_set(err, SPH_ERR_INVALID, path,
+                             "the damping zone's end %g m is outside the domain ([%g, %g] m)", *dom,
+                             c->domain.min[0], c->domain.max[0]);
+    if (!(a->to != a->from))
+        return sph_error_set(err, SPH_ERR_INVALID, "/absorption/to",
+                             "the damping zone needs 'to' different from 'from'");
+    const double zlo = fmin(a->from, a->to), zhi = fmax(a->from, a->to);
+    if (lo < hi && zlo < hi && zhi > lo)
+        return sph_error_set(err, SPH_ERR_INVALID, "/absorption/from",
+                             "the damping zone [%g, %g] m overlaps the paddle's travel [%g, %g] "
+                             "m: put it at the flume's far end",
+                             zlo, zhi, lo, hi);
+    return 0;
+}
+
+int sph_wavemaker_check(const sph_config *c, sph_error *err)
+{
+    const sph_wavemaker_spec *w = &c->wavemaker;
+    if (w->type == SPH_WAVEMAKER_NONE)
+        return absorption_check(c, 0.0, 0.0, err);
+    if ((unsigned)w->type >= SPH_WAVEMAKER_COUNT || (unsigned)w->waves >= SPH_WAVES_COUNT)
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/type",
+                             "unknown wavemaker or waves type");
+    if (w->type == SPH_WAVEMAKER_FLAP)
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/type",
+                             "the flap wavemaker is not available in this version: use "
+                             "\"piston\"");
+    if (c->method != SPH_METHOD_WCSPH)
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker",
+                             "a wavemaker needs the wcsph method in this version");
+    if (c->dim != 2)
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker",
+                             "a wavemaker runs in 2D only in this version (dim = 2)");
+    if (c->device != SPH_DEVICE_CPU)
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker",
+                             "the paddle runs on the CPU only in this version (device: gpu): "
+                             "use \"device\": \"cpu\"");
+    if (c->boundary != SPH_BOUNDARY_DYNAMIC || !c->has_tank)
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker",
+                             "a paddle is made of dynamic wall particles: it needs a tank with "
+                             "\"type\": \"dynamic\" walls");
+    if (c->ngeometry > 0)
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker",
+                             "a wavemaker stands in the built-in tank (boundary.tank and fluid "
+                             "boxes), not with a geometry list, in this version");
+    if (c->wall_density != SPH_WALL_CONTINUITY)
+        return sph_error_set(err, SPH_ERR_INVALID, "/boundary/density",
+                             "mDBC walls do not move in this version: a wavemaker needs "
+                             "\"continuity\" walls");
+    if (!(w->layers >= 1 && w->layers <= 8))
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/layers",
+                             "layers must be from 1 to 8");
+    if (!(w->height > 0.0) || !isfinite(w->height))
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/height",
+                             "the wave height must be positive");
+    if (!(w->period > 0.0) || !isfinite(w->period))
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/period",
+                             "the wave period must be positive");
+    if (!(w->ramp >= 0.0) || !isfinite(w->ramp))
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/ramp",
+                             "the ramp must be 0 or more periods");
+    if (!(w->x > c->tank.min[0] && w->x < c->tank.max[0]))
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/x",
+                             "the paddle's face (x = %g m) must be inside the tank ((%g, %g) m)",
+                             w->x, c->tank.min[0], c->tank.max[0]);
+    double far = -INFINITY;
+    for (int b = 0; b < c->nfluid; b++) {
+        if (c->fluid[b].min[0] < w->x - 1e-9 * c->dx) {
+            char path[64];
+            snprintf(path, sizeof path, "/fluid/%d/box/min", b);
+            return sph_error_set(err, SPH_ERR_INVALID, path,
+                                 "the fluid must lie in front of the paddle: its box starts at "
+                                 "x = %g m, behind the paddle's face at %g m",
+                                 c->fluid[b].min[0], w->x);
+        }
+        far = fmax(far, c->fluid[b].max[0]);
+    }
+    sph_wave_design d;
+    if (c->nfluid < 1 || sph_wave_design_of(c, &d))
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker",
+                             "a wavemaker needs fluid above the tank's bottom and gravity "
+                             "along -y");
+    const double steep = w->height / d.length, limit = SPH_WAVE_BREAKING * tanh(d.k * d.depth);
+    if (steep > limit)
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/height",
+                             "the wave would break: H/L = %.4g (L = %.4g m at d = %.4g m) "
+                             "exceeds the breaking limit 0.142 tanh(kd) = %.4g: lower the "
+                             "height or lengthen the period",
+                             steep, d.length, d.depth, limit);
+    const double back = w->x - w->layers * c->dx - 0.5 * d.stroke;
+    if (back < c->tank.min[0] || back < c->domain.min[0])
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/x",
+                             "the paddle's stroke (S = %.4g m) takes its back to x = %.4g m, "
+                             "beyond the tank's wall at %g m: move the paddle's face at least "
+                             "%.4g m from the wall",
+                             d.stroke, back, fmax(c->tank.min[0], c->domain.min[0]),
+                             w->layers * c->dx + 0.5 * d.stroke);
+    if (w->x + 0.5 * d.stroke >= far)
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/height",
+                             "the paddle's stroke (S = %.4g m) takes its face to x = %.4g m, "
+                             "past the fluid's far end at %g m",
+                             d.stroke, w->x + 0.5 * d.stroke, far);
+    return absorption_check(c, back, w->x + 0.5 * d.stroke, err);
+}
+
+long sph_wavemaker_points(const sph_config *c, double *const *pos)
+{
+    if (c->wavemaker.type == SPH_WAVEMAKER_NONE || c->dim != 2 || !c->has_tank)
+        return 0;
+    const double dx = c->dx;
+    const long L = c->wavemaker.layers;
+    const long ny = sph_lattice_axis_count(c->tank.min[1], c->tank.max[1], dx);
+    if (!pos)
+        return L * ny;
+    long i = 0;
+    for (long k = 0; k < L; k++)
+        for (long iy = 0; iy < ny; iy++, i++) {
+            pos[0][i] = c->wavemaker.x - (k + 0.5) * dx;
+            pos[1][i] = c->tank.min[1] + (iy + 0.5) * dx;
+        }
+    return i;
+}
+
+int sph_paddle_init(sph_paddle *p, const sph_config *c, const sph_particles *P, long first)
+{
+    p->first = first;
+    p->np = sph_wavemaker_points(c, NULL);
+    p->rest = NULL;
+    p->law = (sph_piston_law){0.0, 0.0, 0.0};
+    if (p->np == 0)
+        return 0;
+    p->rest = malloc((size_t)p->np * 2 * sizeof *p->rest);
+    if (!p->rest)
+        return -1;
+    for (long q = 0; q < p->np; q++) {
+        p->rest[2 * q] = P->x[first + q];
+        p->rest[2 * q + 1] = P->y[first + q];
+    }
+    sph_wave_design d;
+    if (sph_wave_design_of(c, &d) == 0) /* checked: always */
+        p->law = (sph_piston_law){
+            .stroke = d.stroke, .omega = d.omega, .tramp = c->wavemaker.ramp * c->wavemaker.period};
+    return 0;
+}
+
+void sph_paddle_free(sph_paddle *p)
+{
+    free(p->rest);
+    p->rest = NULL;
+    p->np = 0;
+}
+
+void sph_paddle_move(const sph_paddle *p, sph_particles *P, long n, double t)
+{
+    if (p->np == 0)
+        return;
+    double v;
+    const double X = sph_piston_motion(&p->law, t, &v);
+    const long first = p->first, np = p->np;
+    const int M = P->mixed;
+#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++) {
+        const long q = P->id[i] - first;
+        if (q < 0 || q >= np || P->type[i] != SPH_BOUNDARY)
+            continue;
+        P->x[i] = p->rest[2 * q] + X;
+        P->y[i] = p->rest[2 * q + 1];
+        SPH_SET(M, P, vx, i, v);
+        SPH_SET(M, P, vy, i, 0.0);
+    }
+}
+
+void sph_damping_apply(const sph_config *c, sph_particles *P, long n, double dt)
+{
+    const sph_absorption_spec *a = &c->absorption;
+    if (a->type == 0)
+        return;
+    const int M = P->mixed, dim = P->dim;
+    const double beta = a->beta, from = a->from, to = a->to;
+#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++) {
+        if (P->type[i] != SPH_FLUID)
+            continue;
+        const double f = sph_damping_factor(P->x[i], dt, beta, from, to);
+        if (f == 1.0)
+            continue;
+        SPH_SET(M, P, vx, i, f * SPH_GET(M, P, vx, i));
+        SPH_SET(M, P, vy, i, f * SPH_GET(M, P, vy, i));
+        if (dim == 3)
+            SPH_SET(M, P, vz, i, f * SPH_GET(M, P, vz, i));
+    }
+}

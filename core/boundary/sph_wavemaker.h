@@ -1,0 +1,57 @@
+/*
+ * sph_wavemaker: a wave flume's paddle and damping zone (sph_config.h: sph_wavemaker_spec,
+ * sph_absorption_spec); the physics is sph_wave_law.h's, written once for host and device.
+ *
+ * The paddle is a block of dynamic wall particles: `layers` columns behind its wet face at x
+ * (the face towards +x, the particles dx/2, 3dx/2, ... behind it, as the tank's walls sit
+ * outside their faces), the tank's height in rows from its bottom. They are the last wall
+ * particles of the fill (after the tank's and the obstacles'), with ids [first, first + np); the
+ * table of their rest positions is indexed by id - first, so nothing follows them through the
+ * cell sort. Each step places them rigidly at rest + X(t) with the velocity dX/dt (a piston).
+ * The paddle's motion is a function of time alone: nothing of it lives across steps but the
+ * configuration (a restart rebuilds the table from the fill).
+ *
+ * The fluid must lie in front of the paddle (every fluid box from x on); the still water depth
+ * d is the fluid boxes' top above the tank's bottom.
+ */
+#ifndef SPH_WAVEMAKER_H
+#define SPH_WAVEMAKER_H
+
+#include "sph_config.h"
+#include "sph_error.h"
+#include "sph_particles.h"
+#include "sph_wave_law.h"
+
+typedef struct sph_paddle {
+    long first, np;     /* the paddle's particles: ids [first, first + np) */
+    double *rest;       /* 2 per particle: its position at rest [m], by id - first */
+    sph_piston_law law; /* its motion */
+} sph_paddle;
+
+/* The design of c's wavemaker (sph_config.h; type not none): 0, or -1 when the depth or gravity
+ * leaves no waves. */
+int sph_wave_design_of(const sph_config *c, sph_wave_design *w);
+
+/* Checks c's wavemaker and damping zone (after the shared checks: dx, domain, tank), err->path
+ * at the field: a flap (not in this version), a method, dimension, device or wall treatment that
+ * cannot move a paddle, fluid behind the paddle's face, a wave steeper than the breaking limit,
+ * a stroke the tank cannot hold, a damping zone outside the domain or over the paddle's travel. */
+int sph_wavemaker_check(const sph_config *c, sph_error *err);
+
+/* The paddle's particles of c (0 without a wavemaker); with pos, their positions into pos[0],
+ * pos[1]. */
+long sph_wavemaker_points(const sph_config *c, double *const *pos);
+
+/* Builds c's paddle over P's particles [first, first + np) as the fill left them (ids their
+ * indices): 0, or -1 out of memory. A no-op (np 0) without a wavemaker. */
+int sph_paddle_init(sph_paddle *p, const sph_config *c, const sph_particles *P, long first);
+void sph_paddle_free(sph_paddle *p);
+
+/* Places the paddle's particles among P's first n at time t: rest + X(t), velocity dX/dt. */
+void sph_paddle_move(const sph_paddle *p, sph_particles *P, long n, double t);
+
+/* The damping zone of c after a step of dt: every fluid particle's velocity among P's first n
+ * times sph_damping_factor. A no-op without one. */
+void sph_damping_apply(const sph_config *c, sph_particles *P, long n, double dt);
+
+#endif

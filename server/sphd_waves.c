@@ -1,0 +1,93 @@
+/*
+ * sphd_waves: wave analysis of a flume's height gauges (sphd_waves.h).
+ */
+#include "sphd_waves.h"
+
+#include "sph_sim.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+int sphd_waves_zero_up(const double *t, const double *eta, long n, double t0, double *height,
+                       double *period)
+{
+    *height = NAN;
+    *period = NAN;
+    double mean = 0.0;
+    long m = 0;
+    for (long i = 0; i < n; i++)
+        if (t[i] >= t0) {
+            mean += eta[i];
+            m++;
+        }
+    if (m < 3)
+        return 0;
+    mean /= (double)m;
+    int count = 0;
+    double hsum = 0.0, first = NAN, last = NAN, lo = INFINITY, hi = -INFINITY;
+    for (long i = 1; i < n; i++) {
+        if (t[i - 1] < t0)
+            continue;
+        const double a = eta[i - 1] - mean, b = eta[i] - mean;
+        if (isfinite(first)) {
+            lo = fmin(lo, eta[i - 1]);
+            hi = fmax(hi, eta[i - 1]);
+        }
+        if (a < 0.0 && b >= 0.0) {
+            const double tc = t[i - 1] + (t[i] - t[i - 1]) * (-a) / (b - a);
+            if (isfinite(first)) {
+                hsum += hi - lo;
+                count++;
+                last = tc;
+            } else {
+                first = tc;
+            }
+            lo = INFINITY;
+            hi = -INFINITY;
+        }
+    }
+    if (count == 0)
+        return 0;
+    *height = hsum / count;
+    *period = (last - first) / count;
+    return count;
+}
+
+double sphd_waves_window(const sph_config *c, int k)
+{
+    sph_wave_design w;
+    if (sph_sim_wave_design(c, &w) || k < 0 || k >= c->ngauges)
+        return NAN;
+    return c->wavemaker.ramp * c->wavemaker.period + fabs(c->gauges[k].x - c->wavemaker.x) / w.cg;
+}
+
+static json_t *num(double v)
+{
+    return isfinite(v) ? json_real(v) : json_null();
+}
+
+json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, long n)
+{
+    if (c->wavemaker.type == SPH_WAVEMAKER_NONE || c->ngauges == 0 || n < 1)
+        return NULL;
+    const int ng = c->ngauges;
+    double *eta = malloc((size_t)n * sizeof *eta);
+    json_t *out = json_object();
+    if (!eta || !out) {
+        free(eta);
+        json_decref(out);
+        return NULL;
+    }
+    for (int k = 0; k < ng; k++) {
+        for (long i = 0; i < n; i++)
+            eta[i] = g[i * ng + k];
+        const double t0 = sphd_waves_window(c, k);
+        double H, T;
+        const int count = sphd_waves_zero_up(t, eta, n, t0, &H, &T);
+        json_object_set_new(out, c->gauges[k].name,
+                            json_pack("{s:o, s:o, s:i, s:o}", "height", num(H), "period", num(T),
+                                      "count", count, "from", num(t0)));
+    }
+    free(eta);
+    return out;
+}

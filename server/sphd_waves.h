@@ -1,0 +1,28 @@
+/*
+ * sphd_waves: wave analysis of a flume's height gauges (PROTOCOL.md section 1.8): the
+ * zero-up-crossing wave height and period of each gauge's series over the window after the
+ * wavemaker's ramp, in the result event and result.json as "waves".
+ */
+#ifndef SPHD_WAVES_H
+#define SPHD_WAVES_H
+
+#include "sph_config.h"
+
+#include <jansson.h>
+
+/* Zero-up-crossing analysis of eta(t) (n samples, t increasing) over t >= t0: the level is the
+ * window's mean; each wave runs from one up-crossing (linearly interpolated) to the next, its
+ * height the series' range between them. Writes the mean height [m] and period [s] of the
+ * waves and returns their count (0: none, height and period NaN). */
+int sphd_waves_zero_up(const double *t, const double *eta, long n, double t0, double *height,
+                       double *period);
+
+/* The window of gauge k of c: it opens when the end of the ramp, moving at the group velocity,
+ * has reached the gauge: ramp T + |x_gauge - x_paddle| / cg [s]. NaN without a wavemaker. */
+double sphd_waves_window(const sph_config *c, int k);
+
+/* {"GAUGE": {"height", "period", "count", "from"}, ...} for c's gauges from the series t[n]
+ * and g[n][ngauges] (row-major), or NULL without a wavemaker or gauges (new reference). */
+json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, long n);
+
+#endif

@@ -1,0 +1,267 @@
+/*
+ * The wave flume (issue 45): the physics of boundary/sph_wave_law.h against values computed
+ * independently, the paddle and the damping zone in a sim, the bad inputs, and a restart that
+ * gives the same bits.
+ *
+ * - the piston's transfer function at kd = 1: 2 (cosh 2 - 1) / (sinh 2 + 2) = 0.98178930731303
+ *   (evaluated in Python's math module), and its limits: 2kd in shallow water (kd -> 0; the
+ *   series of both sides to first order), 2 in deep water;
+ * - the dispersion solver: kd tanh(kd) = omega^2 d / g to rounding over y from 1e-4 to 50, and
+ *   d = 0.4 m, T = 1.27 s -> kd = 1.19803592561098 (Python, bisection to 1e-15);
+ * - the ramp: 0 at t = 0, 1/2 half way, 1 from its end on; its rate the derivative (a centred
+ *   difference, to 1e-7 relative);
+ * - the damping weight: 0 before `from`, 1/4 half way, 1 from `to` on, either way round; the
+ *   factor 1 - dt beta f, never negative;
+ * - a sim of cases/wave_flume.json at dx = 0.05: the paddle's particles at rest + X(t) with the
+ *   velocity dX/dt after some steps (to rounding: the same arithmetic); a fluid particle in the
+ *   damping zone's far end slowed by 1 - dt beta; a restart at step 60 continues to the same
+ *   bits as the run that went on;
+ * - bad inputs: each refused at its field's path.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "sph_case.h"
+#include "sph_json.h"
+#include "sph_sim.h"
+#include "sph_wave_law.h"
+#include "unit_case.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void transfer_function(void **state)
+{
+    (void)state;
+    assert_true(fabs(sph_piston_transfer(1.0) - 0.9817893073130344) < 1e-14);
+    for (double kd = 1e-3; kd < 2e-2; kd *= 2.0) /* shallow water: H/S -> kd (1 + O(kd^2)) */
+        assert_true(fabs(sph_piston_transfer(kd) / kd - 1.0) < kd);
+    assert_true(fabs(sph_piston_transfer(20.0) - 2.0) < 1e-12); /* deep water */
+}
+
+static void dispersion(void **state)
+{
+    (void)state;
+    for (double y = 1e-4; y < 50.0; y *= 1.7) {
+        const double x = sph_wave_kd(y);
+        assert_true(fabs(x * tanh(x) - y) <= 1e-13 * y);
+    }
+    const double g = 9.81, d = 0.4, w = 2.0 * 3.14159265358979323846 / 1.27;
+    assert_true(fabs(sph_wave_number(w, g, d) * d - 1.19803592561098) < 1e-12);
+    assert_true(sph_wave_kd(0.0) == 0.0);
+}
+
+static void ramp(void **state)
+{
+    (void)state;
+    const double tr = 2.5;
+    double r, rate;
+    assert_true(sph_wave_ramp(0.0, tr, &rate) == 0.0 && rate == 0.0);
+    assert_true(fabs(sph_wave_ramp(1.25, tr, &rate) - 0.5) < 1e-15);
+    assert_true(sph_wave_ramp(2.5, tr, &rate) == 1.0 && rate == 0.0);
+    assert_true(sph_wave_ramp(7.0, tr, &rate) == 1.0);
+    assert_true(sph_wave_ramp(0.3, 0.0, &rate) == 1.0); /* none */
+    for (double t = 0.1; t < tr; t += 0.3) {
+        double a, b;
+        r = sph_wave_ramp(t, tr, &rate);
+        const double h = 1e-5;
+        const double fd = (sph_wave_ramp(t + h, tr, &a) - sph_wave_ramp(t - h, tr, &b)) / (2 * h);
+        assert_true(r > 0.0 && r < 1.0);
+        assert_true(fabs(fd - rate) <= 1e-7 * fabs(rate) + 1e-9);
+    }
+    /* the piston's velocity is its displacement's derivative */
+    const sph_piston_law p = {.stroke = 0.04, .omega = 5.0, .tramp = 2.0};
+    for (double t = 0.05; t < 4.0; t += 0.37) {
+        double v, va, vb;
+        sph_piston_motion(&p, t, &v);
+        const double h = 1e-6;
+        const double fd =
+            (sph_piston_motion(&p, t + h, &va) - sph_piston_motion(&p, t - h, &vb)) / (2 * h);
+        assert_true(fabs(fd - v) < 1e-8);
+    }
+}
+
+static void damping_weight(void **state)
+{
+    (void)state;
+    assert_true(sph_damping_weight(1.0, 2.0, 4.0) == 0.0);
+    assert_true(fabs(sph_damping_weight(3.0, 2.0, 4.0) - 0.25) < 1e-15);
+    assert_true(sph_damping_weight(4.0, 2.0, 4.0) == 1.0);
+    assert_true(sph_damping_weight(9.0, 2.0, 4.0) == 1.0);
+    assert_true(fabs(sph_damping_weight(1.0, 2.0, 0.0) - 0.25) < 1e-15); /* towards -x */
+    assert_true(fabs(sph_damping_factor(9.0, 1e-3, 10.0, 2.0, 4.0) - 0.99) < 1e-15);
+    assert_true(sph_damping_factor(9.0, 1.0, 10.0, 2.0, 4.0) == 0.0);
+    assert_true(sph_damping_factor(1.0, 1.0, 10.0, 2.0, 4.0) == 1.0);
+}
+
+static const char *const small[] = {"dx=0.05", "time.end=1.0", NULL};
+
+/* The paddle's particles (boundary particles behind the face at x, within the stroke) at rest +
+ * X(t), moving at dX/dt. */
+static void paddle_moves(void **state)
+{
+    (void)state;
+    const sph_config cfg = load_case("wave_flume.json", small);
+    sph_error err;
+    sph_sim *s = sph_sim_create(&cfg, &err);
+    if (!s)
+        fail_msg("%s: %s", err.path, err.message);
+    sph_wave_design w;
+    assert_int_equal(sph_sim_wave_design(&cfg, &w), 0);
+    assert_true(fabs(w.k * w.depth - 1.19803592561098) < 1e-12);
+    assert_int_equal(sph_sim_advance(s, 400, INFINITY, &err), 0);
+    const sph_piston_law law = {
+        .stroke = w.stroke, .omega = w.omega, .tramp = cfg.wavemaker.ramp * cfg.wavemaker.period};
+    double v;
+    const double X = sph_piston_motion(&law, sph_sim_time(s), &v);
+    assert_true(fabs(X) > 1e-4); /* it has moved */
+    sph_particle_view pv;
+    sph_sim_particles(s, &pv);
+    long np = 0;
+    const double dx = cfg.dx, x0 = cfg.wavemaker.x;
+    for (long i = 0; i < pv.n; i++) {
+        if (pv.type[i] != 1 || pv.pos[1][i] < 0.0 || pv.pos[0][i] < cfg.tank.min[0] ||
+            pv.pos[0][i] > 1.0)
+            continue; /* the paddle: wall particles inside the tank, above its bottom */
+        const double rest = pv.pos[0][i] - X;
+        const double k = (x0 - rest) / dx - 0.5; /* its column behind the face */
+        assert_true(fabs(k - round(k)) < 1e-9 && k >= -1e-9 && k < cfg.wavemaker.layers);
+        assert_true(fabs(pv.vel[0][i] - v) < 1e-15 && pv.vel[1][i] == 0.0);
+        np++;
+    }
+    assert_int_equal(np, cfg.wavemaker.layers * 14); /* 0.7 m of tank at dx = 0.05 */
+    sph_sim_destroy(s);
+}
+
+static void compare(const sph_sim *a, const sph_sim *b)
+{
+    sph_particle_view va, vb;
+    sph_sim_particles(a, &va);
+    sph_sim_particles(b, &vb);
+    assert_int_equal(va.n, vb.n);
+    const size_t n = (size_t)va.n * sizeof(double);
+    for (int d = 0; d < va.dim; d++) {
+        assert_memory_equal(va.pos[d], vb.pos[d], n);
+        assert_memory_equal(va.vel[d], vb.vel[d], n);
+    }
+    assert_memory_equal(va.rho, vb.rho, n);
+    assert_memory_equal(va.id, vb.id, (size_t)va.n * sizeof(int));
+    assert_true(sph_sim_time(a) == sph_sim_time(b));
+}
+
+/* A restart in the ramp continues to the same bits (the paddle's law a function of time). */
+static void restart_same_bits(void **state)
+{
+    (void)state;
+    const sph_config cfg = load_case("wave_flume.json", small);
+    sph_error err;
+    sph_sim *a = sph_sim_create(&cfg, &err);
+    assert_non_null(a);
+    assert_int_equal(sph_sim_advance(a, 60, INFINITY, &err), 0);
+    void *buf;
+    size_t len;
+    assert_int_equal(sph_sim_save(a, &buf, &len, &err), 0);
+    sph_sim *b = sph_sim_restore(buf, len, &err);
+    if (!b)
+        fail_msg("%s: %s", err.path, err.message);
+    free(buf);
+    assert_int_equal(sph_sim_advance(a, 120, INFINITY, &err), 0);
+    assert_int_equal(sph_sim_advance(b, 120, INFINITY, &err), 0);
+    compare(a, b);
+    sph_sim_destroy(a);
+    sph_sim_destroy(b);
+}
+
+/* A fluid particle beyond the damping zone's end keeps 1 - dt beta of its velocity each step:
+ * with the zone over the whole flume and beta 1/dt, the fluid stops after one step. */
+static void damping_stops(void **state)
+{
+    (void)state;
+    static const char *const sets[] = {"dx=0.05",
+                                       "wavemaker.ramp=0",
+                                       "absorption.from=0.3",
+                                       "absorption.to=0.31",
+                                       "absorption.beta=1e4",
+                                       NULL};
+    const sph_config cfg = load_case("wave_flume.json", sets);
+    sph_error err;
+    sph_sim *s = sph_sim_create(&cfg, &err);
+    if (!s)
+        fail_msg("%s: %s", err.path, err.message);
+    assert_int_equal(sph_sim_advance(s, 3, INFINITY, &err), 0);
+    sph_particle_view pv;
+    sph_sim_particles(s, &pv);
+    long nz = 0;
+    for (long i = 0; i < pv.n; i++)
+        if (pv.type[i] == 0 && pv.pos[0][i] > 0.31) {
+            assert_true(pv.vel[0][i] == 0.0 && pv.vel[1][i] == 0.0);
+            nz++;
+        }
+    assert_true(nz > 1000);
+    sph_sim_destroy(s);
+}
+
+/* cases/wave_flume.json with sets: refused at path. */
+static void refused(const char *const *sets, const char *path)
+{
+    char p[4096];
+    const char *src = getenv("SPH_SOURCE_DIR");
+    snprintf(p, sizeof p, "%s/cases/wave_flume.json", src ? src : ".");
+    json_t *root;
+    sph_error err;
+    assert_int_equal(sph_case_load(p, &root, &err), 0);
+    for (; *sets; sets++)
+        assert_int_equal(sph_json_apply_set(root, *sets, &err), 0);
+    sph_case *c = calloc(1, sizeof *c);
+    int rc = sph_case_from_json(root, c, &err);
+    if (rc == 0)
+        rc = sph_sim_check(&c->sim, &err);
+    free(c);
+    json_decref(root);
+    if (rc == 0)
+        fail_msg("accepted; expected an error at %s", path);
+    if (strcmp(err.path, path) != 0)
+        fail_msg("error at %s (%s), expected at %s", err.path, err.message, path);
+}
+
+static void bad_inputs(void **state)
+{
+    (void)state;
+    /* steeper than 0.142 tanh(kd) (0.118 here): H/L = 0.3 / 2.1 */
+    refused((const char *const[]){"wavemaker.waves.height=0.3", NULL}, "/wavemaker/waves/height");
+    /* the stroke takes the paddle's back through the tank's wall */
+    refused((const char *const[]){"wavemaker.x=0.07", "fluid.0.box.min.0=0.07", NULL},
+            "/wavemaker/x");
+    /* fluid behind the paddle's face */
+    refused((const char *const[]){"fluid.0.box.min.0=0.1", NULL}, "/fluid/0/box/min");
+    /* the face would pass the fluid's far end (a long period's stroke in a short flume) */
+    refused((const char *const[]){"fluid.0.box.max.0=0.22", "absorption.from=0.5", NULL},
+            "/wavemaker/waves/height");
+    /* damping zone outside the domain, or over the paddle's travel */
+    refused((const char *const[]){"absorption.to=12", NULL}, "/absorption/to");
+    refused((const char *const[]){"absorption.from=0.15", NULL}, "/absorption/from");
+    /* a flap, the GPU, mDBC: not in this version */
+    refused((const char *const[]){"wavemaker.type=flap", NULL}, "/wavemaker/type");
+    refused((const char *const[]){"device=gpu", NULL}, "/wavemaker");
+    refused((const char *const[]){"boundary.density=mdbc", NULL}, "/boundary/density");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(transfer_function),
+        cmocka_unit_test(dispersion),
+        cmocka_unit_test(ramp),
+        cmocka_unit_test(damping_weight),
+        cmocka_unit_test(paddle_moves),
+        cmocka_unit_test(restart_same_bits),
+        cmocka_unit_test(damping_stops),
+        cmocka_unit_test(bad_inputs),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
