@@ -26,7 +26,9 @@ if [ "$main_only" -eq 0 ]; then
   pkgs+=(tcpdump)
   # the dashboard's browser test: Debian's chromium driven by Playwright (from the npm registry,
   # its version pinned in tests/web/package-lock.json)
-  pkgs+=(chromium nodejs npm)
+  pkgs+=(chromium)
+  command -v node >/dev/null 2>&1 || pkgs+=(nodejs) # (a machine's own Node.js, with its npm,
+  command -v npm >/dev/null 2>&1 || pkgs+=(npm)     # is used where there is one)
   # the Slurm executor's test runs a one-node Slurm cluster (scripts/slurm-local.sh)
   pkgs+=(slurm-wlm munge)
   # the clang build of test.sh builds with hypre's AMG (-DSPH_HYPRE=ON: mps.preconditioner "amg")
