@@ -36,6 +36,7 @@ sph_config sph_config_default(void)
     c.wavemaker.layers = 3;
     c.wavemaker.ramp = SPH_WAVEMAKER_RAMP_DEFAULT;
     c.absorption.beta = SPH_DAMPING_BETA_DEFAULT;
+    c.shifting.coefficient = SPH_SHIFT_COEFFICIENT_DEFAULT;
     /* at rest; the standing wave's parameters and the solitary wave's order (the third slot) at
      * the defaults the case table gives them */
     c.initial.type = SPH_INITIAL_REST;

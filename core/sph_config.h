@@ -218,6 +218,17 @@ typedef struct sph_absorption_spec {
     double beta;     /* relaxation rate [1/s] */
 } sph_absorption_spec;
 
+/* A case's "physics.shifting": particle shifting (Lind et al. 2012, J. Comput. Phys. 231) in
+ * DualSPHysics' form with its free-surface treatment (core/wcsph/sph_shifting.h). */
+typedef enum { SPH_SHIFT_NONE = 0, SPH_SHIFT_LIND, SPH_SHIFT_COUNT } sph_shift_type;
+#define SPH_SHIFT_COEFFICIENT_DEFAULT (-2.0) /* DualSPHysics' default A [-] */
+typedef struct sph_shifting_spec {
+    sph_shift_type type; /* none (default) or lind */
+    double coefficient;  /* A in dr = A h |v| dt grad C (negative: down the gradient) [-] */
+    double free_surface; /* the divergence of position below which a particle is at the free
+                            surface (no shift); 0: DualSPHysics' 1.5 in 2D, 2.75 in 3D [-] */
+} sph_shifting_spec;
+
 /* What first-order wavemaker theory gives for a case's wavemaker (sph_sim_wave_design). */
 typedef struct sph_wave_design {
     double depth;  /* still water depth d [m] */
@@ -286,15 +297,16 @@ typedef struct sph_config {
     sph_turb_type turb;        /* none or SPS (Yang et al. eqs. 7-9, 15) */
     double delta_sph;          /* delta-SPH density diffusion coefficient, 0 = off [-] */
     sph_delta_form delta_form; /* delta-SPH's form: Molteni & Colagrossi or Fourtakas et al. */
-    sph_initial_spec initial;  /* initial velocity field of the fluid (rest by default) */
-    double t_end;              /* end time [s] */
-    double cfl;                /* CFL number for the adaptive time step [-] */
-    double dt_fixed;           /* fixed time step, 0 = adaptive [s] */
-    long diag_every;           /* steps between diagnostics events [-] */
-    double diag_interval;      /* simulated time between diagnostics events, the steps landing on
-                                  its multiples; 0: every diag_every steps [s] */
-    unsigned probes;           /* SPH_PROBE_* mask */
-    int ngauges;               /* height gauges */
+    sph_shifting_spec shifting; /* particle shifting (WCSPH on the CPU), type none: off */
+    sph_initial_spec initial;   /* initial velocity field of the fluid (rest by default) */
+    double t_end;               /* end time [s] */
+    double cfl;                 /* CFL number for the adaptive time step [-] */
+    double dt_fixed;            /* fixed time step, 0 = adaptive [s] */
+    long diag_every;            /* steps between diagnostics events [-] */
+    double diag_interval;       /* simulated time between diagnostics events, the steps landing on
+                                   its multiples; 0: every diag_every steps [s] */
+    unsigned probes;            /* SPH_PROBE_* mask */
+    int ngauges;                /* height gauges */
     sph_gauge_spec gauges[SPH_CONFIG_MAX_GAUGES];
     int npressure; /* pressure probes */
     sph_pressure_spec pressure[SPH_CONFIG_MAX_GAUGES];

@@ -645,6 +645,7 @@ void sph_sim_destroy(sph_sim *s)
     free(s->bin_count);
     free(s->bin_max);
     free(s->mirror);
+    free(s->shift);
     free(s);
 }
 

@@ -41,6 +41,9 @@ struct sph_sim {
     sph_bodies bodies;         /* rigid bodies (their particles follow the walls') */
     sph_paddle paddle;    /* a wavemaker's paddle (np 0 without one): the last wall particles */
     sph_wall_ghost ghost; /* the free-slip walls, with boundary == SPH_BOUNDARY_GHOST */
+    double *shift;        /* particle shifting's displacements of the latest step, dim per
+                             particle (sph_wcsph.c; NULL without shifting) [m] */
+    long shift_cap;       /* particles shift can hold [-] */
     double *mirror;       /* mDBC's ghost nodes of the wall particles of a case with geometry
                              walls (sph_fill_has_mirrors): dim coordinates per wall particle,
                              by its id - mirror_first, so that no sort moves them; NULL: the

@@ -51,6 +51,8 @@ static const char *const initial_names[] = {"rest", "standing_wave", "solitary_w
                                             NULL}; /* sph_initial_type */
 static const char *const turb_names[] = {"none", "sps", NULL};
 static const int turb_values[] = {SPH_TURB_NONE, SPH_TURB_SPS};
+static const char *const shift_names[] = {"none", "lind", NULL};
+static const int shift_values[] = {SPH_SHIFT_NONE, SPH_SHIFT_LIND};
 static const char *const delta_form_names[] = {"molteni", "fourtakas", NULL};
 static const int delta_form_values[] = {SPH_DELTA_MOLTENI, SPH_DELTA_FOURTAKAS};
 static const char *const precision_names[] = {"double", "mixed", NULL};
@@ -736,6 +738,24 @@ const sph_case_field sph_case_fields[] = {
      .doc = "delta-SPH's form: molteni (Molteni & Colagrossi 2009: diffuses the hydrostatic "
             "density gradient too) or fourtakas (Fourtakas et al. 2019: the departure from the "
             "hydrostatic density, rho0 g / c0^2 taken off each pair's difference)"},
+    {.path = "/physics/shifting", .type = SPH_CF_OBJECT, .methods = SPH_CF_WCSPH,
+     .doc = "particle shifting (Lind et al. 2012 with DualSPHysics' free-surface treatment; the "
+            "CPU); absent: none"},
+    {.path = "/physics/shifting/type", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .names = shift_names, .values = shift_values, .has_def = 1,
+     .def = 0, CFG(shifting.type),
+     .doc = "none; lind: after each step's force evaluation every fluid particle moves by "
+            "dr = A h |v| dt grad C, C the particles' concentration (sum V_b grad W_ab), each "
+            "component at most 0.1 dx; none at the free surface (div r below free_surface), "
+            "scaled by (div r - T) / (dim - T) towards the bulk"},
+    {.path = "/physics/shifting/coefficient", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .lo = -100.0, .hi = 0.0, .has_def = 1, .def = SPH_SHIFT_COEFFICIENT_DEFAULT,
+     CFG(shifting.coefficient), .doc = "A, negative (down the concentration's gradient); "
+                                       "DualSPHysics' default -2"},
+    {.path = "/physics/shifting/free_surface", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .lo = 0.0, .hi = 3.0, .has_def = 1, .def = 0.0, CFG(shifting.free_surface),
+     .doc = "the threshold T of div r below which a particle is at the free surface and not "
+            "shifted; 0: DualSPHysics' 1.5 in 2D, 2.75 in 3D"},
     {.path = "/initial", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS,
      .doc = "an analytic initial velocity field of the fluid (the pressure stays hydrostatic); "
             "absent: rest"},

@@ -26,6 +26,7 @@
 
 #include <math.h>
 #include <omp.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define SPH_SPS_CS 0.12   /* Smagorinsky constant, Yang et al. after Lo & Shao */
@@ -636,7 +637,78 @@ void sph_wcsph_pressure(const sph_sim *s, const double **p, const float **p32)
     *p32 = M ? q32 : NULL;
 }
 
-static int forces(sph_sim *s, int gather)
+/* Particle shifting's pass (sph_shifting.h), shift<D>_<TYPE>: the sums of fluid particle i. */
+typedef void (*shift_fn)(const fctx *c, long i, sph_shift_sum *sum);
+#define SPH_SHIFT_FN(T)                                                                            \
+    static void shift2_##T(const fctx *c, long i, sph_shift_sum *sum)                              \
+    {                                                                                              \
+        shift_one(T, c->flags, 2, c, i, sum);                                                      \
+    }                                                                                              \
+    static void shift3_##T(const fctx *c, long i, sph_shift_sum *sum)                              \
+    {                                                                                              \
+        shift_one(T, c->flags, 3, c, i, sum);                                                      \
+    }
+SPH_SHIFT_FN(SPH_KERNEL_CUBIC_SPLINE)
+SPH_SHIFT_FN(SPH_KERNEL_GAUSSIAN)
+SPH_SHIFT_FN(SPH_KERNEL_DOUBLE_COSINE)
+SPH_SHIFT_FN(SPH_KERNEL_WENDLAND_C2)
+SPH_SHIFT_FN(SPH_KERNEL_RENORMALIZED_GAUSSIAN)
+static const shift_fn shift2_SPH_KERNEL_KOSHIZUKA = NULL, shift3_SPH_KERNEL_KOSHIZUKA = NULL;
+static const shift_fn shift2_SPH_KERNEL_SHEU_QUARTIC = NULL, shift3_SPH_KERNEL_SHEU_QUARTIC = NULL;
+
+/* Particle shifting over the first n particles of the force evaluation c (sorted, ghosts among
+ * them): every fluid particle's displacement from the positions and densities of the evaluation
+ * and its predicted speed (DualSPHysics takes the speed of its corrector's evaluation too), all of
+ * them computed before any moves, then added to the positions. dt: the step's. The corrector
+ * reads no position, so the step's result is as if the corrector moved them. Returns 0 or -1
+ * when out of memory. */
+static int shift_pass(sph_sim *s, const fctx *c, long n, double dt)
+{
+    const sph_config *cfg = &s->cfg;
+    sph_particles *P = &s->P;
+    const int D = cfg->dim, M = P->mixed;
+    if (n > s->shift_cap) {
+        double *b = realloc(s->shift, (size_t)n * (size_t)D * sizeof(double));
+        if (!b)
+            return -1;
+        s->shift = b;
+        s->shift_cap = n;
+    }
+    shift_fn fn = NULL;
+#define SPH_PICK(T) fn = D == 3 ? shift3_##T : shift2_##T
+    SPH_KERNEL_DISPATCH(s->kernel.type, SPH_PICK);
+#undef SPH_PICK
+    if (!fn)
+        return 0; /* an MPS weight: sph_sim_check refuses it first */
+    const sph_shift_const k = {.ahdt = cfg->shifting.coefficient * s->h * dt,
+                               .tfs = cfg->shifting.free_surface > 0.0 ? cfg->shifting.free_surface
+                                                                       : (D == 3 ? 2.75 : 1.5),
+                               .maxd = 0.1 * cfg->dx};
+    double *const dr = s->shift;
+#pragma omp parallel for schedule(dynamic, SPH_OMP_CHUNK) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++) {
+        if (P->type[i] != SPH_FLUID)
+            continue;
+        sph_shift_sum sum;
+        fn(c, i, &sum);
+        const double vx = SPH_GET(M, P, vx, i), vy = SPH_GET(M, P, vy, i),
+                     vz = D == 3 ? SPH_GET(M, P, vz, i) : 0.0;
+        sph_shifting_displacement(D, &k, &sum, sqrt(vx * vx + vy * vy + vz * vz),
+                                  dr + (size_t)i * (size_t)D);
+    }
+#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++) {
+        if (P->type[i] != SPH_FLUID)
+            continue;
+        P->x[i] += dr[(size_t)i * (size_t)D];
+        P->y[i] += dr[(size_t)i * (size_t)D + 1];
+        if (D == 3)
+            P->z[i] += dr[(size_t)i * (size_t)D + 2];
+    }
+    return 0;
+}
+
+static int forces(sph_sim *s, int gather, double shift_dt)
 {
     const sph_config *cfg = &s->cfg;
     sph_particles *P = &s->P;
@@ -705,6 +777,10 @@ static int forces(sph_sim *s, int gather)
         }
     }
 
+    /* particle shifting, while the ghosts are there (they count in the concentration) */
+    if (shift_dt > 0.0 && cfg->shifting.type != SPH_SHIFT_NONE && shift_pass(s, &c, n, shift_dt))
+        return -1;
+
     /* the bodies take the force and torque their particles received */
     double t2 = omp_get_wtime();
     sph_bodies_gather(&s->bodies, P, n, s->mass);
@@ -727,10 +803,15 @@ static int forces(sph_sim *s, int gather)
 
 int sph_wcsph_forces(sph_sim *s)
 {
-    return forces(s, 0);
+    return forces(s, 0, 0.0);
+}
+
+int sph_wcsph_forces_step(sph_sim *s, double dt)
+{
+    return forces(s, 0, dt);
 }
 
 int sph_wcsph_forces_gather(sph_sim *s)
 {
-    return forces(s, 1);
+    return forces(s, 1, 0.0);
 }

@@ -15,6 +15,10 @@
  * ghosts (or for a kernel without a pair loop, the MPS weights, which wcsph_check refuses). */
 int sph_wcsph_forces(sph_sim *s);
 
+/* The same within a step of length dt: with the case's particle shifting
+ * (physics.shifting, sph_shifting.h), the fluid particles shifted after the pair loop. */
+int sph_wcsph_forces_step(sph_sim *s, double dt);
+
 /* The same forces by the gather loop: each particle against every neighbour, its own side alone
  * (the GPU's scheduling; the sums run in another order, so the results agree to rounding, not
  * bit for bit). The C reference of the GPU kernels, for tests/unit/test_wcsph_gather.c. */

@@ -45,6 +45,12 @@ static int gpu_check(const sph_config *c, sph_error *err)
     if (c->nbodies > 0)
         return sph_error_set(err, SPH_ERR_INVALID, "/bodies",
                              "rigid bodies run on the CPU only (\"device\": \"cpu\")");
+    /* TODO(issue 46): shifting on the device, a thread per fluid particle running shift_one
+     * (sph_wcsph_loop.h) and sph_shifting_displacement, then one adding the displacements */
+    if (c->shifting.type != SPH_SHIFT_NONE)
+        return sph_error_set(err, SPH_ERR_INVALID, "/physics/shifting",
+                             "shifting runs on the CPU only in this version (\"device\": "
+                             "\"cpu\")");
     return sph_wcsph_ops.check(c, err);
 }
 

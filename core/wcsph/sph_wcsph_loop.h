@@ -14,6 +14,7 @@
 #include "sph_hd.h"
 #include "sph_kernel.h"
 #include "sph_particles.h"
+#include "sph_shifting.h"
 #include "sph_wcsph_pair.h"
 
 #include <math.h>
@@ -359,6 +360,49 @@ gather_one(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT 
         }
     add_acc(F, D, c, i, &a);
     return a.pairs;
+}
+
+/* Particle shifting's sums of fluid particle i (sph_shifting.h): i against every neighbour in the
+ * 3 x 3 (x 3) cells around it, walls, ghosts and bodies counted as fluid (DualSPHysics' "full"
+ * mode), in the order gather_one visits them; F gives F_MIXED alone. A GPU thread's work later. */
+SPH_HD static inline __attribute__((always_inline)) void
+shift_one(sph_kernel_type T, unsigned F, const int D, const fctx *SPH_RESTRICT c, long i,
+          sph_shift_sum *SPH_RESTRICT s)
+{
+    double x[3];
+    x[0] = c->x[i];
+    x[1] = c->y[i];
+    x[2] = D == 3 ? c->z[i] : 0.0;
+    const int cx = (int)((x[0] - c->x0) * c->inv_size);
+    const int cy = (int)((x[1] - c->y0) * c->inv_size);
+    const int cz = D == 3 ? (int)((x[2] - c->z0) * c->inv_size) : 0;
+    const int ny = c->ny, nz = D == 3 ? c->nz : 1;
+    const double size = 1.0 / c->inv_size, reach2 = c->reach * c->reach, m = c->pc.m;
+    s->g[0] = s->g[1] = s->g[2] = s->div = 0.0;
+    for (int ox = -1; ox <= 1; ox++)
+        for (int oy = (D == 3 ? -1 : 0); oy <= (D == 3 ? 1 : 0); oy++) {
+            const long mid =
+                D == 3 ? ((long)(cx + ox) * ny + (cy + oy)) * nz + cz : (long)(cx + ox) * ny + cy;
+            long jb = c->start[mid - 1], je = c->start[mid + 2];
+            if (D == 3 && !sph_cells_cut_column(c->x0, c->y0, size, c->z, x, cx + ox, cy + oy,
+                                                reach2, c->lat, &jb, &je))
+                continue;
+            for (long j = jb; j < je; j++) {
+                if (j == i)
+                    continue;
+                double d[3];
+                d[0] = x[0] - c->x[j];
+                d[1] = x[1] - c->y[j];
+                d[2] = D == 3 ? x[2] - c->z[j] : 0.0;
+                const double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                if (r2 >= c->support2)
+                    continue;
+                const double r = sqrt(r2);
+                double dwdr;
+                (void)sph_kernel_eval_t(T, c->k, r, &dwdr);
+                sph_shifting_pair(D, d, r2, dwdr / (r + c->tiny), m / SPH_GET(MX(F), c, rho, j), s);
+            }
+        }
 }
 
 #endif

@@ -227,10 +227,11 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
     s->timing.integration += omp_get_wtime() - t0;
 
     /* sorts by cell: the arrays are permuted, nactive updated */
-    if (sph_wcsph_forces(s))
-        return sph_error_set(
-            err, SPH_ERR_NOMEM, "",
-            "out of memory for the ghost particles or the wet-cell map at step %ld", step);
+    if (sph_wcsph_forces_step(s, dt))
+        return sph_error_set(err, SPH_ERR_NOMEM, "",
+                             "out of memory for the ghost particles, the wet-cell map or the "
+                             "shifting's displacements at step %ld",
+                             step);
 
     /* corrector and checks */
     const double t1 = omp_get_wtime();

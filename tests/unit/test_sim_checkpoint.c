@@ -157,6 +157,21 @@ static void test_restore_two_threads(void **state)
     run_case(2);
 }
 
+/* With particle shifting (physics.shifting, no state across steps), dynamic walls and ghost
+ * walls: the restored state runs to the same bits. */
+static void test_shifting_restore(void **state)
+{
+    (void)state;
+    omp_set_num_threads(2);
+    static const char *const d2[] = {"dx=0.01", NULL};
+    static const char *const ghost[] = {"dx=0.01", NULL};
+    sph_config cfgs[] = {load_case("dambreak.json", d2), load_case("dambreak_ghost.json", ghost)};
+    for (size_t k = 0; k < sizeof cfgs / sizeof cfgs[0]; k++) {
+        cfgs[k].shifting.type = SPH_SHIFT_LIND;
+        sph_sim_destroy(save_restore(&cfgs[k], 150, 120));
+    }
+}
+
 /* The MPS dam break at L/40 (3,200 fluid particles and the walls: above SPH_OMP_MIN, so its loops
  * run in parallel) with the collision model and the stabilization both acting, 200 steps: the
  * same bits with 1 and 2 threads (both move positions after their pair loops). */
@@ -307,6 +322,7 @@ int main(void)
         cmocka_unit_test(test_mixed_restore),
         cmocka_unit_test(test_mixed_front),
         cmocka_unit_test(test_restore_one_thread),
+        cmocka_unit_test(test_shifting_restore),
         cmocka_unit_test(test_restore_two_threads),
         cmocka_unit_test(test_mps_threads),
         cmocka_unit_test(test_mps_amg),
