@@ -18,6 +18,8 @@
  * (div r_a - T) / (D - T), which fades it in towards the bulk. Each component is capped at
  * 0.1 dx, as DualSPHysics caps it. A is negative (DualSPHysics' default -2): the shift goes
  * from crowded towards sparse regions.
+ * Off by default: at A = -2 and T = 1.5 the 2D dam break keeps its bounds, but the standing wave
+ * at H/dx = 50 decays 2.2 times too fast (docs/status.md has the figures).
  */
 #ifndef SPH_SHIFTING_H
 #define SPH_SHIFTING_H

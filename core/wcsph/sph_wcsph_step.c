@@ -278,7 +278,10 @@ static int wcsph_check(const sph_config *c, sph_error *err)
 
 size_t sph_wcsph_bytes_per_particle(const sph_config *c)
 {
-    return sph_particles_bytes_per_particle(c->dim, sph_sim_particle_opts(c));
+    /* with shifting, its displacements (sph_sim.shift: ghosts included, as the estimate counts
+     * them) */
+    const size_t shift = c->shifting.type != SPH_SHIFT_NONE ? (size_t)c->dim * sizeof(double) : 0;
+    return sph_particles_bytes_per_particle(c->dim, sph_sim_particle_opts(c)) + shift;
 }
 
 static int wcsph_init(sph_sim *s, sph_error *err)
