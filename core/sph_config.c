@@ -91,3 +91,15 @@ int sph_config_by_scene(const sph_config *c)
     return c->ngeometry > 0 ||
            (c->dim == 3 && c->boundary != SPH_BOUNDARY_GHOST && c->method == SPH_METHOD_WCSPH);
 }
+
+void sph_config_steer(sph_config *c, const sph_config *from)
+{
+    c->alpha = from->alpha;
+    c->nu = from->nu;
+    c->delta_sph = from->delta_sph;
+    c->cfl = from->cfl;
+    c->t_end = from->t_end;
+    c->diag_every = from->diag_every; /* (the caller's schedule; kept for a restore) */
+    c->diag_interval = from->diag_interval;
+    memcpy(c->gravity, from->gravity, sizeof c->gravity);
+}

@@ -345,6 +345,11 @@ double sph_config_monaghan_alpha(const sph_config *c);
  * Monaghan terms, alpha h c0 / (2 (d + 2)) for the artificial one (its inverse). */
 double sph_config_viscosity_nu(const sph_config *c);
 
+/* Copies into c the fields a running simulation takes from a new config between two steps
+ * (steering, sph_sim_steer): the viscous term's alpha and nu, delta-SPH's coefficient, gravity,
+ * the CFL number, the end time and the diagnostics' schedule. */
+void sph_config_steer(sph_config *c, const sph_config *from);
+
 /* 1 if c's particles are filled through the scene (core/scene/sph_scene.h: every shape, the
  * built-in fluid boxes, tank and obstacles too, on one lattice anchored at the domain's min
  * corner): a case with a geometry list, and every 3D WCSPH case but with ghost walls. 2D cases

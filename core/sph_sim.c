@@ -585,17 +585,9 @@ int sph_sim_steer(sph_sim *s, const sph_config *next, sph_error *err)
         return sph_error_set(err, SPH_ERR_INVALID, "/physics/gravity",
                              "ghost walls keep the gravity they were made with (their pressure's "
                              "hydrostatic part): not steered");
-    c->alpha = next->alpha;
-    c->nu = next->nu;
-    c->delta_sph = next->delta_sph;
-    c->cfl = next->cfl;
-    c->t_end = next->t_end;
-    c->diag_every = next->diag_every; /* (the caller's schedule; kept here for a restore) */
-    c->diag_interval = next->diag_interval;
-    for (int d = 0; d < 3; d++) {
-        c->gravity[d] = next->gravity[d];
+    sph_config_steer(c, next);
+    for (int d = 0; d < 3; d++)
         s->bodies.gravity[d] = next->gravity[d];
-    }
     return 0;
 }
 void sph_sim_timing(const sph_sim *s, sph_timing *timing)

@@ -686,23 +686,25 @@ static int op_set(sphd_request *r, json_t **result, sphd_err *e)
     sph_error err;
     sph_error_clear(&err);
     const int bad = !tmp || sph_case_from_json(next, tmp, &err) != 0;
-    if (tmp) {
-        sph_case_clear(tmp);
-        free(tmp);
-    }
-    if (bad) {
+    if (bad || j->steer_set) {
         json_decref(next);
+        if (tmp) {
+            sph_case_clear(tmp);
+            free(tmp);
+        }
+    }
+    if (bad)
         return tmp ? sphd_err_set(e, SPHD_E_INVALID_CASE, err.path, "%s", err.message)
                    : sphd_err_set(e, SPHD_E_INTERNAL, NULL, "out of memory");
-    }
     if (j->steer_set) {
-        json_decref(next);
         return sphd_err_set(e, SPHD_E_BUSY, "/args/job",
                             "a change to job %s waits for its next step boundary; ask again",
                             j->id);
     }
     if (!(j->state == SPHD_JOB_RUNNING && j->worker >= 0) && !j->exec) {
         json_decref(next);
+        sph_case_clear(tmp);
+        free(tmp);
         return sphd_err_set(e, SPHD_E_BAD_STATE, "/args/job",
                             "job %s has no simulation in memory (it has not started, or sphd "
                             "restarted since it ran): start or resume it, then change it",
@@ -710,6 +712,7 @@ static int op_set(sphd_request *r, json_t **result, sphd_err *e)
     }
     j->steer_set = json_deep_copy(set);
     j->steer_case = next;
+    j->steer_next = tmp; /* parsed once, here */
     j->steer_error[0] = '\0';
     sphd_job_touch(j);
     if (j->state == SPHD_JOB_RUNNING && j->worker >= 0) {
@@ -717,9 +720,7 @@ static int op_set(sphd_request *r, json_t **result, sphd_err *e)
         if (!j->stepping) {
             sphd_wcmd cmd = {.kind = SPHD_W_STEER, .job = j};
             if (sphd_jobs_send(r->d, j, &cmd) != 0) {
-                json_decref(j->steer_set);
-                json_decref(j->steer_case);
-                j->steer_set = j->steer_case = NULL;
+                sphd_job_steer_drop(j);
                 return sphd_err_set(e, SPHD_E_INTERNAL, NULL, "cannot reach the job's runner");
             }
         }

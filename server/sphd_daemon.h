@@ -142,10 +142,11 @@ typedef struct sphd_job {
     double steps_per_s, eta; /* from the worker, while running */
     sphd_pending *waiters;   /* replies due when the current run ends */
     /* steering (op `set`, PROTOCOL.md 3.12) */
-    json_t *case_now;   /* the case with every change in effect (NULL: case_json) */
-    json_t *steering;   /* the changes in effect, oldest first: [{"step", "t", "set"}] */
-    json_t *steer_set;  /* a change waiting for the run's next step boundary, or NULL */
-    json_t *steer_case; /* the case it makes (case_now with it) */
+    json_t *case_now;     /* the case with every change in effect (NULL: case_json) */
+    json_t *steering;     /* the changes in effect, oldest first: [{"step", "t", "set"}] */
+    json_t *steer_set;    /* a change waiting for the run's next step boundary, or NULL */
+    json_t *steer_case;   /* the case it makes (case_now with it) */
+    sph_case *steer_next; /* that case parsed (op set checked it), used when it is made */
     char steer_error[SPH_ERROR_TEXT_MAX + SPH_ERROR_PATH_MAX +
                      8]; /* why the latest change was not made ("" when it was) */
     char *query_text;    /* the encoded `query` result until the job changes (sphd_job_touch) */
@@ -383,6 +384,8 @@ json_t *sphd_job_steering(const sphd_job *j);
  * steered and checkpointed, steering.json and the journal written, a `steer` event published.
  * 0, or -1 with e (and j->steer_error) when it is refused; the change is no longer pending. */
 int sphd_job_steer_apply(sphd_daemon *d, sphd_job *j, sphd_err *e);
+/* Forgets the change waiting in j (steer_set, steer_case, steer_next). */
+void sphd_job_steer_drop(sphd_job *j);
 void sphd_job_record(sphd_daemon *d, sphd_job *j, int interrupted);
 /* Journals the job's pending pause and stop (fsync'd): a restarted sphd still carries them out. */
 void sphd_job_journal_requests(sphd_daemon *d, sphd_job *j);

@@ -549,19 +549,6 @@ int sphd_exec_checkpoint(sphd_exec *x, sph_error *err)
     return rc;
 }
 
-/* The steered parameters (sph_sim_steer's) of `from` into c. */
-static void steer_case(sph_config *c, const sph_config *from)
-{
-    c->alpha = from->alpha;
-    c->nu = from->nu;
-    c->delta_sph = from->delta_sph;
-    c->cfl = from->cfl;
-    c->t_end = from->t_end;
-    c->diag_every = from->diag_every;
-    c->diag_interval = from->diag_interval;
-    memcpy(c->gravity, from->gravity, sizeof c->gravity);
-}
-
 int sphd_exec_steer(sphd_exec *x, const sph_case *next_case, const json_t *set, json_t **record,
                     sph_error *err)
 {
@@ -576,7 +563,7 @@ int sphd_exec_steer(sphd_exec *x, const sph_case *next_case, const json_t *set, 
                              "the job is at t = %.9g s already: the end time must be later", d->t);
     if (sph_sim_steer(x->sim, next, err))
         return (int)err->code;
-    steer_case(&x->c.sim, next);
+    sph_config_steer(&x->c.sim, next);
     /* the triggers: those that stay as they were keep whether they have fired */
     const sph_output_config *o = &x->c.output, *n = &next_case->output;
     unsigned fired = 0;
@@ -648,7 +635,7 @@ sphd_exec *sphd_exec_resume(const sph_case *c, const char *outdir, int *fell_bac
     if (x->sim && json_array_size(steering) > 0) {
         /* a steered job goes on with the values it had at the checkpoint, not the case's */
         x->steering = json_deep_copy(steering);
-        steer_case(&x->c.sim, sph_sim_config(x->sim));
+        sph_config_steer(&x->c.sim, sph_sim_config(x->sim));
         sph_error terr;
         const json_t *tr = json_object_get(ex, "triggers");
         if (tr && sph_triggers_parse(tr, "/triggers", &x->c.sim, &x->c.output, &terr) != 0)

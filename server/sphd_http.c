@@ -4,6 +4,7 @@
  */
 #include "sphd_http.h"
 
+#include "sph_fileio.h"
 #include "sph_json.h"
 #include "sphd_web.h"
 
@@ -35,7 +36,7 @@ struct sphd_http {
     void *ctx;
     char control[256], stream[256];
     char token[2 * TOKEN_BYTES + 1]; /* "" when none is needed (loopback) */
-    char hosts[3][300];              /* loopback: the Host values that are this server */
+    char hosts[2][300];              /* loopback: the Host values that are this server */
     long max_body;
     atomic_int stopping;
 };
@@ -98,7 +99,7 @@ static int load_token(const char *state_dir, char *tok, size_t n, sph_error *err
     for (int i = 0; i < TOKEN_BYTES; i++)
         snprintf(tok + 2 * i, 3, "%02x", raw[i]);
     const int fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-    if (fd < 0 || write(fd, tok, strlen(tok)) != (ssize_t)strlen(tok) || write(fd, "\n", 1) != 1) {
+    if (fd < 0 || sph_write_all(fd, tok, strlen(tok)) != 0 || sph_write_all(fd, "\n", 1) != 0) {
         const int e = errno;
         if (fd >= 0)
             close(fd);
@@ -361,7 +362,7 @@ static int refused(sphd_http *h, struct MHD_Connection *c, const char *url, enum
     const char *host = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Host");
     if (!h->token[0]) {
         int ok = 0;
-        for (int i = 0; i < 3 && host; i++)
+        for (int i = 0; i < 2 && host; i++)
             ok |= strcmp(host, h->hosts[i]) == 0;
         if (!ok) {
             *rc = send_error(c, MHD_HTTP_FORBIDDEN, "forbidden",
@@ -510,7 +511,6 @@ sphd_http *sphd_http_start(const char *addr, void *ctx, const char *control, con
     snprintf(url, url_len, "http://%s%s%s:%u/", v6 ? "[" : "", host, v6 ? "]" : "", p);
     snprintf(h->hosts[0], sizeof h->hosts[0], "%s%s%s:%u", v6 ? "[" : "", host, v6 ? "]" : "", p);
     snprintf(h->hosts[1], sizeof h->hosts[1], "localhost:%u", p);
-    snprintf(h->hosts[2], sizeof h->hosts[2], "%s", h->hosts[0]);
     return h;
 }
 

@@ -85,26 +85,34 @@ json_t *sphd_job_steering(const sphd_job *j)
     return o;
 }
 
+void sphd_job_steer_drop(sphd_job *j)
+{
+    json_decref(j->steer_set);
+    json_decref(j->steer_case);
+    if (j->steer_next) {
+        sph_case_clear(j->steer_next);
+        free(j->steer_next);
+    }
+    j->steer_set = j->steer_case = NULL;
+    j->steer_next = NULL;
+}
+
 int sphd_job_steer_apply(sphd_daemon *d, sphd_job *j, sphd_err *e)
 {
-    json_t *set = j->steer_set, *next_json = j->steer_case;
-    j->steer_set = j->steer_case = NULL;
-    sph_case *next = calloc(1, sizeof *next);
+    json_t *set = json_incref(j->steer_set), *next_json = json_incref(j->steer_case);
+    sph_case *next = j->steer_next;
+    j->steer_next = NULL;
+    sphd_job_steer_drop(j);
     sph_error err;
     sph_error_clear(&err);
     json_t *rec = NULL;
     int rc = -1;
-    if (!next)
-        sph_error_set(&err, SPH_ERR_NOMEM, "", "out of memory");
-    else if (!j->exec)
+    if (!j->exec)
         sph_error_set(&err, SPH_ERR_INVALID, "", "the job has no simulation in memory to steer");
-    else if (sph_case_from_json(next_json, next, &err) == 0 &&
-             sphd_exec_steer(j->exec, next, set, &rec, &err) == 0)
+    else if (sphd_exec_steer(j->exec, next, set, &rec, &err) == 0)
         rc = 0;
-    if (next) {
-        sph_case_clear(next);
-        free(next);
-    }
+    sph_case_clear(next);
+    free(next);
     if (rc != 0) {
         snprintf(j->steer_error, sizeof j->steer_error, "%s%s%s", err.message,
                  err.path[0] ? " at " : "", err.path);
@@ -267,8 +275,7 @@ static void job_free(sphd_job *j)
     json_decref(j->result);
     json_decref(j->case_now);
     json_decref(j->steering);
-    json_decref(j->steer_set);
-    json_decref(j->steer_case);
+    sphd_job_steer_drop(j);
     while (j->waiters) {
         sphd_pending *n = j->waiters->next;
         sphd_pending_free(j->waiters);
@@ -809,9 +816,7 @@ void sphd_jobs_on_worker(sphd_daemon *d, sphd_worker *w, sphd_wev *ev)
                      ev->end == SPHD_END_DONE     ? "done"
                      : ev->end == SPHD_END_FAILED ? "failed"
                                                   : "stopped");
-            json_decref(j->steer_set);
-            json_decref(j->steer_case);
-            j->steer_set = j->steer_case = NULL;
+            sphd_job_steer_drop(j);
         }
     }
     switch (ev->end) {

@@ -3,6 +3,7 @@
  */
 #include "sphd_waves.h"
 
+#include "sph_events.h"
 #include "sph_sim.h"
 
 #include <math.h>
@@ -61,11 +62,6 @@ double sphd_waves_window(const sph_config *c, int k)
     return c->wavemaker.ramp * c->wavemaker.period + fabs(c->gauges[k].x - c->wavemaker.x) / w.cg;
 }
 
-static json_t *num(double v)
-{
-    return isfinite(v) ? json_real(v) : json_null();
-}
-
 json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, long n)
 {
     if (c->wavemaker.type == SPH_WAVEMAKER_NONE || c->ngauges == 0 || n < 1)
@@ -85,8 +81,9 @@ json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, l
         double H, T;
         const int count = sphd_waves_zero_up(t, eta, n, t0, &H, &T);
         json_object_set_new(out, c->gauges[k].name,
-                            json_pack("{s:o, s:o, s:i, s:o}", "height", num(H), "period", num(T),
-                                      "count", count, "from", num(t0)));
+                            json_pack("{s:o, s:o, s:i, s:o}", "height", sph_json_real_or_null(H),
+                                      "period", sph_json_real_or_null(T), "count", count, "from",
+                                      sph_json_real_or_null(t0)));
     }
     free(eta);
     return out;
