@@ -25,8 +25,11 @@
  * Usage: bench_dambreak [--steps N] [--repeats R] [--threads "1 2"] [--sizes "20000 80000 320000"]
  *                       [--walls "dynamic ghost"] [--steps3d 10]
  *                       [--sizes3d "100000 400000 1600000"] [--dsph "0.0074"] [--device cpu]
- *                       [--precision double]
+ *                       [--precision double] [--skin 0]
  * --precision mixed: every row with the particles' hot fields in float (positions in double).
+ * --skin S: the pair loop over a neighbour list reused over steps ("neighbours": {"skin": S},
+ * dynamic walls only); the "steps/list" column then gives the timed steps per list built (the
+ * builds are in "nb ms"). Give --steps several times that so the runs pay their share.
  * --start flowing (the default since 2026-11-28): the fluid moving at sqrt(g H) along x
  * (start_flowing), so that the particles cross cells and the neighbour search reorders the arrays
  * in every step, as in a flowing run; --start rest: the case's start, at rest (the figures before
@@ -138,6 +141,7 @@ typedef struct run {
                                     -1 when not measured (no libgomp) */
     double rss;                  /* resident bytes per particle */
     double own;                  /* the sim's own storage per particle */
+    double per_list;             /* timed steps per neighbour list built (0: none built) */
     long n, nfluid;
 } run;
 
@@ -145,6 +149,8 @@ typedef struct run {
 static sph_device device = SPH_DEVICE_CPU;
 /* --precision: the particles' storage (sph_config.precision) */
 static sph_precision precision = SPH_PRECISION_DOUBLE;
+/* --skin: a reused neighbour list's skin (sph_config.neighbour_skin), 0 none */
+static double skin = 0.0;
 /* --start: 1 flowing (the default), 0 the case's start, at rest */
 static int flowing = 1;
 
@@ -173,6 +179,7 @@ static int one(const sph_config *cfg, int threads, long steps, run *r)
     sph_config c = *cfg;
     c.device = device;
     c.precision = precision;
+    c.neighbour_skin = c.boundary == SPH_BOUNDARY_GHOST ? 0.0 : skin;
     if (device == SPH_DEVICE_GPU) /* the GPU's walls: continuity density (DBC) */
         c.wall_density = SPH_WALL_CONTINUITY;
     sph_error err;
@@ -214,6 +221,7 @@ static int one(const sph_config *cfg, int threads, long steps, run *r)
     r->t_int = (t1.interactions - t0.interactions) / (double)steps;
     r->t_integ = (t1.integration - t0.integration) / (double)steps;
     r->rss = (fmax(rss1, rss2) - rss0) / (double)r->n;
+    r->per_list = t1.lists > t0.lists ? (double)steps / (double)(t1.lists - t0.lists) : 0.0;
     r->own = (device == SPH_DEVICE_GPU ? sph_sim_device_bytes(s) : sph_sim_bytes(s)) / (double)r->n;
     sph_sim_destroy(s);
     return 0;
@@ -242,10 +250,14 @@ static int rows(const char *label, const sph_config *c, const char *threads, lon
         char serial[16] = "-";
         if (r->serial >= 0.0)
             snprintf(serial, sizeof serial, "%.2f", 100.0 * r->serial);
-        printf("%8s %8ld %8ld %7s %6.1f %10.3f %11.3f %9.3f %8.3f %8.3f %8.3f %8s %8.0f %9.0f\n",
+        char per_list[16] = "-";
+        if (r->per_list > 0.0)
+            snprintf(per_list, sizeof per_list, "%.1f", r->per_list);
+        printf("%8s %8ld %8ld %7s %6.1f %10.3f %11.3f %9.3f %8.3f %8.3f %8.3f %8s %8.0f %9.0f "
+               "%9s\n",
                label, r->nfluid, r->n, tv, r->neighbours, r->rate / 1e6,
                r->rate / 1e6 * (double)r->nfluid / (double)r->n, ms, 1e3 * r->t_nb, 1e3 * r->t_int,
-               1e3 * r->t_integ, serial, r->rss, r->own);
+               1e3 * r->t_integ, serial, r->rss, r->own, per_list);
         fflush(stdout);
     }
     return 0;
@@ -283,6 +295,9 @@ int main(int argc, char **argv)
                  (strcmp(argv[i + 1], "double") == 0 || strcmp(argv[i + 1], "mixed") == 0))
             precision =
                 strcmp(argv[i + 1], "mixed") == 0 ? SPH_PRECISION_MIXED : SPH_PRECISION_DOUBLE;
+        else if (strcmp(opt, "--skin") == 0 && atof(argv[i + 1]) >= 0.0 &&
+                 atof(argv[i + 1]) <= SPH_NEIGHBOUR_SKIN_MAX)
+            skin = atof(argv[i + 1]);
         else if (strcmp(opt, "--start") == 0 &&
                  (strcmp(argv[i + 1], "rest") == 0 || strcmp(argv[i + 1], "flowing") == 0))
             flowing = strcmp(argv[i + 1], "flowing") == 0;
@@ -291,7 +306,7 @@ int main(int argc, char **argv)
                 stderr,
                 "usage: %s [--steps N] [--repeats R] [--threads LIST] [--sizes LIST] "
                 "[--walls LIST] [--steps3d N] [--sizes3d LIST] [--dsph LIST] [--device cpu|gpu] "
-                "[--precision double|mixed] [--start flowing|rest]\n",
+                "[--precision double|mixed] [--skin S] [--start flowing|rest]\n",
                 argv[0]);
             return 64;
         }
@@ -304,12 +319,15 @@ int main(int argc, char **argv)
      * size measured around a run is that run's */
     mallopt(M_MMAP_THRESHOLD, 64 * 1024);
     const char *start = flowing ? "from a flowing start" : "from rest";
+    char how[64] = "the cells searched every step";
+    if (skin > 0.0)
+        snprintf(how, sizeof how, "a neighbour list of skin %g (dynamic walls)", skin);
     printf("dam break, Wendland C2, h = 1.414 dx, alpha = 0.01, c0 = 25 m/s, %ld steps %s, median "
-           "of %d runs, %s precision\n",
-           steps, start, repeats, precision == SPH_PRECISION_MIXED ? "mixed" : "double");
-    printf("%8s %8s %8s %7s %6s %10s %11s %9s %8s %8s %8s %8s %8s %9s\n", "walls", "fluid", "total",
-           "threads", "neigh", "Mpart-st/s", "Mfluid-st/s", "ms/step", "nb ms", "inter ms",
-           "integ ms", "serial %", "RSS B/p", "store B/p");
+           "of %d runs, %s precision, %s\n",
+           steps, start, repeats, precision == SPH_PRECISION_MIXED ? "mixed" : "double", how);
+    printf("%8s %8s %8s %7s %6s %10s %11s %9s %8s %8s %8s %8s %8s %9s %9s\n", "walls", "fluid",
+           "total", "threads", "neigh", "Mpart-st/s", "Mfluid-st/s", "ms/step", "nb ms", "inter ms",
+           "integ ms", "serial %", "RSS B/p", "store B/p", "steps/list");
     char sz[256];
     snprintf(sz, sizeof sz, "%s", sizes);
     for (char *sp = NULL, *sv = strtok_r(sz, " ,", &sp); sv; sv = strtok_r(NULL, " ,", &sp)) {
@@ -338,9 +356,9 @@ int main(int argc, char **argv)
                "'dsph01' DualSPHysics' examples/main/01_DamBreak (cubic spline, h = 1.732 dx, "
                "alpha = 0.1, Tait, c0 = 20 sqrt(g 0.3))\n",
                steps3d, start, repeats);
-        printf("%8s %8s %8s %7s %6s %10s %11s %9s %8s %8s %8s %8s %8s %9s\n", "case", "fluid",
+        printf("%8s %8s %8s %7s %6s %10s %11s %9s %8s %8s %8s %8s %8s %9s %9s\n", "case", "fluid",
                "total", "threads", "neigh", "Mpart-st/s", "Mfluid-st/s", "ms/step", "nb ms",
-               "inter ms", "integ ms", "serial %", "RSS B/p", "store B/p");
+               "inter ms", "integ ms", "serial %", "RSS B/p", "store B/p", "steps/list");
     }
     snprintf(sz, sizeof sz, "%s", sizes3d);
     for (char *sp = NULL, *sv = strtok_r(sz, " ,", &sp); sv; sv = strtok_r(NULL, " ,", &sp)) {

@@ -4,9 +4,11 @@
  * integration (t, step, dt, the latest max acceleration and speed), the latest diagnostics, and
  * every per-particle array that lives from one step to the next, in the particles' current
  * (cell-sorted) order (the method lists them), then the rigid bodies' state, then the geometry
- * walls' mirror points (mDBC; by id: a restored state has no surfaces to find them again). Not
- * saved: what every step rebuilds (the cell list, the probes' histogram, the force loop's scratch
- * arrays).
+ * walls' mirror points (mDBC; by id: a restored state has no surfaces to find them again), then
+ * with a reused neighbour list the cells' starts of its latest build (the particles are still in
+ * that build's order: the restored sim builds the list again from them, sph_method_ops.resume).
+ * Not saved: what every step rebuilds (the cell list, the probes' histogram, the force loop's
+ * scratch arrays) and the neighbour list itself.
  */
 #include "sph_sim_impl.h"
 
@@ -25,11 +27,13 @@
  * (sph_pressure_spec); 17: sph_config.delta_form; 18: sph_config.precision, float arrays
  * under mixed precision; 19: WCSPH saves no pressure array (derived from the density) */
 #define SIM_VERSION                                                                                \
-    24u /* 20: the geometry list (sph_config.geometry); 21: polygon bodies                         \
+    25u /* 20: the geometry list (sph_config.geometry); 21: polygon bodies                         \
          * (sph_body_spec.corners); 22: geometry walls' mirror points (mDBC);                      \
          * 23: the wavemaker and the damping zone (sph_config.wavemaker,                           \
          * .absorption; the paddle's motion is a function of time, no state);                      \
-         * 24: particle shifting (sph_config.shifting; its displacements live within a step) */
+         * 24: particle shifting (sph_config.shifting; its displacements live within a step);      \
+         * 25: the reused neighbour list (sph_config.neighbour_skin; the cells' starts of its      \
+         * build and the displacement since) */
 
 typedef struct {
     char magic[8];
@@ -39,6 +43,8 @@ typedef struct {
     int64_t nactive, nfluid, nboundary, step, failed, nbodies;
     int64_t nmirror; /* wall particles with a mirror point in the state (dim doubles each) */
     double t, dt, amax, vmax;
+    int64_t nstart; /* the cells' starts saved (a reused neighbour list's build): 0 or ncells + 2 */
+    double moved;   /* the neighbour list's displacement bound since its build [m] */
     sph_config cfg;
     sph_diag diag;
     sph_envelope wave; /* the kinetic-energy peaks so far (initial fields with a theory) */
@@ -51,8 +57,10 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     const size_t n = (size_t)s->P.n;
     const size_t nbs = (size_t)s->bodies.n;
     const size_t nm = (size_t)s->nmirror * (size_t)s->cfg.dim;
+    const size_t ns = s->cfg.neighbour_skin > 0.0 ? (size_t)s->cells.ncells + 2 : 0;
     const size_t size = sizeof(sim_header) + sph_method_arrays_size(arrays, na) * n +
-                        n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state) + nm * sizeof(double);
+                        n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state) + nm * sizeof(double) +
+                        ns * sizeof(int);
     unsigned char *b = malloc(size);
     if (!b)
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for a %zu-byte checkpoint",
@@ -74,6 +82,8 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     h.dt = s->dt;
     h.amax = s->amax;
     h.vmax = s->vmax;
+    h.nstart = (int64_t)ns;
+    h.moved = s->nlist.moved;
     h.cfg = s->cfg;
     h.diag = s->diag;
     h.wave = s->wave;
@@ -94,6 +104,9 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     }
     if (nm)
         memcpy(p, s->mirror, nm * sizeof(double));
+    p += nm * sizeof(double);
+    if (ns)
+        memcpy(p, s->cells.start, ns * sizeof(int));
     *buf = b;
     *len = size;
     return 0;
@@ -149,10 +162,11 @@ static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
     const size_t nbs = (size_t)s->bodies.n;
     const size_t per = sph_method_arrays_size(arrays, na);
     const size_t nm = (size_t)s->nmirror * (size_t)s->cfg.dim;
+    const size_t ns = s->cfg.neighbour_skin > 0.0 ? (size_t)s->cells.ncells + 2 : 0;
     if (h.n != s->P.n || (s->P.txx != NULL) != (h.sps != 0) || h.nbodies != s->bodies.n ||
-        h.nmirror != s->nmirror ||
+        h.nmirror != s->nmirror || h.nstart != (int64_t)ns ||
         len != sizeof h + per * n + n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state) +
-                   nm * sizeof(double)) {
+                   nm * sizeof(double) + ns * sizeof(int)) {
         sph_sim_destroy(s);
         sph_error_set(err, SPH_ERR_IO, "", "simulation state does not match its configuration");
         return NULL;
@@ -207,6 +221,24 @@ static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
                 return NULL;
             }
     }
+    if (ns) { /* the list's cells: ascending from 0 to the active particles, then all of them */
+        const unsigned char *st = p + nm * sizeof(double);
+        int ok = isfinite(h.moved) && h.moved >= 0.0;
+        int v = 0, prev = 0;
+        for (size_t k = 0; k + 1 < ns && ok; k++) {
+            memcpy(&v, st + k * sizeof v, sizeof v);
+            ok = v >= prev && v <= h.nactive && (k > 0 || v == 0);
+            prev = v;
+        }
+        int all;
+        memcpy(&all, st + (ns - 1) * sizeof all, sizeof all);
+        if (!ok || v != h.nactive || all != h.n) {
+            sph_sim_destroy(s);
+            sph_error_set(err, SPH_ERR_IO, "", "simulation state has a bad cell list");
+            return NULL;
+        }
+        memcpy(s->cells.start, st, ns * sizeof(int));
+    }
     s->nactive = h.nactive;
     s->step = h.step;
     s->failed = (int)h.failed;
@@ -216,5 +248,10 @@ static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
     s->vmax = h.vmax;
     s->diag = h.diag;
     s->wave = h.wave;
+    s->nlist.moved = h.moved;
+    if (s->ops->resume && s->ops->resume(s, err)) {
+        sph_sim_destroy(s);
+        return NULL;
+    }
     return s;
 }

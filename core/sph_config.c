@@ -71,6 +71,11 @@ double sph_config_support(const sph_config *c)
     return q * c->h_over_dx * c->dx;
 }
 
+double sph_config_cell_size(const sph_config *c)
+{
+    return sph_config_support(c) * (1.0 + c->neighbour_skin);
+}
+
 double sph_config_h(const sph_config *c)
 {
     return sph_kernel_is_mps(c->kernel.type) ? 0.5 * sph_config_support(c) : c->h_over_dx * c->dx;

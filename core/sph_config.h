@@ -18,6 +18,7 @@
 #define SPH_GAUGE_NAME_MAX      32
 #define SPH_H_OVER_DX_MIN       0.5 /* smoothing length range, in units of dx */
 #define SPH_H_OVER_DX_MAX       4.5
+#define SPH_NEIGHBOUR_SKIN_MAX  1.0 /* a reused neighbour list's largest skin, of the support */
 
 /* An axis-aligned box; components beyond dim are ignored. */
 typedef struct sph_box {
@@ -331,6 +332,8 @@ typedef struct sph_config {
 
     sph_device device;       /* where the steps run: the CPU (default) or a GPU (WCSPH only) */
     sph_precision precision; /* the particles' storage: double (default) or mixed */
+    double neighbour_skin;   /* WCSPH on the CPU: the skin of a neighbour list reused over steps,
+                                a fraction of the support (0: the cells searched every step) */
 } sph_config;
 
 #define SPH_CONFIG_DEFAULT_MAX_BYTES (4.0 * 1024 * 1024 * 1024)
@@ -358,6 +361,10 @@ int sph_config_by_scene(const sph_config *c);
 
 /* The kernel's support radius [m]: q_max h, or for MPS weights the larger effective radius. */
 double sph_config_support(const sph_config *c);
+
+/* The cell grid's edge: the support, or with a reused neighbour list the support and its skin
+ * (a particle's candidates within the skin are in the cells around its own). */
+double sph_config_cell_size(const sph_config *c);
 /* The smoothing length h [m]; MPS weights have support 2h = re (sph_kernel.h). */
 double sph_config_h(const sph_config *c);
 

@@ -50,6 +50,10 @@ typedef struct sph_method_ops {
      * checkpoint saves besides type and id), with their element sizes (double, or float under
      * mixed precision); returns how many (at most maxd). */
     int (*arrays)(const sph_sim *s, sph_array *d, int maxd);
+    /* After a restore (the state's particles in their saved order, s->cells.start as the state
+     * saved it with a reused neighbour list): rebuilds what the next step reads besides them.
+     * Returns 0 or an error code with err set; may be NULL. */
+    int (*resume)(sph_sim *s, sph_error *err);
     /* Frees s->mstate; may be NULL. */
     void (*destroy)(sph_sim *s);
     /* A device backend: brings the host's particles up to date with the device's (called

@@ -72,7 +72,7 @@ double sph_sim_estimate_bytes(const sph_config *cfg_in, long *nfluid, long *nbou
         return 0.0;
     double lo[3], hi[3];
     grid_bounds(cfg, lo, hi);
-    const double cells = sph_cells_count(cfg->dim, lo, hi, sph_config_support(cfg));
+    const double cells = sph_cells_count(cfg->dim, lo, hi, sph_config_cell_size(cfg));
     const sph_method_ops *ops = sph_method_ops_for(cfg);
     const double per = ops ? (double)ops->bytes_per_particle(cfg) : 0.0;
     double span = fmax(hi[0] - lo[0], hi[1] - lo[1]);
@@ -260,6 +260,30 @@ int sph_sim_check(const sph_config *c, sph_error *err)
                                  "\"double\"",
                                  why);
     }
+    if (c->neighbour_skin != 0.0) {
+        if (!(c->neighbour_skin > 0.0 && c->neighbour_skin <= SPH_NEIGHBOUR_SKIN_MAX))
+            return sph_error_set(err, SPH_ERR_INVALID, "/neighbours/skin",
+                                 "the skin must be in [0, %g] (a fraction of the support)",
+                                 SPH_NEIGHBOUR_SKIN_MAX);
+        /* what a list reused over steps cannot follow: particles added every step (ghosts),
+         * walls that move (bodies, a paddle), passes that search the cells in their current
+         * order (mDBC, shifting), another device or method */
+        const char *why = c->method != SPH_METHOD_WCSPH             ? "the MPS method"
+                          : c->device != SPH_DEVICE_CPU             ? "the GPU"
+                          : c->boundary == SPH_BOUNDARY_GHOST       ? "ghost walls"
+                          : c->wall_density == SPH_WALL_MDBC        ? "mDBC walls"
+                          : c->nbodies > 0                          ? "rigid bodies"
+                          : c->wavemaker.type != SPH_WAVEMAKER_NONE ? "a wavemaker"
+                          : c->shifting.type != SPH_SHIFT_NONE      ? "particle shifting"
+                                                                    : NULL;
+        if (why)
+            return sph_error_set(err, SPH_ERR_INVALID, "/neighbours/skin",
+                                 "a reused neighbour list is for WCSPH on the CPU with dynamic "
+                                 "walls of continuity density, without bodies, a wavemaker or "
+                                 "shifting; with %s the cells are searched every step: remove "
+                                 "\"neighbours\" or set its skin to 0",
+                                 why);
+    }
     if (c->dim == 3 && c->method != SPH_METHOD_WCSPH)
         return sph_error_set(err, SPH_ERR_INVALID, "/dim",
                              "the %s method runs in 2D only: 3D cases take \"method\": \"wcsph\"",
@@ -408,7 +432,8 @@ sph_sim *sph_sim_create(const sph_config *cfg_in, sph_error *err)
     if (!s->bin_count || !s->bin_max || (sph_fill_has_mirrors(cfg) && !s->mirror) ||
         sph_particles_alloc(&s->P, nf + nb, cfg->dim, sph_sim_particle_opts(cfg)) ||
         sph_particles_reserve(&s->P, cap) ||
-        sph_cells_alloc(&s->cells, cfg->dim, lo, hi, s->kernel.support, cap) ||
+        sph_cells_alloc(&s->cells, cfg->dim, lo, hi,
+                        s->kernel.support * (1.0 + cfg->neighbour_skin), cap) ||
         sph_bodies_init(&s->bodies, cfg, nf + nb - nbody)) {
         sph_sim_destroy(s);
         sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for %ld particles", nf + nb);
@@ -638,6 +663,8 @@ void sph_sim_destroy(sph_sim *s)
     free(s->bin_max);
     free(s->mirror);
     free(s->shift);
+    free(s->nlist.off);
+    free(s->nlist.j);
     free(s);
 }
 

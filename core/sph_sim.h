@@ -104,6 +104,8 @@ typedef struct sph_timing {
     double solve;        /* MPS: the pressure equation's assembly and solve [s] */
     long pairs;          /* interacting pairs (r < support) in the latest force evaluation */
     long active;         /* particles in the latest force evaluation */
+    long lists;          /* reused neighbour lists built (neighbours.skin; this sim's, not a
+                            restored state's before it) */
 } sph_timing;
 
 /* Once at the start of a program that runs simulations, before it starts any thread: the

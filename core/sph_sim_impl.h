@@ -26,6 +26,19 @@ static inline unsigned sph_sim_particle_opts(const sph_config *c)
            (c->method == SPH_METHOD_MPS ? SPH_PARTICLES_PRESSURE : 0);
 }
 
+/* A neighbour list reused over steps (the case's neighbours.skin; wcsph/sph_wcsph.c): each
+ * particle's half-stencil candidates within the support and its skin, in the order the strip
+ * loops visit them, from the particles' order and cells at the latest build (the particles keep
+ * that order until the next). */
+typedef struct sph_nlist {
+    long *off;    /* n + 1 offsets: particle i's candidates are j[off[i] .. off[i + 1]) */
+    int *j;       /* the candidates */
+    long off_cap; /* particles off can hold [-] */
+    long j_cap;   /* candidates j can hold [-] */
+    double moved; /* a bound on any particle's displacement since the build [m] */
+    int built;    /* 1 while the list holds; 0: built at the next force evaluation */
+} sph_nlist;
+
 struct sph_sim {
     sph_config cfg;            /* copy of the configuration */
     const sph_method_ops *ops; /* the method's table */
@@ -35,6 +48,7 @@ struct sph_sim {
     double mass;               /* particle mass rho0 dx^dim [kg] (per metre in 2D) */
     sph_particles P;           /* the particles */
     sph_cells cells;           /* the cell list */
+    sph_nlist nlist;           /* a neighbour list reused over steps (WCSPH, neighbours.skin) */
     long nactive;              /* particles in cells after the latest sort [-] */
     long nfluid;               /* fluid particles created [-] */
     long nboundary;            /* boundary particles [-] */

@@ -1,21 +1,8 @@
 /*
- * sph_wcsph: the WCSPH pair loops, in 2D and 3D; the physics of a pair is
- * sph_wcsph_pair() (sph_wcsph_pair.h), these loops schedule it.
- *
- * Each pair is computed once and applied to both particles with opposite signs. The loop is
- * written once, strip_generic(), a `static inline` function taking the kernel type, the option
- * flags and the dimension as compile-time constants; SPH_KERNEL_DISPATCH picks its
- * instantiation for the job's kernel, flags and dimension once per force evaluation, so no pair
- * goes through a function pointer and 2D pays nothing for the third axis.
- *
- * Parallel without atomics: the grid's columns (2D) or x slabs (3D) are grouped in strips two
- * cells wide along x. A cell interacts with itself and with the neighbouring cells that come
- * after it (in 2D the cell above it and the three cells of the next column; in 3D the cell
- * above it, the three cells of the next y column and the nine of the next x slab), so a strip
- * writes only to its own cells and the first layer of the next strip: strips of the same parity
- * never write to the same particle. The even strips run in parallel, then the odd ones. The
- * order in which a particle receives its contributions is fixed by the grid alone, so the
- * results are bitwise the same whatever the number of threads.
+ * sph_wcsph: the WCSPH force evaluation, in 2D and 3D: the cells or a reused neighbour list, the
+ * walls' density (mDBC), the pair loop (its instantiations in sph_wcsph_strips_<type>.c, the
+ * loop in sph_wcsph_strips.h; the physics of a pair is sph_wcsph_pair(), sph_wcsph_pair.h),
+ * particle shifting, gravity; and its gather form, the C reference of the GPU's.
  */
 #include "sph_wcsph.h"
 #include "sph_mdbc.h"
@@ -32,215 +19,6 @@
 #define SPH_SPS_CS 0.12   /* Smagorinsky constant, Yang et al. after Lo & Shao */
 #define SPH_SPS_CI 0.0066 /* isotropic part, Dalrymple & Rogers 2006 */
 
-/* Interactions of particle i with particles [jb, je), both sides (the symmetric loop); j's sums
- * go through restrict locals of the storage's type. */
-#define SPH_INTERACT_LOOP(R, TAKE_J, A)                                                            \
-    do {                                                                                           \
-        R *restrict ax = (A)->ax, *restrict ay = (A)->ay, *restrict az = (A)->az,                  \
-                    *restrict drho = (A)->drho;                                                    \
-        for (long j = jb; j < je; j++) {                                                           \
-            sph_wcsph_pair_out o;                                                                  \
-            pair_take tk;                                                                          \
-            if (!pair_of(T, F, D, c, &q, j, &o, &tk))                                              \
-                continue;                                                                          \
-            take_i(F, D, &o, &tk, ai);                                                             \
-            TAKE_J;                                                                                \
-        }                                                                                          \
-    } while (0)
-static inline __attribute__((always_inline)) void interact(sph_kernel_type T, unsigned F,
-                                                           const int D, const fctx *restrict c,
-                                                           long i, long jb, long je,
-                                                           acc *restrict ai)
-{
-    pair_i q;
-    pair_i_load(F, D, c, i, &q);
-    if (F & F_MIXED)
-        SPH_INTERACT_LOOP(float, take_j_f(F, D, ax, ay, az, drho, j, &o, &tk), &c->f32);
-    else
-        SPH_INTERACT_LOOP(double, take_j(F, D, c, ax, ay, az, drho, j, &o, &tk), c);
-}
-
-/* The pairs of strip `strip` (the cells with cx = 1 + 2 strip and 2 + 2 strip). Returns the
- * pair count. */
-static inline __attribute__((always_inline)) long
-strip_generic(sph_kernel_type T, unsigned F, const int D, const fctx *cp, int strip)
-{
-    /* a local copy of the constants: nothing the loops store can alias it */
-    const fctx cl = *cp, *const c = &cl;
-    const int ny = c->ny, nz = c->nz;
-    const int *start = c->start;
-    const int cx0 = 1 + 2 * strip, cx1 = cx0 + 2 < c->nx - 1 ? cx0 + 2 : c->nx - 1;
-    long pairs = 0;
-    if (D == 2) {
-        for (int cx = cx0; cx < cx1; cx++)
-            for (int cy = 1; cy < ny - 1; cy++) {
-                const long cell = (long)cx * ny + cy;
-                const long ib = start[cell], ie = start[cell + 1];
-                if (ib == ie)
-                    continue;
-                const long up = start[cell + 2]; /* end of the cell above */
-                long rb[1], re[1];
-                (void)half_stencil(2, start, cell, ny, 1, rb, re); /* the next column */
-                for (long i = ib; i < ie; i++) {
-                    acc a = {0};
-                    interact(T, F, D, c, i, i + 1, up, &a);
-                    interact(T, F, D, c, i, rb[0], re[0], &a);
-                    add_acc(F, D, c, i, &a);
-                    pairs += a.pairs;
-                }
-            }
-        return pairs;
-    }
-    /* In 3D each range is a column of cells along z whose particles are sorted by z
-     * (sph_cells_sort), so it is cut to the particles whose z is within reach of i's: two
-     * pointers per range that only move forward, as i's z only grows through its cell. The cut
-     * is wider than the support by a margin far above the rounding of z +- reach, so that it
-     * only drops candidates pair_of would refuse: the same pairs in the same order as the whole
-     * ranges. Both cuts take the positions as sorted: forces() sorts before every evaluation (a
-     * loop over cells built earlier, from positions since moved, would lose pairs). */
-    const double *restrict z = c->z;
-    const double size = 1.0 / c->inv_size;
-    const double reach = c->reach, reach2 = reach * reach;
-    /* A neighbour column is also at a distance across (x, y) from i, at least that of i to the
-     * column's cells (less the margin lat), which leaves it the reach in z sqrt(reach^2 - d^2),
-     * or none. */
-    const double lat = c->lat;
-    for (int cx = cx0; cx < cx1; cx++)
-        for (int cy = 1; cy < ny - 1; cy++)
-            for (int cz = 1; cz < nz - 1; cz++) {
-                const long cell = ((long)cx * ny + cy) * nz + cz;
-                const long ib = start[cell], ie = start[cell + 1];
-                if (ib == ie)
-                    continue;
-                const long up = start[cell + 2]; /* end of the cell above (cz + 1) */
-                long rb[4], re[4];               /* the next y column and the next x slab's three */
-                (void)half_stencil(3, start, cell, ny, nz, rb, re);
-                long lo[4], hi[4], top = ib + 1;
-                for (int k = 0; k < 4; k++)
-                    lo[k] = hi[k] = rb[k];
-                /* the faces of the neighbour columns: y of the next y column (and of the next
-                 * slab's cy + 1 one), y of the slab's cy - 1 one, x of the next slab */
-                const double yup = c->y0 + (cy + 1) * size, ydn = c->y0 + cy * size;
-                const double xup = c->x0 + (cx + 1) * size;
-                for (long i = ib; i < ie; i++) {
-                    const double zlo = z[i] - reach, zhi = z[i] + reach;
-                    acc a = {0};
-                    top = top > i + 1 ? top : i + 1;
-                    while (top < up && z[top] < zhi)
-                        top++;
-                    interact(T, F, D, c, i, i + 1, top, &a);
-                    const double ux = fmax(xup - c->x[i] - lat, 0.0);
-                    const double uy = fmax(yup - c->y[i] - lat, 0.0);
-                    const double dy = fmax(c->y[i] - ydn - lat, 0.0);
-                    /* the columns' squared distances across, in half_stencil's order */
-                    const double d2[4] = {uy * uy, ux * ux + dy * dy, ux * ux, ux * ux + uy * uy};
-                    for (int k = 0; k < 4; k++) {
-                        while (lo[k] < re[k] && z[lo[k]] <= zlo)
-                            lo[k]++;
-                        hi[k] = hi[k] > lo[k] ? hi[k] : lo[k];
-                        while (hi[k] < re[k] && z[hi[k]] < zhi)
-                            hi[k]++;
-                        if (d2[k] >= reach2)
-                            continue; /* the whole column is out of reach */
-                        /* within the window, the part within the column's own reach in z */
-                        const double rz = sqrt(reach2 - d2[k]);
-                        long b = lo[k], e = hi[k];
-                        while (b < e && z[b] <= z[i] - rz)
-                            b++;
-                        while (e > b && z[e - 1] >= z[i] + rz)
-                            e--;
-                        interact(T, F, D, c, i, b, e, &a);
-                    }
-                    add_acc(F, D, c, i, &a);
-                    pairs += a.pairs;
-                }
-            }
-    return pairs;
-}
-
-typedef long (*strip_fn)(const fctx *c, int strip);
-
-/* One instantiation per kernel type, option set and dimension a job can make:
- * strips<D>_<TYPE>[flags], the flags' value naming the instantiation. The combinations
- * sph_sim_check refuses (laminar with monaghan: one viscosity; ghost walls with bodies:
- * sph_body_check; bodies in 3D) have none, their entry is NULL: in 2D 36 of the 64 per kernel,
- * in 3D 24. Mixed precision's, strips<D>m_<TYPE>[flags] (F_MIXED with the flags, no SPS and no
- * bodies: sph_sim_check), 12 per kernel and dimension: 420 in all.
- * SPH_STRIPS_RUNTIME (the sanitizer and fuzz builds: CMakeLists.txt) keeps the tables but points
- * every entry at one instantiation per kernel type and dimension that reads the options (and
- * F_MIXED) at run time: the same source and the same arithmetic (the options only pick
- * branches), 10 functions instead of 420; with 300 the sanitizers' instrumentation took this file
- * 6 minutes to compile. */
-#ifdef SPH_STRIPS_RUNTIME
-#define SPH_STRIP_FN(T, FL, D)
-#define SPH_STRIP_REF(T, FL, D) strip##D##_##T##_rt
-#define SPH_STRIP_RT(T, D)                                                                         \
-    static long strip##D##_##T##_rt(const fctx *c, int strip)                                      \
-    {                                                                                              \
-        return strip_generic(T, c->flags, D, c, strip);                                            \
-    }
-#else
-#define SPH_STRIP_FN(T, FL, D)                                                                     \
-    static long strip##D##_##T##_##FL(const fctx *c, int strip)                                    \
-    {                                                                                              \
-        return strip_generic(T, FL, D, c, strip);                                                  \
-    }
-#define SPH_STRIP_REF(T, FL, D) strip##D##_##T##_##FL
-#define SPH_STRIP_RT(T, D)
-#endif
-/* clang-format off */
-#define SPH_STRIP_COMMON(T, D) \
-    SPH_STRIP_FN(T, 0, D) SPH_STRIP_FN(T, 1, D) SPH_STRIP_FN(T, 2, D) SPH_STRIP_FN(T, 3, D) \
-    SPH_STRIP_FN(T, 4, D) SPH_STRIP_FN(T, 5, D) SPH_STRIP_FN(T, 6, D) SPH_STRIP_FN(T, 7, D) \
-    SPH_STRIP_FN(T, 8, D) SPH_STRIP_FN(T, 9, D) SPH_STRIP_FN(T, 10, D) SPH_STRIP_FN(T, 11, D) \
-    SPH_STRIP_FN(T, 12, D) SPH_STRIP_FN(T, 13, D) SPH_STRIP_FN(T, 14, D) SPH_STRIP_FN(T, 15, D) \
-    SPH_STRIP_FN(T, 16, D) SPH_STRIP_FN(T, 18, D) SPH_STRIP_FN(T, 20, D) SPH_STRIP_FN(T, 22, D) \
-    SPH_STRIP_FN(T, 24, D) SPH_STRIP_FN(T, 26, D) SPH_STRIP_FN(T, 28, D) SPH_STRIP_FN(T, 30, D)
-#define SPH_STRIP_ROW(T, FL, D) [FL] = SPH_STRIP_REF(T, FL, D),
-#define SPH_STRIP_COMMON_ROWS(T, D) \
-    SPH_STRIP_ROW(T, 0, D) SPH_STRIP_ROW(T, 1, D) SPH_STRIP_ROW(T, 2, D) SPH_STRIP_ROW(T, 3, D) \
-    SPH_STRIP_ROW(T, 4, D) SPH_STRIP_ROW(T, 5, D) SPH_STRIP_ROW(T, 6, D) SPH_STRIP_ROW(T, 7, D) \
-    SPH_STRIP_ROW(T, 8, D) SPH_STRIP_ROW(T, 9, D) SPH_STRIP_ROW(T, 10, D) SPH_STRIP_ROW(T, 11, D) \
-    SPH_STRIP_ROW(T, 12, D) SPH_STRIP_ROW(T, 13, D) SPH_STRIP_ROW(T, 14, D) SPH_STRIP_ROW(T, 15, D) \
-    SPH_STRIP_ROW(T, 16, D) SPH_STRIP_ROW(T, 18, D) SPH_STRIP_ROW(T, 20, D) SPH_STRIP_ROW(T, 22, D) \
-    SPH_STRIP_ROW(T, 24, D) SPH_STRIP_ROW(T, 26, D) SPH_STRIP_ROW(T, 28, D) SPH_STRIP_ROW(T, 30, D)
-#define SPH_STRIP_TABLE(T) \
-    SPH_STRIP_RT(T, 2) SPH_STRIP_RT(T, 3) \
-    SPH_STRIP_COMMON(T, 2) \
-    SPH_STRIP_FN(T, 32, 2) SPH_STRIP_FN(T, 33, 2) SPH_STRIP_FN(T, 34, 2) SPH_STRIP_FN(T, 35, 2) \
-    SPH_STRIP_FN(T, 36, 2) SPH_STRIP_FN(T, 37, 2) SPH_STRIP_FN(T, 38, 2) SPH_STRIP_FN(T, 39, 2) \
-    SPH_STRIP_FN(T, 48, 2) SPH_STRIP_FN(T, 50, 2) SPH_STRIP_FN(T, 52, 2) SPH_STRIP_FN(T, 54, 2) \
-    SPH_STRIP_COMMON(T, 3) \
-    static const strip_fn strips2_##T[F_COUNT] = { \
-        SPH_STRIP_COMMON_ROWS(T, 2) \
-        SPH_STRIP_ROW(T, 32, 2) SPH_STRIP_ROW(T, 33, 2) SPH_STRIP_ROW(T, 34, 2) \
-        SPH_STRIP_ROW(T, 35, 2) SPH_STRIP_ROW(T, 36, 2) SPH_STRIP_ROW(T, 37, 2) \
-        SPH_STRIP_ROW(T, 38, 2) SPH_STRIP_ROW(T, 39, 2) SPH_STRIP_ROW(T, 48, 2) \
-        SPH_STRIP_ROW(T, 50, 2) SPH_STRIP_ROW(T, 52, 2) SPH_STRIP_ROW(T, 54, 2) \
-    }; \
-    static const strip_fn strips3_##T[F_COUNT] = { SPH_STRIP_COMMON_ROWS(T, 3) }; \
-    SPH_STRIP_MIXED(T, 2) SPH_STRIP_MIXED(T, 3) \
-    static const strip_fn strips2m_##T[F_COUNT] = { SPH_STRIP_MIXED_ROWS(T, 2) }; \
-    static const strip_fn strips3m_##T[F_COUNT] = { SPH_STRIP_MIXED_ROWS(T, 3) };
-/* Mixed precision's (F_MIXED = 64 added to the flags): the options it takes (no SPS, no bodies:
- * sph_sim_check), the row the flags without F_MIXED. */
-#define SPH_STRIP_MIXED(T, D) \
-    SPH_STRIP_FN(T, 64, D) SPH_STRIP_FN(T, 65, D) SPH_STRIP_FN(T, 68, D) SPH_STRIP_FN(T, 69, D) \
-    SPH_STRIP_FN(T, 72, D) SPH_STRIP_FN(T, 73, D) SPH_STRIP_FN(T, 76, D) SPH_STRIP_FN(T, 77, D) \
-    SPH_STRIP_FN(T, 80, D) SPH_STRIP_FN(T, 84, D) SPH_STRIP_FN(T, 88, D) SPH_STRIP_FN(T, 92, D)
-#define SPH_STRIP_MROW(T, FL, D) [FL - F_MIXED] = SPH_STRIP_REF(T, FL, D),
-#define SPH_STRIP_MIXED_ROWS(T, D) \
-    SPH_STRIP_MROW(T, 64, D) SPH_STRIP_MROW(T, 65, D) SPH_STRIP_MROW(T, 68, D) \
-    SPH_STRIP_MROW(T, 69, D) SPH_STRIP_MROW(T, 72, D) SPH_STRIP_MROW(T, 73, D) \
-    SPH_STRIP_MROW(T, 76, D) SPH_STRIP_MROW(T, 77, D) SPH_STRIP_MROW(T, 80, D) \
-    SPH_STRIP_MROW(T, 84, D) SPH_STRIP_MROW(T, 88, D) SPH_STRIP_MROW(T, 92, D)
-/* clang-format on */
-
-SPH_STRIP_TABLE(SPH_KERNEL_CUBIC_SPLINE)
-SPH_STRIP_TABLE(SPH_KERNEL_GAUSSIAN)
-SPH_STRIP_TABLE(SPH_KERNEL_DOUBLE_COSINE)
-SPH_STRIP_TABLE(SPH_KERNEL_WENDLAND_C2)
-SPH_STRIP_TABLE(SPH_KERNEL_RENORMALIZED_GAUSSIAN)
 /* The gather loop's instantiations (sph_wcsph_forces_gather): one per kernel type and dimension,
  * the options read at run time (it is the reference of the GPU's loop, not a fast path). */
 typedef long (*gather_fn)(const fctx *c, long i);
@@ -263,14 +41,18 @@ static const gather_fn gather2_SPH_KERNEL_SHEU_QUARTIC = NULL,
                        gather3_SPH_KERNEL_SHEU_QUARTIC = NULL;
 
 /* the MPS weight functions are refused for WCSPH (wcsph_check): no instantiations */
-static const strip_fn strips2_SPH_KERNEL_KOSHIZUKA[F_COUNT] = {0};
-static const strip_fn strips2_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
-static const strip_fn strips3_SPH_KERNEL_KOSHIZUKA[F_COUNT] = {0};
-static const strip_fn strips3_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
-static const strip_fn strips2m_SPH_KERNEL_KOSHIZUKA[F_COUNT] = {0};
-static const strip_fn strips2m_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
-static const strip_fn strips3m_SPH_KERNEL_KOSHIZUKA[F_COUNT] = {0};
-static const strip_fn strips3m_SPH_KERNEL_SHEU_QUARTIC[F_COUNT] = {0};
+static inline sph_strip_fn sph_wcsph_strip_SPH_KERNEL_KOSHIZUKA(int D, unsigned flags)
+{
+    (void)D;
+    (void)flags;
+    return NULL;
+}
+static inline sph_strip_fn sph_wcsph_strip_SPH_KERNEL_SHEU_QUARTIC(int D, unsigned flags)
+{
+    (void)D;
+    (void)flags;
+    return NULL;
+}
 
 void sph_wcsph_consts_of(const sph_sim *s, sph_wcsph_consts *k)
 {
@@ -614,6 +396,175 @@ static int add_ghosts(sph_sim *s)
     }
 }
 
+/* A thread's candidates while the neighbour list is built. */
+typedef struct nl_buf {
+    int *b;
+    long len, cap;
+} nl_buf;
+
+/* Appends j; 0, or -1 when out of memory. */
+static inline int nl_push(nl_buf *B, long j)
+{
+    if (B->len == B->cap) {
+        const long cap = B->cap ? 2 * B->cap : 1 << 16;
+        int *p = realloc(B->b, (size_t)cap * sizeof *p);
+        if (!p)
+            return -1;
+        B->b = p;
+        B->cap = cap;
+    }
+    B->b[B->len++] = (int)j;
+    return 0;
+}
+
+/* Particle i's candidates in [jb, je): within reach (r^2 < reach2), wall pairs left out (walls
+ * do not move: they never interact, pair_of refuses them). Returns 0 or -1. */
+static inline __attribute__((always_inline)) int
+nl_range(const int D, const sph_particles *P, long i, long jb, long je, double reach2, nl_buf *B)
+{
+    const double xi = P->x[i], yi = P->y[i], zi = D == 3 ? P->z[i] : 0.0;
+    const int wi = P->type[i] == SPH_BOUNDARY;
+    for (long j = jb; j < je; j++) {
+        const double dx = xi - P->x[j], dy = yi - P->y[j], dz = D == 3 ? zi - P->z[j] : 0.0;
+        const double r2 = D == 3 ? dx * dx + dy * dy + dz * dz : dx * dx + dy * dy;
+        if (r2 < reach2 && !(wi && P->type[j] == SPH_BOUNDARY) && nl_push(B, j))
+            return -1;
+    }
+    return 0;
+}
+
+/* The candidates of the particles of x column (2D) or slab (3D) cx, in the strip loops' order:
+ * each particle's cell after it and the cell above (one range), then the half stencil
+ * (half_stencil): ascending indices. Each particle's count into off[i + 1]. Returns 0 or -1. */
+static inline __attribute__((always_inline)) int nl_column(const int D, const sph_cells *g,
+                                                           const sph_particles *P, int cx,
+                                                           double reach2, long *off, nl_buf *B)
+{
+    const int ny = g->ny, nz = D == 3 ? g->nz : 1;
+    const int *start = g->start;
+    for (int cy = 1; cy < ny - 1; cy++)
+        for (int cz = D == 3 ? 1 : 0; cz < (D == 3 ? nz - 1 : 1); cz++) {
+            const long cell = ((long)cx * ny + cy) * nz + cz;
+            const long ib = start[cell], ie = start[cell + 1];
+            if (ib == ie)
+                continue;
+            long rb[4], re[4];
+            const int nr = half_stencil(D, start, cell, ny, nz, rb, re);
+            for (long i = ib; i < ie; i++) {
+                const long before = B->len;
+                if (nl_range(D, P, i, i + 1, start[cell + 2], reach2, B))
+                    return -1;
+                for (int k = 0; k < nr; k++)
+                    if (nl_range(D, P, i, rb[k], re[k], reach2, B))
+                        return -1;
+                off[i + 1] = B->len - before;
+            }
+        }
+    return 0;
+}
+
+/* Builds the reused neighbour list of the particles [0, nactive) from their cells
+ * (s->cells.start, which a sort or a restored state made) and their current positions (the
+ * displacement bound, s->nlist.moved, is the caller's):
+ * everything within (1 + skin) times the support, the margin a step's motion may use up before
+ * the next build. The columns go to the threads; each thread's candidates are then copied into
+ * place. Returns 0 or -1 when out of memory. */
+static int nlist_build(sph_sim *s)
+{
+    sph_nlist *L = &s->nlist;
+    const sph_cells *g = &s->cells;
+    const sph_particles *P = &s->P;
+    const int D = s->cfg.dim;
+    const long n = s->nactive, slab = (long)g->ny * (D == 3 ? g->nz : 1);
+    const double reach = s->kernel.support * (1.0 + s->cfg.neighbour_skin), reach2 = reach * reach;
+    L->built = 0;
+    if (n + 1 > L->off_cap) {
+        long *o = realloc(L->off, (size_t)(n + 1) * sizeof *o);
+        if (!o)
+            return -1;
+        L->off = o;
+        L->off_cap = n + 1;
+    }
+    const int nth = omp_get_max_threads(), nx = g->nx;
+    nl_buf *tb = calloc((size_t)nth, sizeof *tb);
+    int *col_th = calloc((size_t)nx, sizeof *col_th);
+    long *col_at = calloc((size_t)nx, sizeof *col_at);
+    int fail = !tb || !col_th || !col_at;
+    if (!fail) {
+        long *const off = L->off;
+        off[0] = 0;
+#pragma omp parallel num_threads(nth) if (n >= SPH_OMP_MIN)
+        {
+            nl_buf *B = &tb[omp_get_thread_num()];
+#pragma omp for schedule(dynamic, 1) reduction(| : fail)
+            for (int cx = 1; cx < nx - 1; cx++) {
+                col_th[cx] = omp_get_thread_num();
+                col_at[cx] = B->len;
+                if (!fail)
+                    fail |= D == 3 ? nl_column(3, g, P, cx, reach2, off, B)
+                                   : nl_column(2, g, P, cx, reach2, off, B);
+            }
+        }
+    }
+    if (!fail) {
+        long *const off = L->off;
+        for (long i = 0; i < n; i++)
+            off[i + 1] += off[i];
+        if (off[n] > L->j_cap) {
+            int *j = realloc(L->j, (size_t)(off[n] > 0 ? off[n] : 1) * sizeof *j);
+            fail = !j;
+            if (j) {
+                L->j = j;
+                L->j_cap = off[n];
+            }
+        }
+    }
+    if (!fail) {
+        const long *const off = L->off;
+        int *const lj = L->j;
+#pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
+        for (int cx = 1; cx < nx - 1; cx++) {
+            const long b = off[g->start[cx * slab]], e = off[g->start[(cx + 1) * slab]];
+            if (e > b)
+                memcpy(lj + b, tb[col_th[cx]].b + col_at[cx], (size_t)(e - b) * sizeof *lj);
+        }
+        L->built = 1;
+    }
+    for (int t = 0; tb && t < nth; t++)
+        free(tb[t].b);
+    free(tb);
+    free(col_th);
+    free(col_at);
+    return fail ? -1 : 0;
+}
+
+int sph_wcsph_resume(sph_sim *s, sph_error *err)
+{
+    if (s->cfg.neighbour_skin > 0.0 && nlist_build(s))
+        return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the neighbour list");
+    return 0;
+}
+
+double sph_wcsph_nlist_moved(const sph_sim *s, double dt, long n)
+{
+    const sph_particles *P = &s->P;
+    const int D = s->cfg.dim, M = P->mixed;
+    double m2 = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : m2) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++) {
+        if (P->type[i] != SPH_FLUID)
+            continue;
+        /* the predictor's displacement, dt (v + dt a0 / 2) */
+        const double dx = dt * (SPH_GET(M, P, vx, i) + 0.5 * dt * SPH_GET(M, P, ax0, i));
+        const double dy = dt * (SPH_GET(M, P, vy, i) + 0.5 * dt * SPH_GET(M, P, ay0, i));
+        const double dz =
+            D == 3 ? dt * (SPH_GET(M, P, vz, i) + 0.5 * dt * SPH_GET(M, P, az0, i)) : 0.0;
+        const double d2 = dx * dx + dy * dy + dz * dz;
+        m2 = d2 > m2 ? d2 : m2;
+    }
+    return sqrt(m2);
+}
+
 /* The pressure of the current density, which the particles do not store (the force loop reads
  * p / rho^2), into their scratch array: for a view (outputs, queries) and for the bodies'
  * pressure within a force evaluation, after the sort. Doubles, or floats under mixed precision
@@ -713,10 +664,23 @@ static int forces(sph_sim *s, int gather, double shift_dt)
     const sph_config *cfg = &s->cfg;
     sph_particles *P = &s->P;
     const int ghosts = cfg->boundary == SPH_BOUNDARY_GHOST;
+    /* a reused neighbour list (not for the gather loop, which searches the cells): built anew
+     * when some particle may have moved half its skin since the last build, so that every pair
+     * within the support now was within the support and the skin then; the margin leaves the
+     * rounding of the distances out of it */
+    const int listed = cfg->neighbour_skin > 0.0 && !gather;
+    const double skin = cfg->neighbour_skin * s->kernel.support;
     double t0 = omp_get_wtime();
     if (ghosts && add_ghosts(s))
         return -1;
-    s->nactive = sph_cells_sort(&s->cells, P);
+    if (!listed || !s->nlist.built || 2.0 * s->nlist.moved > skin * (1.0 - 1e-6)) {
+        s->nactive = sph_cells_sort(&s->cells, P);
+        s->nlist.built = 0; /* (the gather loop's sort moved the particles) */
+        if (listed && nlist_build(s))
+            return -1;
+        s->nlist.moved = 0.0;
+        s->timing.lists += listed;
+    }
     double t1 = omp_get_wtime();
     s->timing.neighbours += t1 - t0;
 
@@ -745,14 +709,16 @@ static int forces(sph_sim *s, int gather, double shift_dt)
     const int D = cfg->dim;
     fctx c;
     fctx_init(&c, P, &s->cells, s->cells.start, &s->kernel, &kc);
+    if (listed) {
+        c.loff = s->nlist.off;
+        c.lj = s->nlist.j;
+    }
     c.owner = s->bodies.owner;
     c.body0 = s->bodies.first;
     for (int k = 0; k < s->bodies.n; k++)
         c.from_fluid[k] = (unsigned char)s->bodies.b[k].from_fluid;
-    strip_fn fn = NULL;
-#define SPH_PICK(T)                                                                                \
-    fn = (flags & F_MIXED) ? (D == 3 ? strips3m_##T : strips2m_##T)[flags & (F_COUNT - 1)]         \
-                           : (D == 3 ? strips3_##T : strips2_##T)[flags]
+    sph_strip_fn fn = NULL;
+#define SPH_PICK(T) fn = sph_wcsph_strip_##T(D, flags)
     SPH_KERNEL_DISPATCH(s->kernel.type, SPH_PICK);
 #undef SPH_PICK
     if (!fn) /* an MPS weight or a refused combination: sph_sim_check refuses them first */

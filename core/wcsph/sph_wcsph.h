@@ -31,6 +31,27 @@ int sph_wcsph_no_penetration(sph_sim *s);
 
 void sph_wcsph_consts_of(const sph_sim *s, sph_wcsph_consts *k);
 
+/* The symmetric pair loop over strip `strip` of the force context c (sph_wcsph_strips.h);
+ * returns its pairs. */
+typedef long (*sph_strip_fn)(const fctx *c, int strip);
+
+/* sph_wcsph_strips_<type>.c: the pair loop's instantiation for kernel type T, dimension D and
+ * the options flags (SPH_WF_* and F_MIXED), NULL for a combination sph_sim_check refuses. */
+sph_strip_fn sph_wcsph_strip_SPH_KERNEL_CUBIC_SPLINE(int D, unsigned flags);
+sph_strip_fn sph_wcsph_strip_SPH_KERNEL_GAUSSIAN(int D, unsigned flags);
+sph_strip_fn sph_wcsph_strip_SPH_KERNEL_DOUBLE_COSINE(int D, unsigned flags);
+sph_strip_fn sph_wcsph_strip_SPH_KERNEL_WENDLAND_C2(int D, unsigned flags);
+sph_strip_fn sph_wcsph_strip_SPH_KERNEL_RENORMALIZED_GAUSSIAN(int D, unsigned flags);
+
+/* A reused neighbour list (neighbours.skin): the largest displacement the predictor is about to
+ * give a fluid particle of [0, n) over dt, from the velocities and the previous rates (ax0 ...);
+ * the step adds it to s->nlist.moved before the force evaluation. */
+double sph_wcsph_nlist_moved(const sph_sim *s, double dt, long n);
+
+/* The method's `resume` entry: after a restore, the neighbour list built anew from the state's
+ * order and cells (the same pairs in the same order as the list the state was saved with). */
+int sph_wcsph_resume(sph_sim *s, sph_error *err);
+
 /* sph_wcsph_step.c, shared by the CPU's step and the GPU's: the step's dt (at most dt_cap; a
  * collapsed dt is a blow-up: SPH_ERR_UNSTABLE), and the checks after it (bad: particles with a
  * non-finite velocity or density; rlo, rhi: the density range; then the lost particles). */

@@ -27,6 +27,7 @@
 
 #include <math.h>
 #include <omp.h>
+#include <string.h>
 
 #define SPH_RHO_LOW  0.5 /* density collapse below rho0 times this */
 #define SPH_RHO_HIGH 2.0 /* and above rho0 times this */
@@ -209,10 +210,21 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
     /* predictor */
     const long n0 = s->nactive;
     const step_ctx k = step_ctx_of(s);
+    /* a reused neighbour list: this step's largest displacement, dt |v + dt a0 / 2|, at most
+     * dt vmax + dt^2 amax / 2 (the fluid's largest speed and acceleration, which the previous
+     * step found); the first step of a new sim, whose vmax is not its fluid's yet, measures it */
+    const int listed = c->neighbour_skin > 0.0;
+    if (listed)
+        s->nlist.moved +=
+            s->step > 0 ? dt * (s->vmax + 0.5 * dt * s->amax) : sph_wcsph_nlist_moved(s, dt, n0);
     long bad = P->mixed ? (c->dim == 3 ? predict31 : predict21)(&k, dt, n0)
                         : (c->dim == 3 ? predict30 : predict20)(&k, dt, n0);
     if (bad)
         return sph_wcsph_predict_failed(s, step, dt, bad, err);
+    /* a particle that left the domain leaves the list's pairs: the list is built anew (the
+     * sort puts it after the active ones) */
+    if (listed && memchr(P->type, SPH_LOST, (size_t)n0))
+        s->nlist.built = 0;
     sph_paddle_move(&s->paddle, P, n0, s->t + dt); /* a wavemaker's paddle at the step's end */
     if (s->bodies.n > 0) {
         const double tb = omp_get_wtime();
@@ -281,7 +293,16 @@ size_t sph_wcsph_bytes_per_particle(const sph_config *c)
     /* with shifting, its displacements (sph_sim.shift: ghosts included, as the estimate counts
      * them) */
     const size_t shift = c->shifting.type != SPH_SHIFT_NONE ? (size_t)c->dim * sizeof(double) : 0;
-    return sph_particles_bytes_per_particle(c->dim, sph_sim_particle_opts(c)) + shift;
+    /* a reused neighbour list: an offset, and half the particles of a full lattice within the
+     * support and the skin (each pair once), held twice while it is built (the threads' lists,
+     * then the list) */
+    size_t list = 0;
+    if (c->neighbour_skin > 0.0) {
+        const double r = sph_config_cell_size(c) / c->dx;
+        const double ball = c->dim == 3 ? 4.0 / 3.0 * M_PI * r * r * r : M_PI * r * r;
+        list = sizeof(long) + (size_t)ceil(2.0 * 0.5 * ball) * sizeof(int);
+    }
+    return sph_particles_bytes_per_particle(c->dim, sph_sim_particle_opts(c)) + shift + list;
 }
 
 static int wcsph_init(sph_sim *s, sph_error *err)
@@ -323,5 +344,6 @@ const sph_method_ops sph_wcsph_ops = {
     .pressure = sph_wcsph_pressure,
     .diag = NULL,
     .arrays = sph_wcsph_arrays,
+    .resume = sph_wcsph_resume,
     .destroy = NULL,
 };

@@ -6,9 +6,11 @@
  *   make_seeds FUZZDIR           writes the files below into FUZZDIR (tests/fuzz), then checks them
  *   make_seeds --check FUZZDIR   only checks them
  *
- * corpus/sim_restore/small_wcsph.bin, small_body.bin, small_mdbc_geometry.bin: sph_sim_save of a
- *   tiny dam break, of one with a rigid body, and of one with mDBC walls and a polygon obstacle
- *   of the geometry list (its state holds the walls' mirror points), each stepped a few steps.
+ * corpus/sim_restore/small_wcsph.bin, small_body.bin, small_mdbc_geometry.bin, small_nlist.bin:
+ *   sph_sim_save of a tiny dam break, of one with a rigid body, of one with mDBC walls and a
+ *   polygon obstacle of the geometry list (its state holds the walls' mirror points), and of the
+ *   dam break with a reused neighbour list (its state holds the cells of the list's build), each
+ *   stepped a few steps.
  * corpus/ckpt/valid.bin, valid_fixup.bin, prev.bin: the checkpoint and checkpoint.prev of a run
  *   of fuzz_ckpt's case through sphd_exec (the server's writer), behind fuzz_ckpt's flag byte
  *   (0, or 7 for valid_fixup: the harness recomputes the checksums, to the same values).
@@ -53,6 +55,8 @@ typedef struct {
     int64_t nactive, nfluid, nboundary, step, failed, nbodies;
     int64_t nmirror;
     double t, dt, amax, vmax;
+    int64_t nstart;
+    double moved;
     sph_config cfg;
     sph_diag diag;
     sph_envelope wave;
@@ -90,6 +94,20 @@ static const char mdbc_case_text[] =
     "\"tank\":{\"min\":[0,0],\"max\":[0.2,0.2]}},"
     "\"geometry\":[{\"polygon\":[[0.14,0],[0.18,0],[0.18,0.04],[0.14,0.04]],"
     "\"role\":\"obstacle\",\"layers\":2}],"
+    "\"physics\":{\"rho0\":1000,\"gravity\":[0,-9.81],\"eos\":{\"type\":\"linear\",\"c0\":10},"
+    "\"viscosity\":{\"type\":\"artificial\",\"alpha\":0.1}},"
+    "\"time\":{\"end\":0.01,\"cfl\":0.2},"
+    "\"output\":{\"every\":0.005,\"fields\":[\"pos\",\"rho\"]},"
+    "\"diagnostics\":{\"every\":1,\"probes\":[\"front_x\"]}}";
+
+/* The dam break with a reused neighbour list: its state ends with the cells of the list's
+ * build. */
+static const char nlist_case_text[] =
+    "{\"name\":\"fzn\",\"method\":\"wcsph\",\"dim\":2,\"neighbours\":{\"skin\":0.2},"
+    "\"kernel\":{\"type\":\"wendland_c2\",\"h_over_dx\":1.3},\"dx\":0.02,"
+    "\"domain\":{\"min\":[0,0],\"max\":[0.2,0.2]},"
+    "\"fluid\":[{\"box\":{\"min\":[0,0],\"max\":[0.1,0.06]}}],"
+    "\"boundary\":{\"type\":\"dynamic\",\"layers\":3,\"tank\":{\"min\":[0,0],\"max\":[0.2,0.2]}},"
     "\"physics\":{\"rho0\":1000,\"gravity\":[0,-9.81],\"eos\":{\"type\":\"linear\",\"c0\":10},"
     "\"viscosity\":{\"type\":\"artificial\",\"alpha\":0.1}},"
     "\"time\":{\"end\":0.01,\"cfl\":0.2},"
@@ -166,6 +184,8 @@ typedef struct {
     long fluid;    /* index of the first fluid particle */
     long body;     /* index of the first body particle, -1 if none */
     size_t mirror; /* offset of the walls' mirror points, 0 if none */
+    size_t start;  /* offset of the neighbour list's cells, 0 if none */
+    size_t nstart; /* how many */
 } state_layout;
 
 static bytes make_state(const char *text, state_layout *L)
@@ -186,11 +206,14 @@ static bytes make_state(const char *text, state_layout *L)
     const size_t n = (size_t)s->P.n, nbs = (size_t)s->bodies.n;
     const size_t per = sph_method_arrays_size(arrays, na);
     const size_t nm = (size_t)s->nmirror * (size_t)s->cfg.dim * sizeof(double);
-    if (r.len !=
-        sizeof(sim_header) + per * n + n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state) + nm)
+    L->nstart = s->cfg.neighbour_skin > 0.0 ? (size_t)s->cells.ncells + 2 : 0;
+    const size_t ns = L->nstart * sizeof(int);
+    if (r.len != sizeof(sim_header) + per * n + n * (1 + sizeof(int)) +
+                     nbs * sizeof(sph_body_state) + nm + ns)
         die("sim_header", "out of date with core/sph_checkpoint.c (the state's length differs)");
     L->n = n;
-    L->mirror = nm ? r.len - nm : 0;
+    L->mirror = nm ? r.len - ns - nm : 0;
+    L->start = ns ? r.len - ns : 0;
     L->x = SIZE_MAX;
     for (int i = 0, off = 0; i < na; off += (int)arrays[i].size, i++)
         if (arrays[i].p == s->P.x)
@@ -220,7 +243,7 @@ static void put(bytes *s, size_t off, const void *v, size_t n)
 
 typedef struct {
     const char *name;
-    int body;             /* on the state with a body (1), with mirror points (2) */
+    int body; /* on the state with a body (1), with mirror points (2), with a neighbour list (3) */
     const char *expected; /* the refusal meant for it; NULL: restores, the probe copes */
 } sim_fault;
 
@@ -233,6 +256,8 @@ static const sim_fault sim_faults[] = {
     {"ghost_type_saved", 1, "bad particle types"},
     {"h_over_dx_huge", 0, "h_over_dx must be in"},
     {"mirror_not_a_number", 2, "mirror point that is not a number"},
+    {"nlist_start_past_active", 3, "bad cell list"},
+    {"nlist_moved_negative", 3, "bad cell list"},
 };
 
 /* Applies the named fault to a copy of the valid state. */
@@ -260,6 +285,16 @@ static bytes apply_sim_fault(const char *name, const bytes *valid, const state_l
         if (!L->mirror)
             die(name, "the state has no mirror points");
         put(&s, L->mirror + sizeof v, &v, sizeof v);
+    } else if (strcmp(name, "nlist_start_past_active") == 0) { /* the list's rows past nactive */
+        int v;
+        if (!L->start)
+            die(name, "the state has no neighbour list");
+        memcpy(&v, s.b + L->start + (L->nstart - 2) * sizeof v, sizeof v);
+        v += 5;
+        put(&s, L->start + (L->nstart - 3) * sizeof v, &v, sizeof v);
+    } else if (strcmp(name, "nlist_moved_negative") == 0) { /* never rebuilt again */
+        const double v = -1e300;
+        put(&s, offsetof(sim_header, moved), &v, sizeof v);
     } else if (strcmp(name, "body_particle_typed_fluid") == 0) {
         put(&s, L->types + (size_t)L->body, &fluid, 1);
     } else if (strcmp(name, "body_type_on_fluid") == 0) { /* bodies' tables read by id */
@@ -397,10 +432,13 @@ static void generate(const char *fuzzdir)
     snprintf(cc, sizeof cc, "%s/corpus/ckpt", fuzzdir);
     snprintf(rs, sizeof rs, "%s/regress/sim_restore", fuzzdir);
     snprintf(rc, sizeof rc, "%s/regress/ckpt", fuzzdir);
-    state_layout Lw, Lb, Lm;
+    state_layout Lw, Lb, Lm, Ln;
     bytes wcsph = make_state(fuzz_ckpt_case_text, &Lw);
     bytes body = make_state(body_case_text, &Lb);
     bytes mdbc = make_state(mdbc_case_text, &Lm);
+    bytes nlist = make_state(nlist_case_text, &Ln);
+    if (!Ln.start)
+        die("neighbour list state", "no cells saved");
     if (!Lm.mirror)
         die("mDBC state", "no mirror points");
     if (Lb.body < 0)
@@ -411,10 +449,12 @@ static void generate(const char *fuzzdir)
     write_file(cs, "small_wcsph.bin", 256, wcsph.b, wcsph.len);
     write_file(cs, "small_body.bin", 256, body.b, body.len);
     write_file(cs, "small_mdbc_geometry.bin", 256, mdbc.b, mdbc.len);
+    write_file(cs, "small_nlist.bin", 256, nlist.b, nlist.len);
     for (size_t i = 0; i < sizeof sim_faults / sizeof *sim_faults; i++) {
         const sim_fault *f = &sim_faults[i];
-        const bytes *v = f->body == 2 ? &mdbc : f->body ? &body : &wcsph;
-        bytes s = apply_sim_fault(f->name, v, f->body == 2 ? &Lm : f->body ? &Lb : &Lw);
+        const bytes *const states[] = {&wcsph, &body, &mdbc, &nlist};
+        const state_layout *const layouts[] = {&Lw, &Lb, &Lm, &Ln};
+        bytes s = apply_sim_fault(f->name, states[f->body], layouts[f->body]);
         write_file(rs, f->name, 256, s.b, s.len);
         free(s.b);
     }
@@ -431,6 +471,7 @@ static void generate(const char *fuzzdir)
     free(wcsph.b);
     free(body.b);
     free(mdbc.b);
+    free(nlist.b);
     free(prev.b);
     free(latest.b);
 }
@@ -512,8 +553,9 @@ static int check(const char *fuzzdir)
 {
     char p[4096];
     int ok = 1;
-    const char *seeds[] = {"small_wcsph.bin", "small_body.bin", "small_mdbc_geometry.bin"};
-    for (int i = 0; i < 3; i++) {
+    const char *seeds[] = {"small_wcsph.bin", "small_body.bin", "small_mdbc_geometry.bin",
+                           "small_nlist.bin"};
+    for (int i = 0; i < 4; i++) {
         snprintf(p, sizeof p, "%s/corpus/sim_restore/%s", fuzzdir, seeds[i]);
         ok &= check_sim(p, NULL, 1);
     }

@@ -1,0 +1,5 @@
+/* The symmetric pair loop's instantiations for the renormalized gaussian kernel
+ * (sph_wcsph_strips.h). */
+#include "sph_wcsph_strips.h"
+
+SPH_STRIPS_OF(SPH_KERNEL_RENORMALIZED_GAUSSIAN)
