@@ -76,6 +76,15 @@ double sph_config_cell_size(const sph_config *c)
     return sph_config_support(c) * (1.0 + c->neighbour_skin);
 }
 
+double sph_config_nlist_bytes(const sph_config *c)
+{
+    if (!(c->neighbour_skin > 0.0))
+        return 0.0;
+    const double r = sph_config_cell_size(c) / c->dx;
+    const double ball = c->dim == 3 ? 4.0 / 3.0 * M_PI * r * r * r : M_PI * r * r;
+    return (double)sizeof(long) + 2.0 * ceil(0.5 * ball) * (double)sizeof(int);
+}
+
 double sph_config_h(const sph_config *c)
 {
     return sph_kernel_is_mps(c->kernel.type) ? 0.5 * sph_config_support(c) : c->h_over_dx * c->dx;

@@ -365,6 +365,11 @@ double sph_config_support(const sph_config *c);
 /* The cell grid's edge: the support, or with a reused neighbour list the support and its skin
  * (a particle's candidates within the skin are in the cells around its own). */
 double sph_config_cell_size(const sph_config *c);
+
+/* A reused neighbour list's bytes per particle, as the memory estimate counts them: an offset,
+ * and half the particles of a full lattice within the support and the skin (each pair once),
+ * twice while it is built (the threads' lists, then the list); 0 without one. */
+double sph_config_nlist_bytes(const sph_config *c);
 /* The smoothing length h [m]; MPS weights have support 2h = re (sph_kernel.h). */
 double sph_config_h(const sph_config *c);
 

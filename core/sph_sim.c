@@ -644,7 +644,11 @@ void sph_sim_particles(const sph_sim *s, sph_particle_view *v)
 double sph_sim_bytes(const sph_sim *s)
 {
     const double n = (double)s->P.n;
-    return n * (double)s->ops->bytes_per_particle(&s->cfg) +
+    /* a reused neighbour list: what it holds, not the estimate's share */
+    const double list = (double)s->nlist.off_cap * sizeof(long) +
+                        (double)s->nlist.j_cap * sizeof(int) -
+                        n * ceil(sph_config_nlist_bytes(&s->cfg));
+    return n * (double)s->ops->bytes_per_particle(&s->cfg) + list +
            (double)(s->cells.ncells + 4) * sizeof(int) + (double)s->nbins * 12.0 +
            (double)s->nmirror * s->cfg.dim * sizeof(double) + sizeof *s;
 }

@@ -435,13 +435,22 @@ nl_range(const int D, const sph_particles *P, long i, long jb, long je, double r
 
 /* The candidates of the particles of x column (2D) or slab (3D) cx, in the strip loops' order:
  * each particle's cell after it and the cell above (one range), then the half stencil
- * (half_stencil): ascending indices. Each particle's count into off[i + 1]. Returns 0 or -1. */
+ * (half_stencil): ascending indices. In 3D each range, a column of cells sorted by z, is first
+ * cut to the part that can be within reach (sph_cells_cut_column, with the margins of
+ * sph_cells_cut_margins: only candidates beyond the reach go, so the list is the same). Each
+ * particle's count into off[i + 1]. Returns 0 or -1. */
 static inline __attribute__((always_inline)) int nl_column(const int D, const sph_cells *g,
                                                            const sph_particles *P, int cx,
-                                                           double reach2, long *off, nl_buf *B)
+                                                           double reach, long *off, nl_buf *B)
 {
     const int ny = g->ny, nz = D == 3 ? g->nz : 1;
     const int *start = g->start;
+    const double size = 1.0 / g->inv_size, reach2 = reach * reach;
+    double cut = reach, lat = 0.0;
+    if (D == 3)
+        sph_cells_cut_margins(g, reach, &cut, &lat);
+    /* the columns of half_stencil's ranges, as offsets (x, y) from i's */
+    static const int ox[4] = {0, 1, 1, 1}, oy[4] = {1, -1, 0, 1};
     for (int cy = 1; cy < ny - 1; cy++)
         for (int cz = D == 3 ? 1 : 0; cz < (D == 3 ? nz - 1 : 1); cz++) {
             const long cell = ((long)cx * ny + cy) * nz + cz;
@@ -452,11 +461,21 @@ static inline __attribute__((always_inline)) int nl_column(const int D, const sp
             const int nr = half_stencil(D, start, cell, ny, nz, rb, re);
             for (long i = ib; i < ie; i++) {
                 const long before = B->len;
-                if (nl_range(D, P, i, i + 1, start[cell + 2], reach2, B))
+                long b = i + 1, e = start[cell + 2];
+                const double p[3] = {P->x[i], P->y[i], D == 3 ? P->z[i] : 0.0};
+                if (D == 3)
+                    sph_cells_cut_z(P->z, p[2], cut, &b, &e);
+                if (nl_range(D, P, i, b, e, reach2, B))
                     return -1;
-                for (int k = 0; k < nr; k++)
-                    if (nl_range(D, P, i, rb[k], re[k], reach2, B))
+                for (int k = 0; k < nr; k++) {
+                    b = rb[k];
+                    e = re[k];
+                    if (D == 3 && !sph_cells_cut_column(g->x0, g->y0, size, P->z, p, cx + ox[k],
+                                                        cy + oy[k], cut * cut, lat, &b, &e))
+                        continue;
+                    if (nl_range(D, P, i, b, e, reach2, B))
                         return -1;
+                }
                 off[i + 1] = B->len - before;
             }
         }
@@ -476,7 +495,7 @@ static int nlist_build(sph_sim *s)
     const sph_particles *P = &s->P;
     const int D = s->cfg.dim;
     const long n = s->nactive, slab = (long)g->ny * (D == 3 ? g->nz : 1);
-    const double reach = s->kernel.support * (1.0 + s->cfg.neighbour_skin), reach2 = reach * reach;
+    const double reach = s->kernel.support * (1.0 + s->cfg.neighbour_skin);
     L->built = 0;
     if (n + 1 > L->off_cap) {
         long *o = realloc(L->off, (size_t)(n + 1) * sizeof *o);
@@ -501,8 +520,8 @@ static int nlist_build(sph_sim *s)
                 col_th[cx] = omp_get_thread_num();
                 col_at[cx] = B->len;
                 if (!fail)
-                    fail |= D == 3 ? nl_column(3, g, P, cx, reach2, off, B)
-                                   : nl_column(2, g, P, cx, reach2, off, B);
+                    fail |= D == 3 ? nl_column(3, g, P, cx, reach, off, B)
+                                   : nl_column(2, g, P, cx, reach, off, B);
             }
         }
     }

@@ -293,15 +293,8 @@ size_t sph_wcsph_bytes_per_particle(const sph_config *c)
     /* with shifting, its displacements (sph_sim.shift: ghosts included, as the estimate counts
      * them) */
     const size_t shift = c->shifting.type != SPH_SHIFT_NONE ? (size_t)c->dim * sizeof(double) : 0;
-    /* a reused neighbour list: an offset, and half the particles of a full lattice within the
-     * support and the skin (each pair once), held twice while it is built (the threads' lists,
-     * then the list) */
-    size_t list = 0;
-    if (c->neighbour_skin > 0.0) {
-        const double r = sph_config_cell_size(c) / c->dx;
-        const double ball = c->dim == 3 ? 4.0 / 3.0 * M_PI * r * r * r : M_PI * r * r;
-        list = sizeof(long) + (size_t)ceil(2.0 * 0.5 * ball) * sizeof(int);
-    }
+    /* a reused neighbour list (sph_config_nlist_bytes) */
+    const size_t list = (size_t)ceil(sph_config_nlist_bytes(c));
     return sph_particles_bytes_per_particle(c->dim, sph_sim_particle_opts(c)) + shift + list;
 }
 
