@@ -1,0 +1,87 @@
+/*
+ * sphd_reflect: the incident and reflected regular waves of a flume from its gauges, by least
+ * squares (sphd_reflect.h).
+ */
+#include "sphd_reflect.h"
+
+#include <complex.h>
+#include <math.h>
+#include <string.h>
+
+/* The least squares fit of eta over the samples of [t0, t1] by e0 + a cos(omega t) + b sin(omega
+ * t) (a 3 x 3 system, solved by Cramer's rule): its complex amplitude a - i b into *z. Returns the
+ * samples used, or -1 for a singular system. */
+static long fit(const double *t, const double *eta, long n, double t0, double t1, double omega,
+                double complex *z)
+{
+    double s[3][3], r[3];
+    memset(s, 0, sizeof s);
+    memset(r, 0, sizeof r);
+    long used = 0;
+    for (long i = 0; i < n; i++) {
+        if (!(t[i] >= t0 && t[i] <= t1) || !isfinite(eta[i]))
+            continue;
+        const double f[3] = {1.0, cos(omega * t[i]), sin(omega * t[i])};
+        for (int p = 0; p < 3; p++) {
+            for (int q = 0; q < 3; q++)
+                s[p][q] += f[p] * f[q];
+            r[p] += f[p] * eta[i];
+        }
+        used++;
+    }
+    const double det = s[0][0] * (s[1][1] * s[2][2] - s[1][2] * s[2][1]) -
+                       s[0][1] * (s[1][0] * s[2][2] - s[1][2] * s[2][0]) +
+                       s[0][2] * (s[1][0] * s[2][1] - s[1][1] * s[2][0]);
+    if (!(fabs(det) > 1e-12 * (double)used * (double)used * (double)used))
+        return -1;
+    /* a and b: the second and third unknowns */
+    double c[3][3];
+    memcpy(c, s, sizeof c);
+    for (int p = 0; p < 3; p++)
+        c[p][1] = r[p];
+    const double a = (c[0][0] * (c[1][1] * c[2][2] - c[1][2] * c[2][1]) -
+                      c[0][1] * (c[1][0] * c[2][2] - c[1][2] * c[2][0]) +
+                      c[0][2] * (c[1][0] * c[2][1] - c[1][1] * c[2][0])) /
+                     det;
+    memcpy(c, s, sizeof c);
+    for (int p = 0; p < 3; p++)
+        c[p][2] = r[p];
+    const double b = (c[0][0] * (c[1][1] * c[2][2] - c[1][2] * c[2][1]) -
+                      c[0][1] * (c[1][0] * c[2][2] - c[1][2] * c[2][0]) +
+                      c[0][2] * (c[1][0] * c[2][1] - c[1][1] * c[2][0])) /
+                     det;
+    *z = a - I * b;
+    return used;
+}
+
+int sphd_reflect(const double *t, const double *const *eta, const double *x, int m, long n,
+                 double t0, double t1, double omega, double k, sphd_reflect_out *out)
+{
+    out->hi = out->hr = out->kr = NAN;
+    out->cond = 0.0;
+    if (m < 2 || m > SPHD_REFLECT_MAX_GAUGES || !(omega > 0.0) || !(k > 0.0) ||
+        !(t1 - t0 >= 2.0 * M_PI / omega))
+        return -1;
+    /* normal equations of Z_n = A_I u_n + A_R conj(u_n), u_n = exp(-i k x_n):
+     * [N S; conj(S) N] [A_I; A_R] = [sum conj(u) Z; sum u Z], S = sum conj(u_n)^2 */
+    double complex S = 0.0, bi = 0.0, br = 0.0;
+    for (int j = 0; j < m; j++) {
+        double complex z;
+        if (fit(t, eta[j], n, t0, t1, omega, &z) < 8)
+            return -1;
+        const double complex u = cexp(-I * k * x[j]);
+        S += conj(u) * conj(u);
+        bi += conj(u) * z;
+        br += u * z;
+    }
+    const double N = (double)m;
+    out->cond = 1.0 - creal(S * conj(S)) / (N * N);
+    if (!(out->cond >= SPHD_REFLECT_MIN_COND))
+        return -1;
+    const double complex det = N * N - S * conj(S);
+    const double complex ai = (N * bi - S * br) / det, ar = (N * br - conj(S) * bi) / det;
+    out->hi = 2.0 * cabs(ai);
+    out->hr = 2.0 * cabs(ar);
+    out->kr = out->hr / out->hi;
+    return 0;
+}
