@@ -8,6 +8,18 @@
 #include <math.h>
 #include <string.h>
 
+/* The determinant of the 3 x 3 matrix s with its column `col` replaced by r (col -1: none). */
+static double det3(const double s[3][3], int col, const double r[3])
+{
+    double c[3][3];
+    for (int p = 0; p < 3; p++)
+        for (int q = 0; q < 3; q++)
+            c[p][q] = q == col ? r[p] : s[p][q];
+    return c[0][0] * (c[1][1] * c[2][2] - c[1][2] * c[2][1]) -
+           c[0][1] * (c[1][0] * c[2][2] - c[1][2] * c[2][0]) +
+           c[0][2] * (c[1][0] * c[2][1] - c[1][1] * c[2][0]);
+}
+
 /* The least squares fit of eta over the samples of [t0, t1] by e0 + a cos(omega t) + b sin(omega
  * t) (a 3 x 3 system, solved by Cramer's rule): its complex amplitude a - i b into *z. Returns the
  * samples used, or -1 for a singular system. */
@@ -29,28 +41,10 @@ static long fit(const double *t, const double *eta, long n, double t0, double t1
         }
         used++;
     }
-    const double det = s[0][0] * (s[1][1] * s[2][2] - s[1][2] * s[2][1]) -
-                       s[0][1] * (s[1][0] * s[2][2] - s[1][2] * s[2][0]) +
-                       s[0][2] * (s[1][0] * s[2][1] - s[1][1] * s[2][0]);
+    const double det = det3(s, -1, r);
     if (!(fabs(det) > 1e-12 * (double)used * (double)used * (double)used))
         return -1;
-    /* a and b: the second and third unknowns */
-    double c[3][3];
-    memcpy(c, s, sizeof c);
-    for (int p = 0; p < 3; p++)
-        c[p][1] = r[p];
-    const double a = (c[0][0] * (c[1][1] * c[2][2] - c[1][2] * c[2][1]) -
-                      c[0][1] * (c[1][0] * c[2][2] - c[1][2] * c[2][0]) +
-                      c[0][2] * (c[1][0] * c[2][1] - c[1][1] * c[2][0])) /
-                     det;
-    memcpy(c, s, sizeof c);
-    for (int p = 0; p < 3; p++)
-        c[p][2] = r[p];
-    const double b = (c[0][0] * (c[1][1] * c[2][2] - c[1][2] * c[2][1]) -
-                      c[0][1] * (c[1][0] * c[2][2] - c[1][2] * c[2][0]) +
-                      c[0][2] * (c[1][0] * c[2][1] - c[1][1] * c[2][0])) /
-                     det;
-    *z = a - I * b;
+    *z = det3(s, 1, r) / det - I * (det3(s, 2, r) / det);
     return used;
 }
 

@@ -100,20 +100,6 @@ static const char mdbc_case_text[] =
     "\"output\":{\"every\":0.005,\"fields\":[\"pos\",\"rho\"]},"
     "\"diagnostics\":{\"every\":1,\"probes\":[\"front_x\"]}}";
 
-/* The dam break with a reused neighbour list: its state ends with the cells of the list's
- * build. */
-static const char nlist_case_text[] =
-    "{\"name\":\"fzn\",\"method\":\"wcsph\",\"dim\":2,\"neighbours\":{\"skin\":0.2},"
-    "\"kernel\":{\"type\":\"wendland_c2\",\"h_over_dx\":1.3},\"dx\":0.02,"
-    "\"domain\":{\"min\":[0,0],\"max\":[0.2,0.2]},"
-    "\"fluid\":[{\"box\":{\"min\":[0,0],\"max\":[0.1,0.06]}}],"
-    "\"boundary\":{\"type\":\"dynamic\",\"layers\":3,\"tank\":{\"min\":[0,0],\"max\":[0.2,0.2]}},"
-    "\"physics\":{\"rho0\":1000,\"gravity\":[0,-9.81],\"eos\":{\"type\":\"linear\",\"c0\":10},"
-    "\"viscosity\":{\"type\":\"artificial\",\"alpha\":0.1}},"
-    "\"time\":{\"end\":0.01,\"cfl\":0.2},"
-    "\"output\":{\"every\":0.005,\"fields\":[\"pos\",\"rho\"]},"
-    "\"diagnostics\":{\"every\":1,\"probes\":[\"front_x\"]}}";
-
 #define STEPS 5
 
 typedef struct {
@@ -436,7 +422,18 @@ static void generate(const char *fuzzdir)
     bytes wcsph = make_state(fuzz_ckpt_case_text, &Lw);
     bytes body = make_state(body_case_text, &Lb);
     bytes mdbc = make_state(mdbc_case_text, &Lm);
+    /* fuzz_ckpt's dam break with a reused neighbour list: its state ends with the cells of the
+     * list's build */
+    json_error_t je;
+    json_t *nl = json_loads(fuzz_ckpt_case_text, 0, &je);
+    if (!nl || json_object_set_new(nl, "neighbours", json_pack("{s:f}", "skin", 0.2)))
+        die("neighbour list case", "cannot make it");
+    char *nlist_case_text = json_dumps(nl, JSON_COMPACT);
+    json_decref(nl);
+    if (!nlist_case_text)
+        die("neighbour list case", "out of memory");
     bytes nlist = make_state(nlist_case_text, &Ln);
+    free(nlist_case_text);
     if (!Ln.start)
         die("neighbour list state", "no cells saved");
     if (!Lm.mirror)

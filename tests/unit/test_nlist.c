@@ -16,46 +16,14 @@
 
 #include <cmocka.h>
 
-#include "sph_case.h"
-#include "sph_json.h"
 #include "sph_sim.h"
+#include "unit_case.h"
 
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* cases/NAME with `--set` items (NULL-terminated) into *cfg: 0, or the parser's code. */
-static int parse_case(const char *name, const char *const *sets, sph_config *cfg, sph_error *err)
-{
-    char path[4096];
-    const char *src = getenv("SPH_SOURCE_DIR");
-    snprintf(path, sizeof path, "%s/cases/%s", src ? src : ".", name);
-    json_t *root;
-    assert_int_equal(sph_case_load(path, &root, err), 0);
-    for (; *sets; sets++)
-        assert_int_equal(sph_json_apply_set(root, *sets, err), 0);
-    sph_case *c = calloc(1, sizeof *c);
-    assert_non_null(c);
-    const int rc = sph_case_from_json(root, c, err);
-    if (rc == 0)
-        *cfg = c->sim;
-    free(c);
-    json_decref(root);
-    return rc;
-}
-
-static sph_config load(const char *name, const char *const *sets)
-{
-    sph_config cfg;
-    sph_error err;
-    const int rc = parse_case(name, sets, &cfg, &err);
-    if (rc)
-        fprintf(stderr, "%s: %s: %s\n", name, err.path, err.message);
-    assert_int_equal(rc, 0);
-    return cfg;
-}
 
 /* A sim's fields by particle id: position (dim), density. */
 typedef struct by_id {
@@ -95,7 +63,7 @@ static void same_physics(const char *name, const char *dx, long steps, double to
 {
     const char *const binned[] = {dx, NULL};
     const char *const listed[] = {dx, "neighbours.skin=0.1", NULL};
-    const sph_config cb = load(name, binned), cl = load(name, listed);
+    const sph_config cb = load_case(name, binned), cl = load_case(name, listed);
     assert_true(cl.neighbour_skin == 0.1);
     sph_error err;
     sph_sim *a = sph_sim_create(&cb, &err), *b = sph_sim_create(&cl, &err);
@@ -204,7 +172,7 @@ static void test_restarts(void **state)
     (void)state;
     static const char *const d2[] = {"dx=0.005", "neighbours.skin=0.1", NULL};
     static const char *const d3[] = {"dx=0.06", "neighbours.skin=0.2", NULL};
-    const sph_config cfgs[] = {load("dambreak.json", d2), load("dambreak3d.json", d3)};
+    const sph_config cfgs[] = {load_case("dambreak.json", d2), load_case("dambreak3d.json", d3)};
     const int saved = omp_get_max_threads();
     for (size_t k = 0; k < sizeof cfgs / sizeof cfgs[0]; k++) {
         sph_sim *run[2];
