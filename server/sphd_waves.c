@@ -59,7 +59,10 @@ double sphd_waves_window(const sph_config *c, int k)
     sph_wave_design w;
     if (sph_sim_wave_design(c, &w) || k < 0 || k >= c->ngauges)
         return NAN;
-    return c->wavemaker.ramp * c->wavemaker.period + fabs(c->gauges[k].x - c->wavemaker.x) / w.cg;
+    /* the ramp's end reaches the gauge at ramp T + distance / cg; one period more lets the
+     * train's dispersed front go by */
+    return (c->wavemaker.ramp + 1.0) * c->wavemaker.period +
+           fabs(c->gauges[k].x - c->wavemaker.x) / w.cg;
 }
 
 json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, long n)

@@ -17,8 +17,10 @@
 int sphd_waves_zero_up(const double *t, const double *eta, long n, double t0, double *height,
                        double *period);
 
-/* The window of gauge k of c: it opens when the end of the ramp, moving at the group velocity,
- * has reached the gauge: ramp T + |x_gauge - x_paddle| / cg [s]. NaN without a wavemaker. */
+/* The window of gauge k of c: it opens one period after the end of the ramp, moving at linear
+ * theory's group velocity cg, has reached the gauge, so that the waves in it are the developed
+ * train, not its growing front: (ramp + 1) T + |x_gauge - x_paddle| / cg [s]. NaN without a
+ * wavemaker. */
 double sphd_waves_window(const sph_config *c, int k);
 
 /* {"GAUGE": {"height", "period", "count", "from"}, ...} for c's gauges from the series t[n]

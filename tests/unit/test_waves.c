@@ -16,7 +16,13 @@
  *   velocity dX/dt after some steps (to rounding: the same arithmetic); a fluid particle in the
  *   damping zone's far end slowed by 1 - dt beta; a restart at step 60 continues to the same
  *   bits as the run that went on;
- * - bad inputs: each refused at its field's path.
+ * - bad inputs: each refused at its field's path;
+ * - the wave analysis (server/sphd_waves.c): a sampled sine's height and period by zero
+ *   up-crossing; each gauge's window (ramp + 1) T + distance / cg with cg = 1.18939862610825
+ *   m/s (Python: kd by bisection, cg = omega / (2k) (1 + 2kd / sinh 2kd)); linear theory's
+ *   ramped train at the case's gauges (its envelope moving at cg) measured at H from the
+ *   window on, which an analysis from the end of the ramp alone would not (its far gauges'
+ *   windows would take in the growing front).
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -29,6 +35,7 @@
 #include "sph_json.h"
 #include "sph_sim.h"
 #include "sph_wave_law.h"
+#include "sphd_waves.h"
 #include "unit_case.h"
 
 #include <math.h>
@@ -99,7 +106,8 @@ static void damping_weight(void **state)
     assert_true(sph_damping_factor(1.0, 1.0, 10.0, 2.0, 4.0) == 1.0);
 }
 
-static const char *const small[] = {"dx=0.05", "time.end=1.0", NULL};
+/* dx = 0.05: 3 layers of paddle (the case's 4 and half its stroke would not fit behind the face) */
+static const char *const small[] = {"dx=0.05", "wavemaker.layers=3", "time.end=1.0", NULL};
 
 /* The paddle's particles (boundary particles behind the face at x, within the stroke) at rest +
  * X(t), moving at dX/dt. */
@@ -183,6 +191,7 @@ static void damping_stops(void **state)
 {
     (void)state;
     static const char *const sets[] = {"dx=0.05",
+                                       "wavemaker.layers=3",
                                        "wavemaker.ramp=0",
                                        "absorption.from=0.3",
                                        "absorption.to=0.31",
@@ -251,6 +260,82 @@ static void bad_inputs(void **state)
     refused((const char *const[]){"boundary.density=mdbc", NULL}, "/boundary/density");
 }
 
+#define PI 3.14159265358979323846
+
+/* A sine sampled every 0.02 s: its zero-up-crossing height and period. */
+static void analysis_zero_up(void **state)
+{
+    (void)state;
+    enum { N = 500 };
+    double t[N], eta[N];
+    const double a = 0.025, T = 1.27;
+    for (int i = 0; i < N; i++) {
+        t[i] = 0.02 * i;
+        eta[i] = 0.4 + a * sin(2.0 * PI * t[i] / T + 0.3);
+    }
+    double H, P;
+    const int count = sphd_waves_zero_up(t, eta, N, 2.0, &H, &P);
+    assert_int_equal(count, 5); /* up-crossings at 2.48, 3.75, ..., 8.83 s: five whole waves */
+    assert_true(fabs(H / (2.0 * a) - 1.0) < 2e-3); /* 63 samples a period: the crest's sample */
+    assert_true(fabs(P / T - 1.0) < 1e-4);
+    assert_int_equal(sphd_waves_zero_up(t, eta, N, 9.9, &H, &P), 0);
+    assert_true(isnan(H) && isnan(P));
+}
+
+/* Each gauge's window: (ramp + 1) T + its distance from the paddle / cg. */
+static void analysis_window(void **state)
+{
+    (void)state;
+    const sph_config cfg = load_case("wave_flume.json", (const char *const[]){NULL});
+    const double cg = 1.1893986261082539, T = cfg.wavemaker.period;
+    assert_true(cfg.ngauges >= 3);
+    for (int k = 0; k < cfg.ngauges; k++) {
+        const double want =
+            (cfg.wavemaker.ramp + 1.0) * T + (cfg.gauges[k].x - cfg.wavemaker.x) / cg;
+        assert_true(fabs(sphd_waves_window(&cfg, k) - want) < 1e-9);
+    }
+}
+
+/* Linear theory's train from the case's paddle, its ramped envelope moving at cg, at each
+ * gauge: the analysis gives H (and T) at every gauge, the farthest too. */
+static void analysis_developed_train(void **state)
+{
+    (void)state;
+    const sph_config cfg = load_case("wave_flume.json", (const char *const[]){NULL});
+    sph_wave_design w;
+    assert_int_equal(sph_sim_wave_design(&cfg, &w), 0);
+    const int ng = cfg.ngauges;
+    const long n = 800; /* 16 s at 0.02 s */
+    double *t = malloc((size_t)n * sizeof *t), *g = malloc((size_t)(n * ng) * sizeof *g);
+    assert_non_null(t);
+    assert_non_null(g);
+    const double H = cfg.wavemaker.height, T = cfg.wavemaker.period;
+    const double tr = cfg.wavemaker.ramp * T;
+    for (long i = 0; i < n; i++) {
+        t[i] = 0.02 * (double)i;
+        for (int k = 0; k < ng; k++) {
+            const double x = cfg.gauges[k].x - cfg.wavemaker.x;
+            double rate;
+            const double r = sph_wave_ramp(t[i] - x / w.cg, tr, &rate);
+            g[i * ng + k] = w.depth + 0.5 * H * r * sin(w.omega * t[i] - w.k * x);
+        }
+    }
+    json_t *out = sphd_waves_json(&cfg, t, g, n);
+    assert_non_null(out);
+    for (int k = 0; k < ng; k++) {
+        json_t *o = json_object_get(out, cfg.gauges[k].name);
+        assert_non_null(o);
+        assert_true(json_integer_value(json_object_get(o, "count")) >= 3);
+        const double h = json_real_value(json_object_get(o, "height"));
+        const double p = json_real_value(json_object_get(o, "period"));
+        assert_true(fabs(h / H - 1.0) < 3e-3);
+        assert_true(fabs(p / T - 1.0) < 1e-3);
+    }
+    json_decref(out);
+    free(t);
+    free(g);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -262,6 +347,9 @@ int main(void)
         cmocka_unit_test(restart_same_bits),
         cmocka_unit_test(damping_stops),
         cmocka_unit_test(bad_inputs),
+        cmocka_unit_test(analysis_zero_up),
+        cmocka_unit_test(analysis_window),
+        cmocka_unit_test(analysis_developed_train),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,15 +1,17 @@
 #!/usr/bin/env bash
 # A short wave flume (issue 45): cases/wave_flume.json (d = 0.4 m, H = 0.05 m, T = 1.27 s,
-# kd = 1.20, dx = 0.02 m: 2.5 particles per wave height) to t = 10 s, about 1.5 minutes on one
-# core. The result's wave analysis (zero up-crossing, from the end of the ramp plus the group
-# velocity's travel to the gauge) at the gauge g1L, one wavelength from the paddle: the period
-# within 2% of T, and the height within 25% of H. This is a guard of the wavemaker's theory and
-# the paddle's motion (a wrong transfer function or stroke is off by far more), NOT the issue's
-# accuracy, which the flume does not reach yet: measured (2026-11-29), the height one, two and
-# three wavelengths from the paddle is -15%, -25%, -36% of H to t = 10 s at dx = 0.02, the same
-# at dx = 0.01 (-15%, -28%, -42%: not a matter of resolution), and -11%, -18%, -31% over the
-# longer window of a run to t = 20 s (the first waves of the train are the lowest); the issue
-# asks for 5% two wavelengths from the paddle. The cause is open (issue 45's notes).
+# kd = 1.20, dx = 0.02 m: 2.5 particles per wave height, h = 2 dx) to t = 10 s, about 1.5
+# minutes on one core. The result's wave analysis (zero up-crossing over the developed train: from one
+# period after the ramp's end has reached the gauge at the group velocity) at the gauges g1L and
+# g2L, one and two wavelengths from the paddle: g1L's period within 1% of T, the heights within
+# 10% (g1L) and 12% (g2L) of H. A guard of the wavemaker's theory, the paddle's motion and the
+# flume's numerics (the case's description says each): -4.4% and -7.1% (one wave) here
+# (2026-11-29), where the numerics before (h = 1.414 dx, Molteni's delta-SPH, the artificial
+# viscosity alpha 0.01) give -14% and -27% (-20% and -29% with Fourtakas' delta-SPH).
+# Measured over the developed train to t = 14 s (2026-11-29; the table in docs/validation.md):
+# -4.1%, -7.5%, -10.6% at one, two and three wavelengths, the height falling 3.4% per
+# wavelength (at dx = 0.01 on a 7.5 m flume to 11 s: -2.4%, -5.1%, 2.5% per wavelength); the
+# issue asks for 5% two wavelengths from the paddle, not reached yet at the case's dx.
 # Usage: wave_flume.sh SPHD SOURCE_DIR
 set -u
 sphd=$1; src=$2
@@ -28,7 +30,13 @@ for g, v in w.items():
     print(f"{g}: height {v['height']} m ({100 * (v['height'] / H - 1):+.1f}%), period "
           f"{v['period']} s ({100 * (v['period'] / T - 1):+.2f}%), {v['count']} waves from {v['from']:.2f} s")
 print(f"wall time {r['wall_time']:.1f} s, {r['steps']} steps")
-g = w["g1L"]
-ok = g["count"] >= 1 and g["height"] is not None and abs(g["period"] / T - 1) <= 0.02 and abs(g["height"] / H - 1) <= 0.25
+def within(name, bound, period=None):
+    g = w[name]
+    if g["count"] < 1 or g["height"] is None:
+        return False
+    if period is not None and abs(g["period"] / T - 1) > period:
+        return False
+    return abs(g["height"] / H - 1) <= bound
+ok = within("g1L", 0.10, period=0.01) and within("g2L", 0.12)
 sys.exit(0 if ok else 1)
 PY
