@@ -52,6 +52,8 @@ typedef struct sph_output_config {
     int compress;    /* 0 none, 1-9 deflate level (with shuffle) */
     int ntriggers;   /* the case's "triggers" */
     sph_trigger triggers[SPH_TRIGGERS_MAX];
+    int nreflect;                       /* diagnostics.reflection: gauges, 0 or 2 to 8 */
+    int reflect[SPH_CONFIG_MAX_GAUGES]; /* their indices in sim.gauges */
 } sph_output_config;
 
 typedef struct sph_case {
@@ -95,8 +97,8 @@ int sph_case_file_names(const json_t *root, const char **names, int max);
 /* Steering (PROTOCOL.md 3.12): 0 if the case field at a dotted path (an assignment's left side,
  * "physics.viscosity.alpha") may change in a running job: the viscous term's coefficients,
  * delta-SPH's, gravity (or one of its components), the CFL number, the end time, the triggers,
- * the snapshots' period and the diagnostics' schedule. Else SPH_ERR_INVALID with the reason (err's path left empty: the caller knows where
- * the path was). */
+ * the snapshots' period and the diagnostics' schedule. Else SPH_ERR_INVALID with the reason (err's
+ * path left empty: the caller knows where the path was). */
 int sph_case_steerable(const char *path, sph_error *err);
 
 /* Case-file name of a method. */

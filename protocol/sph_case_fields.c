@@ -388,6 +388,40 @@ static int parse_steering(const json_t *v, const char *path, sph_config *c, sph_
 }
 
 /* "triggers": sph_triggers.h (after the diagnostics' and bodies' rows: it checks the series). */
+/* /diagnostics/reflection: 2 to 8 distinct names of the case's gauges (parsed before it), for
+ * the wave analysis' reflection (a wavemaker's waves: sphd_waves.h). */
+static int parse_reflection(const json_t *v, const char *path, sph_config *c, sph_output_config *o,
+                            sph_error *err)
+{
+    if (!json_is_array(v) || json_array_size(v) < 2 || json_array_size(v) > SPH_CONFIG_MAX_GAUGES)
+        return sph_error_set(err, SPH_ERR_INVALID, path,
+                             "'reflection' must be an array of 2 to %d gauges' names",
+                             SPH_CONFIG_MAX_GAUGES);
+    if (c->wavemaker.type == SPH_WAVEMAKER_NONE)
+        return sph_error_set(err, SPH_ERR_INVALID, path,
+                             "the reflection is of a wavemaker's waves: add a \"wavemaker\" or "
+                             "remove \"reflection\"");
+    o->nreflect = 0;
+    for (size_t i = 0; i < json_array_size(v); i++) {
+        char at[SPH_ERROR_PATH_MAX];
+        snprintf(at, sizeof at, "%s/%zu", path, i);
+        const char *name = json_string_value(json_array_get(v, i));
+        if (!name)
+            return sph_error_set(err, SPH_ERR_INVALID, at, "a gauge's name, a string");
+        int k = 0;
+        while (k < c->ngauges && strcmp(c->gauges[k].name, name) != 0)
+            k++;
+        if (k == c->ngauges)
+            return sph_error_set(err, SPH_ERR_INVALID, at,
+                                 "no gauge named '%s' in diagnostics.gauges", name);
+        for (int j = 0; j < o->nreflect; j++)
+            if (o->reflect[j] == k)
+                return sph_error_set(err, SPH_ERR_INVALID, at, "'%s' is named twice", name);
+        o->reflect[o->nreflect++] = k;
+    }
+    return 0;
+}
+
 static int parse_triggers(const json_t *v, const char *path, sph_config *c, sph_output_config *o,
                           sph_error *err)
 {
@@ -914,6 +948,13 @@ const sph_case_field sph_case_fields[] = {
      .doc = "the wall's normal into the fluid at the point (dim components, any length): the "
             "probe reads 1.5 h along it, off the wall's bias, as the peers do; absent or all 0: "
             "at the point"},
+    {.path = "/diagnostics/reflection", .type = SPH_CF_CUSTOM, .methods = SPH_CF_WCSPH,
+     .parse = parse_reflection, OUT(nreflect),
+     .doc = "2-8 names of gauges (diagnostics.gauges) between the paddle and the damping zone "
+            "from which the result's reflection splits a wavemaker's waves into incident and "
+            "reflected ones (least squares at their frequency: Mansard & Funke 1980; with two "
+            "gauges Goda & Suzuki 1976); spaced within a wavelength, not near half of one (e.g. "
+            "0, L/10 and L/4); absent: no reflection analysis"},
     {.path = "/steering", .type = SPH_CF_CUSTOM, .methods = SPH_CF_SIMS, .parse = parse_steering,
      .doc = "written by sphd into a steered job's case.json: the changes `set` made, "
             "[{\"step\", \"t\", \"set\"}, ...] (section 3.12); ignored when a case is "

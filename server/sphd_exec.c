@@ -378,6 +378,10 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
     json_t *waves = res ? sphd_waves_json(&x->c.sim, x->wt, x->wg, x->wn) : NULL;
     if (waves)
         json_object_set_new(res, "waves", waves);
+    json_t *refl =
+        res ? sphd_waves_reflection_json(&x->c.sim, &x->c.output, x->wt, x->wg, x->wn) : NULL;
+    if (refl)
+        json_object_set_new(res, "reflection", refl);
     if (res && x->steering)
         json_object_set(res, "steering", x->steering);
     emit(ud, "result", res);

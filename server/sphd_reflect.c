@@ -51,8 +51,7 @@ static long fit(const double *t, const double *eta, long n, double t0, double t1
 int sphd_reflect(const double *t, const double *const *eta, const double *x, int m, long n,
                  double t0, double t1, double omega, double k, sphd_reflect_out *out)
 {
-    out->hi = out->hr = out->kr = NAN;
-    out->cond = 0.0;
+    out->hi = out->hr = out->kr = out->cond = NAN;
     if (m < 2 || m > SPHD_REFLECT_MAX_GAUGES || !(omega > 0.0) || !(k > 0.0) ||
         !(t1 - t0 >= 2.0 * M_PI / omega))
         return -1;

@@ -29,7 +29,7 @@ typedef struct sphd_reflect_out {
  * number k [1/m]. Returns 0 with *out, or -1 when it cannot: fewer than 2 gauges (or more than
  * SPHD_REFLECT_MAX_GAUGES), fewer than 8 samples in the window, a window shorter than a period,
  * or a split whose cond is below SPHD_REFLECT_MIN_COND (the gauges too near a multiple of half a
- * wavelength apart); out->cond is set whenever the gauges were read. */
+ * wavelength apart); out->cond is set whenever the gauges were read (NaN otherwise). */
 int sphd_reflect(const double *t, const double *const *eta, const double *x, int m, long n,
                  double t0, double t1, double omega, double k, sphd_reflect_out *out);
 

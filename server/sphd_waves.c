@@ -2,6 +2,7 @@
  * sphd_waves: wave analysis of a flume's height gauges (sphd_waves.h).
  */
 #include "sphd_waves.h"
+#include "sphd_reflect.h"
 
 #include "sph_events.h"
 #include "sph_sim.h"
@@ -89,5 +90,50 @@ json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, l
                                       sph_json_real_or_null(t0)));
     }
     free(eta);
+    return out;
+}
+
+json_t *sphd_waves_reflection_json(const sph_config *c, const sph_output_config *o, const double *t,
+                                   const double *g, long n)
+{
+    sph_wave_design w;
+    if (c->wavemaker.type == SPH_WAVEMAKER_NONE || o->nreflect < 2 || n < 1 ||
+        sph_sim_wave_design(c, &w))
+        return NULL;
+    /* the case's gauges, from the latest of their windows to the run's end */
+    const int ng = c->ngauges, m = o->nreflect;
+    const double *rows[SPH_CONFIG_MAX_GAUGES];
+    double x[SPH_CONFIG_MAX_GAUGES], *eta[SPH_CONFIG_MAX_GAUGES] = {0}, t0 = -INFINITY;
+    int bad = 0;
+    json_t *names = json_array();
+    for (int j = 0; j < m; j++) {
+        const int k = o->reflect[j];
+        eta[j] = malloc((size_t)n * sizeof(double));
+        bad |= !eta[j];
+        for (long i = 0; eta[j] && i < n; i++)
+            eta[j][i] = g[i * ng + k];
+        rows[j] = eta[j];
+        x[j] = c->gauges[k].x;
+        t0 = fmax(t0, sphd_waves_window(c, k));
+        json_array_append_new(names, json_string(c->gauges[k].name));
+    }
+    sphd_reflect_out r;
+    const char *why = NULL;
+    if (bad)
+        why = "out of memory";
+    else if (sphd_reflect(t, rows, x, m, n, t0, t[n - 1], w.omega, w.k, &r))
+        why = isnan(r.cond) ? "the run ends less than a period after the window opens"
+                            : "the gauges are too near a multiple of half a wavelength apart";
+    for (int j = 0; j < m; j++)
+        free(eta[j]);
+    if (bad)
+        r.hi = r.hr = r.kr = r.cond = NAN;
+    json_t *out = json_pack(
+        "{s:o, s:o, s:o, s:o, s:o, s:o, s:o}", "coefficient", sph_json_real_or_null(r.kr),
+        "incident_height", sph_json_real_or_null(r.hi), "reflected_height",
+        sph_json_real_or_null(r.hr), "conditioning", sph_json_real_or_null(r.cond), "from",
+        sph_json_real_or_null(t0), "to", sph_json_real_or_null(t[n - 1]), "gauges", names);
+    if (out && why)
+        json_object_set_new(out, "why", json_string(why));
     return out;
 }

@@ -6,6 +6,7 @@
 #ifndef SPHD_WAVES_H
 #define SPHD_WAVES_H
 
+#include "sph_case.h"
 #include "sph_config.h"
 
 #include <jansson.h>
@@ -26,5 +27,13 @@ double sphd_waves_window(const sph_config *c, int k);
 /* {"GAUGE": {"height", "period", "count", "from"}, ...} for c's gauges from the series t[n]
  * and g[n][ngauges] (row-major), or NULL without a wavemaker or gauges (new reference). */
 json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, long n);
+
+/* The reflection of the flume's waves (sphd_reflect.h) from the gauges of the case's
+ * diagnostics.reflection (o), over the latest of their windows to the run's end: {"coefficient",
+ * "incident_height", "reflected_height", "conditioning", "from", "to", "gauges"}, the numbers
+ * null and "why" added when the waves cannot be split; NULL without a wavemaker or those gauges
+ * (new reference). */
+json_t *sphd_waves_reflection_json(const sph_config *c, const sph_output_config *o, const double *t,
+                                   const double *g, long n);
 
 #endif

@@ -39,6 +39,7 @@
 #include "unit_case.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -336,6 +337,100 @@ static void analysis_developed_train(void **state)
     free(g);
 }
 
+/* The same train with a reflected one of 0.15 its height travelling back from the far wall (as
+ * developed as the incident one):
+ * the result's reflection (diagnostics.reflection: g2L, r1, r2) gives Kr = 0.15 and the incident
+ * height H within 1%; a case whose reflection gauges are half a wavelength apart says why it
+ * cannot split them. */
+static void analysis_reflection(void **state)
+{
+    (void)state;
+    sph_case *cs = calloc(1, sizeof *cs);
+    assert_non_null(cs);
+    sph_error err;
+    json_t *root;
+    char path[4096];
+    const char *src = getenv("SPH_SOURCE_DIR");
+    snprintf(path, sizeof path, "%s/cases/wave_flume.json", src ? src : ".");
+    assert_int_equal(sph_case_load(path, &root, &err), 0);
+    assert_int_equal(sph_case_from_json(root, cs, &err), 0);
+    json_decref(root);
+    assert_int_equal(cs->output.nreflect, 3);
+    const sph_config cfg = cs->sim;
+    sph_wave_design w;
+    assert_int_equal(sph_sim_wave_design(&cfg, &w), 0);
+    const int ng = cfg.ngauges;
+    const long n = 800;
+    double *t = malloc((size_t)n * sizeof *t), *g = malloc((size_t)(n * ng) * sizeof *g);
+    assert_non_null(t);
+    assert_non_null(g);
+    const double H = cfg.wavemaker.height, T = cfg.wavemaker.period, kr = 0.15;
+    const double tr = cfg.wavemaker.ramp * T, xw = cfg.domain.max[0];
+    for (long i = 0; i < n; i++) {
+        t[i] = 0.02 * (double)i;
+        for (int k = 0; k < ng; k++) {
+            const double x = cfg.gauges[k].x - cfg.wavemaker.x;
+            double rate;
+            const double r = sph_wave_ramp(t[i] - x / w.cg, tr, &rate);
+            /* the reflected wave: travelling back from the far wall, phase-locked to the
+             * incident one there, under the incident one's envelope (a developed pattern) */
+            const double back = xw - cfg.gauges[k].x;
+            const double rr = r;
+            g[i * ng + k] =
+                w.depth + 0.5 * H * r * sin(w.omega * t[i] - w.k * x) +
+                0.5 * kr * H * rr * sin(w.omega * t[i] - w.k * (xw - cfg.wavemaker.x) - w.k * back);
+        }
+    }
+    json_t *o = sphd_waves_reflection_json(&cs->sim, &cs->output, t, g, n);
+    assert_non_null(o);
+    const double c = json_real_value(json_object_get(o, "coefficient"));
+    const double hi = json_real_value(json_object_get(o, "incident_height"));
+    printf("reflection: Kr %.4f (0.15), Hi %.5f (%.5f), conditioning %.3f, from %.2f s\n", c, hi, H,
+           json_real_value(json_object_get(o, "conditioning")),
+           json_real_value(json_object_get(o, "from")));
+    assert_true(fabs(c - kr) < 0.005);
+    assert_true(fabs(hi / H - 1.0) < 0.01);
+    assert_int_equal(json_array_size(json_object_get(o, "gauges")), 3);
+    json_decref(o);
+    /* gauges half a wavelength apart: no split, and why */
+    cs->sim.gauges[cs->output.reflect[1]].x =
+        cs->sim.gauges[cs->output.reflect[0]].x + 0.5 * w.length;
+    cs->sim.gauges[cs->output.reflect[2]].x = cs->sim.gauges[cs->output.reflect[0]].x + w.length;
+    o = sphd_waves_reflection_json(&cs->sim, &cs->output, t, g, n);
+    assert_non_null(o);
+    assert_true(json_is_null(json_object_get(o, "coefficient")));
+    assert_non_null(strstr(json_string_value(json_object_get(o, "why")), "half a wavelength"));
+    json_decref(o);
+    sph_case_clear(cs);
+    free(cs);
+    free(t);
+    free(g);
+}
+
+/* diagnostics.reflection: refused without a wavemaker, for an unknown gauge, one named twice. */
+static void reflection_refused(void **state)
+{
+    (void)state;
+    const char *const unknown[] = {"diagnostics.reflection=[\"g1L\",\"nope\"]", NULL};
+    const char *const twice[] = {"diagnostics.reflection=[\"g1L\",\"g1L\"]", NULL};
+    const char *const one[] = {"diagnostics.reflection=[\"g1L\"]", NULL};
+    const char *const *sets[] = {unknown, twice, one};
+    const char *paths[] = {"/diagnostics/reflection/1", "/diagnostics/reflection/1",
+                           "/diagnostics/reflection"};
+    for (int k = 0; k < 3; k++) {
+        sph_config cfg;
+        sph_error err;
+        assert_int_not_equal(parse_case("wave_flume.json", sets[k], &cfg, &err), 0);
+        printf("refused at %s: %s\n", err.path, err.message);
+        assert_string_equal(err.path, paths[k]);
+    }
+    const char *const nowave[] = {"diagnostics.reflection=[\"a\",\"b\"]", NULL};
+    sph_config cfg;
+    sph_error err;
+    assert_int_not_equal(parse_case("dambreak.json", nowave, &cfg, &err), 0);
+    assert_non_null(strstr(err.message, "wavemaker"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -350,6 +445,8 @@ int main(void)
         cmocka_unit_test(analysis_zero_up),
         cmocka_unit_test(analysis_window),
         cmocka_unit_test(analysis_developed_train),
+        cmocka_unit_test(analysis_reflection),
+        cmocka_unit_test(reflection_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -29,6 +29,10 @@ for g, v in w.items():
         continue
     print(f"{g}: height {v['height']} m ({100 * (v['height'] / H - 1):+.1f}%), period "
           f"{v['period']} s ({100 * (v['period'] / T - 1):+.2f}%), {v['count']} waves from {v['from']:.2f} s")
+k = r.get("reflection") or {}
+print(f"reflection at {', '.join(k.get('gauges', []))}: Kr {k.get('coefficient')}, incident height "
+      f"{k.get('incident_height')} m, from {k.get('from')} s (a short window: figures in "
+      f"docs/validation.md) {k.get('why', '')}")
 print(f"wall time {r['wall_time']:.1f} s, {r['steps']} steps")
 def within(name, bound, period=None):
     g = w[name]
