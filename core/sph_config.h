@@ -368,7 +368,8 @@ double sph_config_cell_size(const sph_config *c);
 
 /* A reused neighbour list's bytes per particle, as the memory estimate counts them: an offset,
  * and half the particles of a full lattice within the support and the skin (each pair once),
- * twice while it is built (the threads' lists, then the list); 0 without one. */
+ * twice over (the threads' lists that hold it grow by doubling; walls' pairs, left out, give
+ * some back); 0 without one. */
 double sph_config_nlist_bytes(const sph_config *c);
 /* The smoothing length h [m]; MPS weights have support 2h = re (sph_kernel.h). */
 double sph_config_h(const sph_config *c);

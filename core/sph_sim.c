@@ -645,9 +645,11 @@ double sph_sim_bytes(const sph_sim *s)
 {
     const double n = (double)s->P.n;
     /* a reused neighbour list: what it holds, not the estimate's share */
-    const double list = (double)s->nlist.off_cap * sizeof(long) +
-                        (double)s->nlist.j_cap * sizeof(int) -
-                        n * ceil(sph_config_nlist_bytes(&s->cfg));
+    double list = (double)s->nlist.off_cap * sizeof(long) +
+                  (double)s->nlist.ncol * (sizeof(long) + sizeof(int *)) -
+                  n * ceil(sph_config_nlist_bytes(&s->cfg));
+    for (int t = 0; t < s->nlist.ntb; t++) /* the threads' lists, kept between builds */
+        list += (double)s->nlist.tb[t].cap * sizeof(int);
     return n * (double)s->ops->bytes_per_particle(&s->cfg) + list +
            (double)(s->cells.ncells + 4) * sizeof(int) + (double)s->nbins * 12.0 +
            (double)s->nmirror * s->cfg.dim * sizeof(double) + sizeof *s;
@@ -668,7 +670,11 @@ void sph_sim_destroy(sph_sim *s)
     free(s->mirror);
     free(s->shift);
     free(s->nlist.off);
-    free(s->nlist.j);
+    free(s->nlist.cb);
+    free(s->nlist.ca);
+    for (int t = 0; t < s->nlist.ntb; t++)
+        free(s->nlist.tb[t].b);
+    free(s->nlist.tb);
     free(s);
 }
 

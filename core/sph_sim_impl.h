@@ -31,12 +31,20 @@ static inline unsigned sph_sim_particle_opts(const sph_config *c)
  * loops visit them, from the particles' order and cells at the latest build (the particles keep
  * that order until the next). */
 typedef struct sph_nlist {
-    long *off;    /* n + 1 offsets: particle i's candidates are j[off[i] .. off[i + 1]) */
-    int *j;       /* the candidates */
-    long off_cap; /* particles off can hold [-] */
-    long j_cap;   /* candidates j can hold [-] */
-    double moved; /* a bound on any particle's displacement since the build [m] */
-    int built;    /* 1 while the list holds; 0: built at the next force evaluation */
+    long *off;      /* n + 1 offsets: particle i's candidates, of column (2D) or x slab (3D) cx,
+                       are cb[cx][off[i] - ca[cx] .. off[i + 1] - ca[cx]) */
+    const int **cb; /* each column's candidates, where its thread built them (tb) */
+    long *ca;       /* each column's first offset */
+    int ncol;       /* columns cb and ca hold [-] */
+    long off_cap;   /* particles off can hold [-] */
+    double moved;   /* a bound on any particle's displacement since the build [m] */
+    int built;      /* 1 while the list holds; 0: built at the next force evaluation */
+    struct sph_nlist_buf {
+        int *b;
+        long len, cap;
+    } * tb;  /* the threads' candidates: the list itself, by column (cb), kept for the next
+                build */
+    int ntb; /* threads tb holds [-] */
 } sph_nlist;
 
 struct sph_sim {

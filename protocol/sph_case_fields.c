@@ -569,8 +569,8 @@ const sph_case_field sph_case_fields[] = {
      .hi = SPH_NEIGHBOUR_SKIN_MAX, .has_def = 1, .def = 0.0, CFG(neighbour_skin),
      .doc = "a list of each particle's neighbours within the support times (1 + skin), reused "
             "over steps until some particle may have moved half the skin (a Verlet list): "
-            "fewer distance tests, more memory (0.1: about 1.4x faster, 40-60 bytes a particle "
-            "more in 2D); 0: none. WCSPH on the CPU with dynamic walls of continuity density, "
+            "fewer distance tests, more memory (0.1 in 2D: a step about 1.2x faster, 60 bytes a "
+            "particle more); 0: none. WCSPH on the CPU with dynamic walls of continuity density, "
             "no bodies, wavemaker or shifting"},
     {.path = "/kernel", .type = SPH_CF_OBJECT, .methods = SPH_CF_SIMS, .required = SPH_CF_MPS,
      .doc = "the kernel (section 1.1) and, for wcsph, the smoothing length"},

@@ -397,10 +397,7 @@ static int add_ghosts(sph_sim *s)
 }
 
 /* A thread's candidates while the neighbour list is built. */
-typedef struct nl_buf {
-    int *b;
-    long len, cap;
-} nl_buf;
+typedef struct sph_nlist_buf nl_buf;
 
 /* Appends j; 0, or -1 when out of memory. */
 static inline int nl_push(nl_buf *B, long j)
@@ -505,10 +502,21 @@ static int nlist_build(sph_sim *s)
         L->off_cap = n + 1;
     }
     const int nth = omp_get_max_threads(), nx = g->nx;
-    nl_buf *tb = calloc((size_t)nth, sizeof *tb);
+    if (nth > L->ntb) { /* the threads' lists: kept from one build to the next */
+        nl_buf *t = realloc(L->tb, (size_t)nth * sizeof *t);
+        if (!t)
+            return -1;
+        memset(t + L->ntb, 0, (size_t)(nth - L->ntb) * sizeof *t);
+        L->tb = t;
+        L->ntb = nth;
+    }
+    nl_buf *const tb = L->tb;
+    for (int t = 0; t < nth; t++)
+        tb[t].len = 0;
     int *col_th = calloc((size_t)nx, sizeof *col_th);
-    long *col_at = calloc((size_t)nx, sizeof *col_at);
-    int fail = !tb || !col_th || !col_at;
+    long *col_at = calloc((size_t)nx, sizeof *col_at),
+         *col_len = calloc((size_t)nx + 1, sizeof *col_len);
+    int fail = !col_th || !col_at || !col_len;
     if (!fail) {
         long *const off = L->off;
         off[0] = 0;
@@ -522,38 +530,52 @@ static int nlist_build(sph_sim *s)
                 if (!fail)
                     fail |= D == 3 ? nl_column(3, g, P, cx, reach, off, B)
                                    : nl_column(2, g, P, cx, reach, off, B);
+                col_len[cx] = B->len - col_at[cx];
             }
         }
     }
     if (!fail) {
+        /* the columns' offsets (few), then each column's particles' in parallel: a column writes
+         * off[i + 1] for its own particles i alone */
         long *const off = L->off;
-        for (long i = 0; i < n; i++)
-            off[i + 1] += off[i];
-        if (off[n] > L->j_cap) {
-            int *j = realloc(L->j, (size_t)(off[n] > 0 ? off[n] : 1) * sizeof *j);
-            fail = !j;
-            if (j) {
-                L->j = j;
-                L->j_cap = off[n];
-            }
+        long total = 0;
+        for (int cx = 1; cx < nx - 1; cx++) {
+            const long len = col_len[cx];
+            col_len[cx] = total;
+            total += len;
         }
-    }
-    if (!fail) {
-        const long *const off = L->off;
-        int *const lj = L->j;
 #pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
         for (int cx = 1; cx < nx - 1; cx++) {
-            const long b = off[g->start[cx * slab]], e = off[g->start[(cx + 1) * slab]];
-            if (e > b)
-                memcpy(lj + b, tb[col_th[cx]].b + col_at[cx], (size_t)(e - b) * sizeof *lj);
+            long at = col_len[cx];
+            for (long i = g->start[cx * slab]; i < g->start[(cx + 1) * slab]; i++) {
+                at += off[i + 1];
+                off[i + 1] = at;
+            }
+        }
+        /* the list is the threads' lists, each column's where its thread built it */
+        if (nx > L->ncol) {
+            const int **cb = realloc(L->cb, (size_t)nx * sizeof *cb);
+            long *ca = cb ? realloc(L->ca, (size_t)nx * sizeof *ca) : NULL;
+            if (cb)
+                L->cb = cb;
+            if (ca) {
+                L->ca = ca;
+                L->ncol = nx;
+            }
+            fail = !cb || !ca;
+        }
+    }
+    if (!fail) {
+        for (int cx = 0; cx < nx; cx++) {
+            const int inner = cx >= 1 && cx < nx - 1 && tb[col_th[cx]].b;
+            L->cb[cx] = inner ? tb[col_th[cx]].b + col_at[cx] : NULL;
+            L->ca[cx] = inner ? col_len[cx] : 0;
         }
         L->built = 1;
     }
-    for (int t = 0; tb && t < nth; t++)
-        free(tb[t].b);
-    free(tb);
     free(col_th);
     free(col_at);
+    free(col_len);
     return fail ? -1 : 0;
 }
 
@@ -730,7 +752,8 @@ static int forces(sph_sim *s, int gather, double shift_dt)
     fctx_init(&c, P, &s->cells, s->cells.start, &s->kernel, &kc);
     if (listed) {
         c.loff = s->nlist.off;
-        c.lj = s->nlist.j;
+        c.lcb = s->nlist.cb;
+        c.lca = s->nlist.ca;
     }
     c.owner = s->bodies.owner;
     c.body0 = s->bodies.first;

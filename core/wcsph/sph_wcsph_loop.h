@@ -51,8 +51,9 @@ typedef struct fctx {
     double *g[6];       /* SPS: the velocity gradients xx, xy, yy, zz, xz, yz (3D: all six) */
     const double *t[6]; /* SPS: the stresses / rho, the same components */
     const int *start;
-    const long *loff; /* a reused neighbour list (sph_nlist), NULL without: particle i's */
-    const int *lj;    /* candidates are lj[loff[i] .. loff[i + 1]) */
+    const long *loff;      /* a reused neighbour list (sph_nlist), NULL without: particle i's */
+    const int *const *lcb; /* candidates, of column cx, are lcb[cx][loff[i] - lca[cx] .. */
+    const long *lca;       /* loff[i + 1] - lca[cx]) */
     int nx, ny, nz;
     double x0, y0, z0, inv_size; /* the grid (a gather loop finds a particle's cell) */
     const sph_kernel *k;

@@ -87,16 +87,19 @@ strip_generic(sph_kernel_type T, unsigned F, const int D, const fctx *cp, int st
     const int *start = c->start;
     const int cx0 = 1 + 2 * strip, cx1 = cx0 + 2 < c->nx - 1 ? cx0 + 2 : c->nx - 1;
     long pairs = 0;
-    if (LISTABLE(F) && c->lj) {
+    if (LISTABLE(F) && c->loff) {
         /* over the list: the strip's particles, the columns (2D) or x slabs (3D) cx0 .. cx1 - 1
          * of the list's build, each against its candidates, in the cells' order */
         const long slab = (long)ny * nz; /* (nz = 1 in 2D) */
-        const long ib = start[cx0 * slab], ie = start[cx1 * slab];
-        for (long i = ib; i < ie; i++) {
-            acc a = {0};
-            interact_list(T, F, D, c, i, c->lj, c->loff[i], c->loff[i + 1], &a);
-            add_acc(F, D, c, i, &a);
-            pairs += a.pairs;
+        for (int cx = cx0; cx < cx1; cx++) {
+            const int *const cb = c->lcb[cx];
+            const long ca = c->lca[cx];
+            for (long i = start[cx * slab]; i < start[(cx + 1) * slab]; i++) {
+                acc a = {0};
+                interact_list(T, F, D, c, i, cb, c->loff[i] - ca, c->loff[i + 1] - ca, &a);
+                add_acc(F, D, c, i, &a);
+                pairs += a.pairs;
+            }
         }
         return pairs;
     }
