@@ -112,23 +112,6 @@ static void test_same_physics_3d(void **state)
     same_physics("dambreak3d.json", "dx=0.06", 150, 1e-9);
 }
 
-static void compare(const sph_sim *a, const sph_sim *b)
-{
-    sph_particle_view va, vb;
-    sph_sim_particles(a, &va);
-    sph_sim_particles(b, &vb);
-    assert_int_equal(va.n, vb.n);
-    const size_t n = (size_t)va.n * sizeof(double);
-    for (int d = 0; d < va.dim; d++) {
-        assert_memory_equal(va.pos[d], vb.pos[d], n);
-        assert_memory_equal(va.vel[d], vb.vel[d], n);
-    }
-    assert_memory_equal(va.rho, vb.rho, n);
-    assert_memory_equal(va.id, vb.id, (size_t)va.n * sizeof(int));
-    assert_true(sph_sim_time(a) == sph_sim_time(b));
-    assert_int_equal(sph_sim_diag(a)->step, sph_sim_diag(b)->step);
-}
-
 /* Saved after n1, n1 + 1, ... n1 + 4 steps (some of them between two builds of the list),
  * restored and run to n1 + n2: each equals the run that went on, bit for bit. Returns that run. */
 static sph_sim *restarts(const sph_config *cfg, long n1, long n2)
@@ -154,7 +137,7 @@ static sph_sim *restarts(const sph_config *cfg, long n1, long n2)
         assert_non_null(b);
         assert_int_equal(sph_sim_diag(b)->step, n1 + k);
         assert_int_equal(sph_sim_step(b, n2 - k, &err), 0);
-        compare(a, b);
+        unit_same_bits(a, b);
         sph_sim_destroy(b);
     }
     /* a damaged cell list is refused: the last start, the particle count, made wrong */
@@ -180,7 +163,7 @@ static void test_restarts(void **state)
             omp_set_num_threads(t + 1);
             run[t] = restarts(&cfgs[k], 100, 40);
         }
-        compare(run[0], run[1]); /* 1 thread and 2: the same bits */
+        unit_same_bits(run[0], run[1]); /* 1 thread and 2: the same bits */
         sph_sim_destroy(run[0]);
         sph_sim_destroy(run[1]);
     }
