@@ -1,5 +1,5 @@
 /*
- * bench_cases: cases the benchmarks share (bench_dambreak, bench_nlist). Header-only.
+ * bench_cases: cases the benchmarks share (bench_dambreak). Header-only.
  */
 #ifndef BENCH_CASES_H
 #define BENCH_CASES_H

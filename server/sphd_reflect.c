@@ -20,24 +20,25 @@ static double det3(const double s[3][3], int col, const double r[3])
            c[0][2] * (c[1][0] * c[2][1] - c[1][1] * c[2][0]);
 }
 
-/* The least squares fit of eta over the samples of [t0, t1] by e0 + a cos(omega t) + b sin(omega
- * t) (a 3 x 3 system, solved by Cramer's rule): its complex amplitude a - i b into *z. Returns the
- * samples used, or -1 for a singular system. */
-static long fit(const double *t, const double *eta, long n, double t0, double t1, double omega,
-                double complex *z)
+/* The least squares fit of eta (sample i at eta[i * stride]) over the samples of [t0, t1] by e0 +
+ * a cos(omega t) + b sin(omega t) (a 3 x 3 system, solved by Cramer's rule): its complex
+ * amplitude a - i b into *z. Returns the samples used, or -1 for a singular system. */
+static long fit(const double *t, const double *eta, long stride, long n, double t0, double t1,
+                double omega, double complex *z)
 {
     double s[3][3], r[3];
     memset(s, 0, sizeof s);
     memset(r, 0, sizeof r);
     long used = 0;
     for (long i = 0; i < n; i++) {
-        if (!(t[i] >= t0 && t[i] <= t1) || !isfinite(eta[i]))
+        const double e = eta[i * stride];
+        if (!(t[i] >= t0 && t[i] <= t1) || !isfinite(e))
             continue;
         const double f[3] = {1.0, cos(omega * t[i]), sin(omega * t[i])};
         for (int p = 0; p < 3; p++) {
             for (int q = 0; q < 3; q++)
                 s[p][q] += f[p] * f[q];
-            r[p] += f[p] * eta[i];
+            r[p] += f[p] * e;
         }
         used++;
     }
@@ -48,19 +49,18 @@ static long fit(const double *t, const double *eta, long n, double t0, double t1
     return used;
 }
 
-int sphd_reflect(const double *t, const double *const *eta, const double *x, int m, long n,
-                 double t0, double t1, double omega, double k, sphd_reflect_out *out)
+int sphd_reflect(const double *t, const double *g, long stride, const long *cols, const double *x,
+                 int m, long n, double t0, double t1, double omega, double k, sphd_reflect_out *out)
 {
     out->hi = out->hr = out->kr = out->cond = NAN;
-    if (m < 2 || m > SPHD_REFLECT_MAX_GAUGES || !(omega > 0.0) || !(k > 0.0) ||
-        !(t1 - t0 >= 2.0 * M_PI / omega))
+    if (m < 2 || !(omega > 0.0) || !(k > 0.0) || !(t1 - t0 >= 2.0 * M_PI / omega))
         return -1;
     /* normal equations of Z_n = A_I u_n + A_R conj(u_n), u_n = exp(-i k x_n):
      * [N S; conj(S) N] [A_I; A_R] = [sum conj(u) Z; sum u Z], S = sum conj(u_n)^2 */
     double complex S = 0.0, bi = 0.0, br = 0.0;
     for (int j = 0; j < m; j++) {
         double complex z;
-        if (fit(t, eta[j], n, t0, t1, omega, &z) < 8)
+        if (fit(t, g + cols[j], stride, n, t0, t1, omega, &z) < 8)
             return -1;
         const double complex u = cexp(-I * k * x[j]);
         S += conj(u) * conj(u);

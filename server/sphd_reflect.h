@@ -11,8 +11,6 @@
 #ifndef SPHD_REFLECT_H
 #define SPHD_REFLECT_H
 
-/* The most gauges the analysis takes. */
-#define SPHD_REFLECT_MAX_GAUGES 8
 /* The least conditioning of the split: two gauges give sin^2(k dl), and Goda & Suzuki's range of
  * spacings, 0.05 < dl / L < 0.45, gives at least sin^2(0.1 pi) = 0.095. */
 #define SPHD_REFLECT_MIN_COND 0.09
@@ -24,13 +22,15 @@ typedef struct sphd_reflect_out {
                       quarter wavelength apart, 0 when the split is impossible [-] */
 } sphd_reflect_out;
 
-/* The least squares split of m gauges at x[m] [m] whose series eta[j][n] (the same times t[n],
- * increasing) are read over [t0, t1], for waves of angular frequency omega [rad/s] and wave
- * number k [1/m]. Returns 0 with *out, or -1 when it cannot: fewer than 2 gauges (or more than
- * SPHD_REFLECT_MAX_GAUGES), fewer than 8 samples in the window, a window shorter than a period,
+/* The least squares split of m gauges at x[m] [m] whose series are columns cols[m] of the table
+ * g (sample i of gauge j at g[i * stride + cols[j]]; the same times t[n], increasing), read over
+ * [t0, t1], for waves of angular frequency omega [rad/s] and wave
+ * number k [1/m]. Returns 0 with *out, or -1 when it cannot: fewer than 2 gauges, fewer than 8
+ * samples in the window, a window shorter than a period,
  * or a split whose cond is below SPHD_REFLECT_MIN_COND (the gauges too near a multiple of half a
  * wavelength apart); out->cond is set whenever the gauges were read (NaN otherwise). */
-int sphd_reflect(const double *t, const double *const *eta, const double *x, int m, long n,
-                 double t0, double t1, double omega, double k, sphd_reflect_out *out);
+int sphd_reflect(const double *t, const double *g, long stride, const long *cols, const double *x,
+                 int m, long n, double t0, double t1, double omega, double k,
+                 sphd_reflect_out *out);
 
 #endif

@@ -8,10 +8,9 @@
 #include "sph_sim.h"
 
 #include <math.h>
-#include <stdlib.h>
 
-int sphd_waves_zero_up(const double *t, const double *eta, long n, double t0, double *height,
-                       double *period)
+int sphd_waves_zero_up(const double *t, const double *eta, long stride, long n, double t0,
+                       double *height, double *period)
 {
     *height = NAN;
     *period = NAN;
@@ -19,7 +18,7 @@ int sphd_waves_zero_up(const double *t, const double *eta, long n, double t0, do
     long m = 0;
     for (long i = 0; i < n; i++)
         if (t[i] >= t0) {
-            mean += eta[i];
+            mean += eta[i * stride];
             m++;
         }
     if (m < 3)
@@ -30,10 +29,10 @@ int sphd_waves_zero_up(const double *t, const double *eta, long n, double t0, do
     for (long i = 1; i < n; i++) {
         if (t[i - 1] < t0)
             continue;
-        const double a = eta[i - 1] - mean, b = eta[i] - mean;
+        const double e0 = eta[(i - 1) * stride], a = e0 - mean, b = eta[i * stride] - mean;
         if (isfinite(first)) {
-            lo = fmin(lo, eta[i - 1]);
-            hi = fmax(hi, eta[i - 1]);
+            lo = fmin(lo, e0);
+            hi = fmax(hi, e0);
         }
         if (a < 0.0 && b >= 0.0) {
             const double tc = t[i - 1] + (t[i] - t[i - 1]) * (-a) / (b - a);
@@ -71,25 +70,18 @@ json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, l
     if (c->wavemaker.type == SPH_WAVEMAKER_NONE || c->ngauges == 0 || n < 1)
         return NULL;
     const int ng = c->ngauges;
-    double *eta = malloc((size_t)n * sizeof *eta);
     json_t *out = json_object();
-    if (!eta || !out) {
-        free(eta);
-        json_decref(out);
+    if (!out)
         return NULL;
-    }
     for (int k = 0; k < ng; k++) {
-        for (long i = 0; i < n; i++)
-            eta[i] = g[i * ng + k];
         const double t0 = sphd_waves_window(c, k);
         double H, T;
-        const int count = sphd_waves_zero_up(t, eta, n, t0, &H, &T);
+        const int count = sphd_waves_zero_up(t, g + k, ng, n, t0, &H, &T);
         json_object_set_new(out, c->gauges[k].name,
                             json_pack("{s:o, s:o, s:i, s:o}", "height", sph_json_real_or_null(H),
                                       "period", sph_json_real_or_null(T), "count", count, "from",
                                       sph_json_real_or_null(t0)));
     }
-    free(eta);
     return out;
 }
 
@@ -101,33 +93,22 @@ json_t *sphd_waves_reflection_json(const sph_config *c, const sph_output_config 
         sph_sim_wave_design(c, &w))
         return NULL;
     /* the case's gauges, from the latest of their windows to the run's end */
-    const int ng = c->ngauges, m = o->nreflect;
-    const double *rows[SPH_CONFIG_MAX_GAUGES];
-    double x[SPH_CONFIG_MAX_GAUGES], *eta[SPH_CONFIG_MAX_GAUGES] = {0}, t0 = -INFINITY;
-    int bad = 0;
+    const int m = o->nreflect;
+    long cols[SPH_CONFIG_MAX_GAUGES];
+    double x[SPH_CONFIG_MAX_GAUGES], t0 = -INFINITY;
     json_t *names = json_array();
     for (int j = 0; j < m; j++) {
         const int k = o->reflect[j];
-        eta[j] = malloc((size_t)n * sizeof(double));
-        bad |= !eta[j];
-        for (long i = 0; eta[j] && i < n; i++)
-            eta[j][i] = g[i * ng + k];
-        rows[j] = eta[j];
+        cols[j] = k;
         x[j] = c->gauges[k].x;
         t0 = fmax(t0, sphd_waves_window(c, k));
         json_array_append_new(names, json_string(c->gauges[k].name));
     }
     sphd_reflect_out r;
     const char *why = NULL;
-    if (bad)
-        why = "out of memory";
-    else if (sphd_reflect(t, rows, x, m, n, t0, t[n - 1], w.omega, w.k, &r))
+    if (sphd_reflect(t, g, c->ngauges, cols, x, m, n, t0, t[n - 1], w.omega, w.k, &r))
         why = isnan(r.cond) ? "the run ends less than a period after the window opens"
                             : "the gauges are too near a multiple of half a wavelength apart";
-    for (int j = 0; j < m; j++)
-        free(eta[j]);
-    if (bad)
-        r.hi = r.hr = r.kr = r.cond = NAN;
     json_t *out = json_pack(
         "{s:o, s:o, s:o, s:o, s:o, s:o, s:o}", "coefficient", sph_json_real_or_null(r.kr),
         "incident_height", sph_json_real_or_null(r.hi), "reflected_height",

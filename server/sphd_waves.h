@@ -11,12 +11,13 @@
 
 #include <jansson.h>
 
-/* Zero-up-crossing analysis of eta(t) (n samples, t increasing) over t >= t0: the level is the
- * window's mean; each wave runs from one up-crossing (linearly interpolated) to the next, its
- * height the series' range between them. Writes the mean height [m] and period [s] of the
- * waves and returns their count (0: none, height and period NaN). */
-int sphd_waves_zero_up(const double *t, const double *eta, long n, double t0, double *height,
-                       double *period);
+/* Zero-up-crossing analysis of eta(t) (n samples, t increasing, sample i at eta[i * stride]:
+ * one gauge's column of a row-major table) over t >= t0: the level is the window's mean; each
+ * wave runs from one up-crossing (linearly interpolated) to the next, its height the series'
+ * range between them. Writes the mean height [m] and period [s] of the waves and returns their
+ * count (0: none, height and period NaN). */
+int sphd_waves_zero_up(const double *t, const double *eta, long stride, long n, double t0,
+                       double *height, double *period);
 
 /* The window of gauge k of c: it opens one period after the end of the ramp, moving at linear
  * theory's group velocity cg, has reached the gauge, so that the waves in it are the developed

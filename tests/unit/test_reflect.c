@@ -53,8 +53,8 @@ static int analyse(const wave *w, const double *x, int m, double t0, double t1,
 {
     static double t[NS], eta[4][NS];
     series(w, x, m, t, eta);
-    const double *rows[4] = {eta[0], eta[1], eta[2], eta[3]};
-    return sphd_reflect(t, rows, x, m, NS, t0, t1, w->omega, w->k, out);
+    const long cols[4] = {0, NS, 2 * NS, 3 * NS}; /* each gauge's series in a row of its own */
+    return sphd_reflect(t, &eta[0][0], 1, cols, x, m, NS, t0, t1, w->omega, w->k, out);
 }
 
 /* kd = 1.2 in d = 0.4 m: the wave flume's waves (cases/wave_flume.json). */

@@ -13,9 +13,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-/* cases/<name> with the overrides into *cfg: 0, or the parser's code with err set (a set that
- * does not apply fails the test). */
-static int parse_case(const char *name, const char *const *sets, sph_config *cfg, sph_error *err)
+/* cases/<name> with the overrides into the whole case *c (the caller clears it with
+ * sph_case_clear): 0, or the parser's code with err set (a set that does not apply fails the
+ * test). */
+static int parse_full_case(const char *name, const char *const *sets, sph_case *c, sph_error *err)
 {
     char path[4096];
     const char *src = getenv("SPH_SOURCE_DIR");
@@ -25,13 +26,20 @@ static int parse_case(const char *name, const char *const *sets, sph_config *cfg
     for (; *sets; sets++)
         if (sph_json_apply_set(root, *sets, err) != 0)
             fail_msg("--set %s: %s", *sets, err->message);
+    const int rc = sph_case_from_json(root, c, err);
+    json_decref(root);
+    return rc;
+}
+
+/* The same, its sim's configuration alone into *cfg. */
+static int parse_case(const char *name, const char *const *sets, sph_config *cfg, sph_error *err)
+{
     sph_case *c = calloc(1, sizeof *c);
     assert_non_null(c);
-    const int rc = sph_case_from_json(root, c, err);
+    const int rc = parse_full_case(name, sets, c, err);
     if (rc == 0)
         *cfg = c->sim;
     free(c);
-    json_decref(root);
     return rc;
 }
 
