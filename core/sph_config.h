@@ -190,24 +190,26 @@ typedef struct sph_body_spec {
 typedef enum {
     SPH_WAVEMAKER_NONE = 0,
     SPH_WAVEMAKER_PISTON, /* moved rigidly in x */
-    SPH_WAVEMAKER_FLAP,   /* turned about a hinge (refused in this version) */
+    SPH_WAVEMAKER_FLAP,   /* turned about a hinge */
     SPH_WAVEMAKER_COUNT
 } sph_wavemaker_type;
 
 /* The waves a wavemaker makes. */
-typedef enum { SPH_WAVES_REGULAR = 0, SPH_WAVES_COUNT } sph_waves_type;
+typedef enum { SPH_WAVES_REGULAR = 0, SPH_WAVES_SOLITARY, SPH_WAVES_COUNT } sph_waves_type;
 
-/* A case's "wavemaker": a piston of `layers` columns of wall particles, the tank's height, whose
- * wet face (towards +x) rests at x; regular waves of height H and period T by first-order
- * wavemaker theory, ramped up over `ramp` periods. */
+/* A case's "wavemaker": a piston or a flap of `layers` columns of wall particles, the tank's
+ * height, whose wet face (towards +x) rests at x (a flap's hinge on it, `hinge` above the tank's
+ * bottom); regular waves of height H and period T by first-order wavemaker theory, ramped up over
+ * `ramp` periods, or a solitary wave of height H by Goring's piston law. */
 typedef struct sph_wavemaker_spec {
     sph_wavemaker_type type; /* none (no wavemaker), piston or flap */
     double x;                /* the paddle's wet face at rest [m] */
     int layers;              /* columns of wall particles behind the face [-] */
     double ramp;             /* periods over which the motion rises to its full stroke [-] */
-    sph_waves_type waves;    /* regular */
+    double hinge;            /* flap: the hinge's height above the tank's bottom [m] */
+    sph_waves_type waves;    /* regular or solitary */
     double height;           /* the target wave height H [m] */
-    double period;           /* the wave period T [s] */
+    double period;           /* the wave period T [s] (regular; 0: not given) */
 } sph_wavemaker_spec;
 
 /* A case's "absorption": a passive damping zone (Altomare et al. 2017) that relaxes the fluid's
@@ -230,14 +232,19 @@ typedef struct sph_shifting_spec {
                             surface (no shift); 0: DualSPHysics' 1.5 in 2D, 2.75 in 3D [-] */
 } sph_shifting_spec;
 
-/* What first-order wavemaker theory gives for a case's wavemaker (sph_sim_wave_design). */
+/* What wavemaker theory gives for a case's wavemaker (sph_sim_wave_design): first-order theory
+ * for regular waves, Goring's law for a solitary wave (then omega, k, length and cg are 0). */
 typedef struct sph_wave_design {
     double depth;  /* still water depth d [m] */
     double omega;  /* 2 pi / T [rad/s] */
     double k;      /* wave number [1/m] */
     double length; /* wave length L = 2 pi / k [m] */
-    double stroke; /* S = H / (H/S)(kd) [m] */
+    double stroke; /* S = H / (H/S)(kd) at the still water level (solitary: sqrt(16 H d / 3)) [m] */
     double cg;     /* group velocity (omega / k) (1 + 2kd / sinh 2kd) / 2 [m/s] */
+    double kappa;  /* solitary: sqrt(3H / (4 d^3)) [1/m] */
+    double celerity; /* solitary: sqrt(g (d + H)) [m/s] */
+    double duration; /* solitary: the paddle's travel time 2 (3.8 + H/d) / (kappa c) [s] */
+    double lag;      /* solitary: how far the crest trails the wave's front, 3.8 / kappa [m] */
 } sph_wave_design;
 
 #define SPH_DAMPING_BETA_DEFAULT   10.0 /* [1/s] */

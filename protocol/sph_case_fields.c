@@ -64,8 +64,8 @@ static const int probe_bits[] = {SPH_PROBE_FRONT_X,     SPH_PROBE_HEIGHT_LEFT, 0
                                  SPH_PROBE_PENETRATION, SPH_PROBE_RUNUP};
 static const char *const wavemaker_names[] = {"piston", "flap", NULL};
 static const int wavemaker_values[] = {SPH_WAVEMAKER_PISTON, SPH_WAVEMAKER_FLAP};
-static const char *const waves_names[] = {"regular", NULL};
-static const int waves_values[] = {SPH_WAVES_REGULAR};
+static const char *const waves_names[] = {"regular", "solitary", NULL};
+static const int waves_values[] = {SPH_WAVES_REGULAR, SPH_WAVES_SOLITARY};
 static const char *const absorption_names[] = {"damping", NULL};
 static const int absorption_values[] = {1};
 static const char *const shape_names[] = {"circle", "box", "polygon", NULL};
@@ -401,6 +401,10 @@ static int parse_reflection(const json_t *v, const char *path, sph_config *c, sp
         return sph_error_set(err, SPH_ERR_INVALID, path,
                              "the reflection is of a wavemaker's waves: add a \"wavemaker\" or "
                              "remove \"reflection\"");
+    if (c->wavemaker.waves != SPH_WAVES_REGULAR)
+        return sph_error_set(err, SPH_ERR_INVALID, path,
+                             "the reflection is of regular waves: a solitary wave has none to "
+                             "split");
     o->nreflect = 0;
     for (size_t i = 0; i < json_array_size(v); i++) {
         char at[SPH_ERROR_PATH_MAX];
@@ -697,7 +701,8 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/wavemaker/type", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
      .required = SPH_CF_WCSPH, .names = wavemaker_names, .values = wavemaker_values,
      CFG(wavemaker.type),
-     .doc = "piston (moved rigidly in x); flap (turned about a hinge: not in this version)"},
+     .doc = "piston (moved rigidly in x); flap (turned about a hinge on its face, `hinge` above "
+            "the tank's bottom)"},
     {.path = "/wavemaker/x", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
      .required = SPH_CF_WCSPH, .lo = -1e6, .hi = 1e6, CFG(wavemaker.x),
      .doc = "the paddle's wet face at rest [m]: its particles behind it (towards -x), the fluid "
@@ -708,21 +713,27 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/wavemaker/ramp", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH, .lo = 0.0,
      .hi = 1e3, .has_def = 1, .def = SPH_WAVEMAKER_RAMP_DEFAULT, CFG(wavemaker.ramp),
      .doc = "periods over which the stroke rises smoothly ((1 - cos(pi t / Tr)) / 2) to its "
-            "full value; 0: none"},
+            "full value; 0: none (regular waves; a solitary wave has none)"},
+    {.path = "/wavemaker/hinge", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH, .lo = -1e6,
+     .hi = 1e6, .has_def = 1, .def = 0.0, CFG(wavemaker.hinge),
+     .doc = "a flap's hinge, on its face, above the tank's bottom [m]: in the water column, from "
+            "0 (the bottom) to below the still water level; a piston has none"},
     {.path = "/wavemaker/waves", .type = SPH_CF_OBJECT, .methods = SPH_CF_WCSPH,
      .required = SPH_CF_WCSPH, .doc = "the waves to make"},
     {.path = "/wavemaker/waves/type", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
      .required = SPH_CF_WCSPH, .names = waves_names, .values = waves_values,
      CFG(wavemaker.waves),
-     .doc = "regular: first-order wavemaker theory, the stroke S from H/S = 2 (cosh 2kd - 1) / "
-            "(sinh 2kd + 2kd), k from omega^2 = g k tanh(kd), d the fluid's top above the "
-            "tank's bottom"},
+     .doc = "regular: first-order wavemaker theory, the stroke S from the piston's H/S = 2 "
+            "(cosh 2kd - 1) / (sinh 2kd + 2kd) or the flap's (section 1.8), k from omega^2 = g k "
+            "tanh(kd), d the fluid's top above the tank's bottom; solitary: one solitary wave "
+            "from Goring's piston law (section 1.8)"},
     {.path = "/wavemaker/waves/height", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
      .required = SPH_CF_WCSPH, .lo = 0.0, .lo_open = 1, .hi = 1e3, CFG(wavemaker.height),
-     .doc = "the wave height H [m], below the breaking limit H/L = 0.142 tanh(kd)"},
+     .doc = "the wave height H [m]: regular waves below the breaking limit H/L = 0.142 "
+            "tanh(kd), a solitary wave up to 0.6 d"},
     {.path = "/wavemaker/waves/period", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
-     .required = SPH_CF_WCSPH, .lo = 0.0, .lo_open = 1, .hi = 1e3, CFG(wavemaker.period),
-     .doc = "the wave period T [s]"},
+     .lo = 0.0, .lo_open = 1, .hi = 1e3, CFG(wavemaker.period),
+     .doc = "the wave period T [s]: required for regular waves, refused for a solitary one"},
     {.path = "/absorption", .type = SPH_CF_OBJECT, .methods = SPH_CF_WCSPH,
      .doc = "a passive damping zone (section 1.8; the CPU); absent: none"},
     {.path = "/absorption/type", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,

@@ -378,6 +378,9 @@ static sphd_exec_status advance_sim(sphd_exec *x, long max_steps, double until, 
     json_t *waves = res ? sphd_waves_json(&x->c.sim, x->wt, x->wg, x->wn) : NULL;
     if (waves)
         json_object_set_new(res, "waves", waves);
+    json_t *sol = res ? sphd_waves_solitary_json(&x->c.sim, x->wt, x->wg, x->wn) : NULL;
+    if (sol)
+        json_object_set_new(res, "solitary", sol);
     json_t *refl =
         res ? sphd_waves_reflection_json(&x->c.sim, &x->c.output, x->wt, x->wg, x->wn) : NULL;
     if (refl)

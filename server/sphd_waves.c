@@ -54,10 +54,48 @@ int sphd_waves_zero_up(const double *t, const double *eta, long stride, long n, 
     return count;
 }
 
+int sphd_waves_crest(const double *t, const double *eta, long stride, long n, double t_still,
+                     double t0, double t1, double *height, double *time, double *level)
+{
+    *height = *time = *level = NAN;
+    double lv = 0.0;
+    long m = 0, top = -1;
+    for (long i = 0; i < n; i++) {
+        if (i == 0 || t[i] <= t_still) {
+            lv += eta[i * stride];
+            m++;
+        }
+        if (t[i] >= t0 && t[i] <= t1 && (top < 0 || eta[i * stride] > eta[top * stride]))
+            top = i;
+    }
+    lv /= (double)m;
+    *level = lv;
+    if (top < 0)
+        return 0;
+    double tc = t[top], ec = eta[top * stride];
+    if (top > 0 && top < n - 1) { /* the parabola through the top sample and its neighbours */
+        const double ta = t[top - 1], tb = t[top + 1];
+        const double ea = eta[(top - 1) * stride], eb = eta[(top + 1) * stride];
+        const double d1 = (ec - ea) / (tc - ta), d2 = (eb - ec) / (tb - tc);
+        const double curv = (d2 - d1) / (tb - ta); /* half the second derivative */
+        if (curv < 0.0) {
+            const double ts = 0.5 * (ta + tc) - d1 / (2.0 * curv);
+            if (ts >= ta && ts <= tb) {
+                ec = ea + d1 * (ts - ta) + curv * (ts - ta) * (ts - tc);
+                tc = ts;
+            }
+        }
+    }
+    *height = ec - lv;
+    *time = tc;
+    return 1;
+}
+
 double sphd_waves_window(const sph_config *c, int k)
 {
     sph_wave_design w;
-    if (sph_sim_wave_design(c, &w) || k < 0 || k >= c->ngauges)
+    if (c->wavemaker.waves != SPH_WAVES_REGULAR || sph_sim_wave_design(c, &w) || k < 0 ||
+        k >= c->ngauges)
         return NAN;
     /* the ramp's end reaches the gauge at ramp T + distance / cg; one period more lets the
      * train's dispersed front go by */
@@ -67,7 +105,8 @@ double sphd_waves_window(const sph_config *c, int k)
 
 json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, long n)
 {
-    if (c->wavemaker.type == SPH_WAVEMAKER_NONE || c->ngauges == 0 || n < 1)
+    if (c->wavemaker.type == SPH_WAVEMAKER_NONE || c->wavemaker.waves != SPH_WAVES_REGULAR ||
+        c->ngauges == 0 || n < 1)
         return NULL;
     const int ng = c->ngauges;
     json_t *out = json_object();
@@ -83,6 +122,48 @@ json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, l
                                       sph_json_real_or_null(t0)));
     }
     return out;
+}
+
+json_t *sphd_waves_solitary_json(const sph_config *c, const double *t, const double *g, long n)
+{
+    sph_wave_design w;
+    if (c->wavemaker.type == SPH_WAVEMAKER_NONE || c->wavemaker.waves != SPH_WAVES_SOLITARY ||
+        c->ngauges == 0 || n < 1 || sph_sim_wave_design(c, &w))
+        return NULL;
+    const int ng = c->ngauges;
+    json_t *gauges = json_object();
+    double sx = 0.0, st = 0.0, sxt = 0.0, stt = 0.0;
+    int found = 0;
+    for (int k = 0; k < ng; k++) {
+        /* the wave's front (theta = -theta0) leaves the paddle at t = 0 and moves at c, its
+         * crest theta0 / kappa behind it: the window is the crest's time +- 2 / (kappa c), where
+         * the theory's wave is above sech^2(2) = 7% of its height */
+        const double dx = fabs(c->gauges[k].x - c->wavemaker.x);
+        const double crest = (dx + w.lag) / w.celerity;
+        const double t0 = crest - 2.0 / (w.kappa * w.celerity);
+        const double t1 = crest + 2.0 / (w.kappa * w.celerity);
+        double H, tc, level;
+        const int got = sphd_waves_crest(t, g + k, ng, n, dx / w.celerity, t0, t1, &H, &tc, &level);
+        json_object_set_new(gauges, c->gauges[k].name,
+                            json_pack("{s:o, s:o, s:o, s:o, s:o}", "height",
+                                      sph_json_real_or_null(H), "time", sph_json_real_or_null(tc),
+                                      "level", sph_json_real_or_null(level), "from",
+                                      sph_json_real_or_null(t0), "to", sph_json_real_or_null(t1)));
+        if (got && t1 <= t[n - 1]) {
+            const double x = c->gauges[k].x;
+            sx += x;
+            st += tc;
+            sxt += x * tc;
+            stt += tc * tc;
+            found++;
+        }
+    }
+    /* the crest's speed: the least-squares slope of the gauges' x against their crests' times */
+    const double den = found * stt - st * st;
+    const double cel = found >= 2 && den > 0.0 ? fabs((found * sxt - sx * st) / den) : NAN;
+    return json_pack("{s:o, s:o, s:o, s:o}", "celerity", sph_json_real_or_null(cel), "theory",
+                     sph_json_real_or_null(w.celerity), "stroke", sph_json_real_or_null(w.stroke),
+                     "gauges", gauges);
 }
 
 json_t *sphd_waves_reflection_json(const sph_config *c, const sph_output_config *o, const double *t,

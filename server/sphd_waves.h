@@ -1,7 +1,8 @@
 /*
  * sphd_waves: wave analysis of a flume's height gauges (PROTOCOL.md section 1.8): the
  * zero-up-crossing wave height and period of each gauge's series over the window after the
- * wavemaker's ramp, in the result event and result.json as "waves".
+ * wavemaker's ramp, in the result event and result.json as "waves"; a solitary wave's crest at
+ * each gauge and its celerity as "solitary".
  */
 #ifndef SPHD_WAVES_H
 #define SPHD_WAVES_H
@@ -19,6 +20,14 @@
 int sphd_waves_zero_up(const double *t, const double *eta, long stride, long n, double t0,
                        double *height, double *period);
 
+/* A solitary wave's crest in eta(t) (n samples, t increasing, sample i at eta[i * stride]): the
+ * highest sample within [t0, t1] and the parabola through it and its neighbours, its height above
+ * the still level (the mean of the samples up to t_still, the first one at least). Writes the
+ * height [m], the crest's time [s] and the level [m]; returns 1, or 0 when no sample lies in the
+ * window (height and time NaN). */
+int sphd_waves_crest(const double *t, const double *eta, long stride, long n, double t_still,
+                     double t0, double t1, double *height, double *time, double *level);
+
 /* The window of gauge k of c: it opens one period after the end of the ramp, moving at linear
  * theory's group velocity cg, has reached the gauge, so that the waves in it are the developed
  * train, not its growing front: (ramp + 1) T + |x_gauge - x_paddle| / cg [s]. NaN without a
@@ -26,8 +35,17 @@ int sphd_waves_zero_up(const double *t, const double *eta, long stride, long n, 
 double sphd_waves_window(const sph_config *c, int k);
 
 /* {"GAUGE": {"height", "period", "count", "from"}, ...} for c's gauges from the series t[n]
- * and g[n][ngauges] (row-major), or NULL without a wavemaker or gauges (new reference). */
+ * and g[n][ngauges] (row-major), or NULL without regular waves or gauges (new reference). */
 json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, long n);
+
+/* A solitary wave's passage at c's gauges (PROTOCOL.md section 1.8): {"celerity", "theory",
+ * "stroke", "gauges": {"GAUGE": {"height", "time", "level", "from", "to"}}}, each gauge's crest
+ * (sphd_waves_crest) within [from, to], the theory's crest time +- 2 / (kappa c) (the crest
+ * (x - x_paddle + 3.8 / kappa) / c), the still level the mean before the theory's front reaches
+ * the gauge ((x - x_paddle) / c); the celerity the least-squares slope of
+ * the gauges' x against their crests' times (null with fewer than 2 whole windows), "theory"
+ * sqrt(g (d + H)). NULL without a solitary wave or gauges (new reference). */
+json_t *sphd_waves_solitary_json(const sph_config *c, const double *t, const double *g, long n);
 
 /* The reflection of the flume's waves (sphd_reflect.h) from the gauges of the case's
  * diagnostics.reflection (o), over the latest of their windows to the run's end: {"coefficient",

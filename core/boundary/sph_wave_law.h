@@ -8,8 +8,19 @@
  *   piston transfer function:    H / S = 2 (cosh 2kd - 1) / (sinh 2kd + 2kd)
  *                                (Dean & Dalrymple 1991, "Water wave mechanics for engineers and
  *                                scientists", ch. 6, the piston's plane-wave solution)
+ *   flap transfer function:      H / S = 4 sinh kd (sinh kd - (cosh kd - 1) / (k (d - l)))
+ *                                / (sinh 2kd + 2kd), hinged l above the bottom, S the stroke at
+ *                                the still water level (the same solution for the displacement
+ *                                profile (z - l) / (d - l); l = 0 is Dean & Dalrymple's flap)
  *   ramp over Tr = ramp T:       r(t) = (1 - cos(pi t / Tr)) / 2 for t < Tr, 1 after
- *   piston displacement:         X(t) = r(t) S/2 sin(omega t), its velocity dX/dt
+ *   displacement at the still water level: X(t) = r(t) S/2 sin(omega t), its velocity dX/dt
+ *   (a piston moves rigidly by X; a flap turns by atan(X / (d - l)) about its hinge)
+ *   solitary wave (Goring 1978): a piston with dX/dt = c eta(X, t) / (d + eta(X, t)), eta = H
+ *                                sech^2(theta), theta = kappa (c t - X) - theta0, kappa =
+ *                                sqrt(3H / (4 d^3)), c = sqrt(g (d + H)); integrated exactly:
+ *                                X = H / (kappa d) (1 + tanh theta), theta from Newton; the
+ *                                stroke S = 2H / (kappa d) = sqrt(16 H d / 3) over the time
+ *                                2 (theta0 + H/d) / (kappa c), theta0 = 3.8 (Goring's)
  *   damping weight (Altomare et al. 2017, as DualSPHysics' "damping" zones apply it):
  *                                v *= 1 - dt beta f(x), f = s^2, s = (x - from) / (to - from)
  *                                clamped to [0, 1]
@@ -59,6 +70,14 @@ SPH_HD static inline double sph_piston_transfer(double kd)
     return 2.0 * (cosh(2.0 * kd) - 1.0) / (sinh(2.0 * kd) + 2.0 * kd);
 }
 
+/* A flap's first-order transfer function H / S of kd, hinged at lh = l / d of the depth above the
+ * bottom (0 <= lh < 1; S the stroke at the still water level). */
+SPH_HD static inline double sph_flap_transfer(double kd, double lh)
+{
+    const double sh = sinh(kd);
+    return 4.0 * sh * (sh - (cosh(kd) - 1.0) / (kd * (1.0 - lh))) / (sinh(2.0 * kd) + 2.0 * kd);
+}
+
 /* The ramp r(t) over tr seconds (0 or less: none) and its rate dr/dt [1/s]. */
 SPH_HD static inline double sph_wave_ramp(double t, double tr, double *rate)
 {
@@ -75,22 +94,84 @@ SPH_HD static inline double sph_wave_ramp(double t, double tr, double *rate)
     return 0.5 * (1.0 - cos(a));
 }
 
-/* A piston's law of motion: what sph_piston_motion needs. */
-typedef struct sph_piston_law {
-    double stroke; /* S: twice the amplitude of the displacement [m] */
+#define SPH_SOLITARY_THETA0 3.8 /* Goring's start: the wave's sech^2 at 2e-3 of its crest [-] */
+#define SPH_SOLITARY_MAX    0.6 /* the highest H/d a solitary wave's law takes [-] */
+
+/* A paddle's law of motion: what sph_paddle_motion and sph_paddle_place need. */
+typedef struct sph_paddle_law {
+    int solitary;  /* 0: regular waves (stroke, omega, tramp), 1: Goring's solitary wave */
+    double stroke; /* S: twice the amplitude of the displacement (solitary: its whole travel) [m] */
     double omega;  /* 2 pi / T [rad/s] */
     double tramp;  /* the ramp's duration [s] */
-} sph_piston_law;
+    double height, depth, kappa, celerity; /* solitary: H, d [m], kappa [1/m], c [m/s] */
+    double x0;     /* solitary: H / (kappa d) (1 + tanh theta(0)), taken off so that X(0) = 0 [m] */
+    int flap;      /* 0: a piston, moved rigidly by X; 1: a flap turned about (hx, hy) */
+    double hx, hy; /* flap: its hinge [m] */
+    double arm;    /* flap: the hinge's depth below the still water level d - l [m] */
+} sph_paddle_law;
 
-/* The piston's displacement X(t) from rest [m] and its velocity dX/dt [m/s] at time t. */
-SPH_HD static inline double sph_piston_motion(const sph_piston_law *p, double t, double *v)
+/* Goring's theta(t) of a solitary wave's law: the root of theta + kappa X(theta) = kappa c t -
+ * theta0, X(theta) = H / (kappa d) (1 + tanh theta), by Newton (the left side's slope lies in
+ * [1, 1 + H/d], so it converges from any start). */
+SPH_HD static inline double sph_solitary_theta(const sph_paddle_law *p, double t)
 {
+    const double a = p->height / p->depth; /* kappa X = a (1 + tanh theta) */
+    const double rhs = p->kappa * p->celerity * t - SPH_SOLITARY_THETA0;
+    double th = rhs - a;
+    for (int it = 0; it < 60; it++) {
+        const double th2 = tanh(th);
+        const double f = th + a * (1.0 + th2) - rhs;
+        const double d = f / (1.0 + a * (1.0 - th2 * th2));
+        th -= d;
+        if (fabs(d) <= 1e-14 * (1.0 + fabs(th)))
+            break;
+    }
+    return th;
+}
+
+/* The paddle's displacement X(t) at the still water level from rest [m] and its velocity dX/dt
+ * [m/s] at time t. */
+SPH_HD static inline double sph_paddle_motion(const sph_paddle_law *p, double t, double *v)
+{
+    if (p->solitary) {
+        if (t <= 0.0) {
+            *v = 0.0;
+            return 0.0;
+        }
+        const double th = sph_solitary_theta(p, t);
+        const double sech = 1.0 / cosh(th), eta = p->height * sech * sech;
+        *v = p->celerity * eta / (p->depth + eta);
+        return p->height / (p->kappa * p->depth) * (1.0 + tanh(th)) - p->x0;
+    }
     double rate;
     const double r = sph_wave_ramp(t, p->tramp, &rate);
     const double a = 0.5 * p->stroke;
     const double s = sin(p->omega * t), c = cos(p->omega * t);
     *v = a * (rate * s + r * p->omega * c);
     return a * r * s;
+}
+
+/* Where a paddle particle resting at (rx, ry) is when the paddle's displacement at the still
+ * water level is X with the rate Xv (sph_paddle_motion): its position into x[2], its velocity
+ * into u[2]. A piston moves it by X; a flap turns it rigidly about the hinge by phi =
+ * atan(X / arm) (the face at the still water level then X ahead of rest), at the rate dphi/dt. */
+SPH_HD static inline void sph_paddle_place(const sph_paddle_law *p, double rx, double ry, double X,
+                                           double Xv, double *x, double *u)
+{
+    if (!p->flap) {
+        x[0] = rx + X;
+        x[1] = ry;
+        u[0] = Xv;
+        u[1] = 0.0;
+        return;
+    }
+    const double phi = atan2(X, p->arm), w = p->arm * Xv / (p->arm * p->arm + X * X);
+    const double c = cos(phi), s = sin(phi), ax = rx - p->hx, ay = ry - p->hy;
+    const double px = ax * c + ay * s, py = -ax * s + ay * c; /* turned clockwise by phi */
+    x[0] = p->hx + px;
+    x[1] = p->hy + py;
+    u[0] = w * py;
+    u[1] = -w * px;
 }
 
 /* The damping zone's weight f(x) in [0, 1]: 0 up to `from`, (x - from)^2 / (to - from)^2 across,

@@ -16,18 +16,32 @@
 
 int sph_wave_design_of(const sph_config *c, sph_wave_design *w)
 {
+    const sph_wavemaker_spec *m = &c->wavemaker;
     double top = -INFINITY;
     for (int b = 0; b < c->nfluid; b++)
         top = fmax(top, c->fluid[b].max[1]);
     const double g = -c->gravity[1];
-    w->depth = top - c->tank.min[1];
-    w->omega = 2.0 * PI / c->wavemaker.period;
-    if (!(w->depth > 0.0) || !(g > 0.0) || !isfinite(w->depth) || !(w->omega > 0.0))
+    *w = (sph_wave_design){.depth = top - c->tank.min[1]};
+    if (!(w->depth > 0.0) || !(g > 0.0) || !isfinite(w->depth) || !(m->height > 0.0))
+        return -1;
+    if (m->waves == SPH_WAVES_SOLITARY) {
+        const double d = w->depth, H = m->height;
+        w->kappa = sqrt(3.0 * H / (4.0 * d * d * d));
+        w->celerity = sqrt(g * (d + H));
+        w->stroke = 2.0 * H / (w->kappa * d);
+        w->duration = 2.0 * (SPH_SOLITARY_THETA0 + H / d) / (w->kappa * w->celerity);
+        w->lag = SPH_SOLITARY_THETA0 / w->kappa;
+        return 0;
+    }
+    w->omega = 2.0 * PI / m->period;
+    if (!(w->omega > 0.0) || !isfinite(w->omega))
         return -1;
     w->k = sph_wave_number(w->omega, g, w->depth);
     w->length = 2.0 * PI / w->k;
     const double kd = w->k * w->depth;
-    w->stroke = c->wavemaker.height / sph_piston_transfer(kd);
+    const double hs = m->type == SPH_WAVEMAKER_FLAP ? sph_flap_transfer(kd, m->hinge / w->depth)
+                                                    : sph_piston_transfer(kd);
+    w->stroke = m->height / hs;
     w->cg = 0.5 * w->omega / w->k * (1.0 + 2.0 * kd / sinh(2.0 * kd));
     return 0;
 }
@@ -79,10 +93,6 @@ int sph_wavemaker_check(const sph_config *c, sph_error *err)
     if ((unsigned)w->type >= SPH_WAVEMAKER_COUNT || (unsigned)w->waves >= SPH_WAVES_COUNT)
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/type",
                              "unknown wavemaker or waves type");
-    if (w->type == SPH_WAVEMAKER_FLAP)
-        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/type",
-                             "the flap wavemaker is not available in this version: use "
-                             "\"piston\"");
     if (c->method != SPH_METHOD_WCSPH)
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker",
                              "a wavemaker needs the wcsph method in this version");
@@ -111,9 +121,17 @@ int sph_wavemaker_check(const sph_config *c, sph_error *err)
     if (!(w->height > 0.0) || !isfinite(w->height))
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/height",
                              "the wave height must be positive");
-    if (!(w->period > 0.0) || !isfinite(w->period))
+    const int solitary = w->waves == SPH_WAVES_SOLITARY;
+    if (solitary && w->type == SPH_WAVEMAKER_FLAP)
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/type",
+                             "a solitary wave comes from a piston (Goring's law): use "
+                             "\"piston\"");
+    if (!solitary && (!(w->period > 0.0) || !isfinite(w->period)))
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/period",
-                             "the wave period must be positive");
+                             "regular waves need a positive period [s]");
+    if (solitary && w->period != 0.0)
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/period",
+                             "a solitary wave has no period: leave it out");
     if (!(w->ramp >= 0.0) || !isfinite(w->ramp))
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/ramp",
                              "the ramp must be 0 or more periods");
@@ -138,27 +156,53 @@ int sph_wavemaker_check(const sph_config *c, sph_error *err)
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker",
                              "a wavemaker needs fluid above the tank's bottom and gravity "
                              "along -y");
-    const double steep = w->height / d.length, limit = SPH_WAVE_BREAKING * tanh(d.k * d.depth);
-    if (steep > limit)
-        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/height",
-                             "the wave would break: H/L = %.4g (L = %.4g m at d = %.4g m) "
-                             "exceeds the breaking limit 0.142 tanh(kd) = %.4g: lower the "
-                             "height or lengthen the period",
-                             steep, d.length, d.depth, limit);
-    const double back = w->x - w->layers * c->dx - 0.5 * d.stroke;
+    if (w->type == SPH_WAVEMAKER_FLAP) {
+        if (!(w->hinge >= 0.0 && w->hinge < d.depth))
+            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/hinge",
+                                 "the flap's hinge (%g m above the bottom) must lie in the water "
+                                 "column, from the bottom up to below the still water level "
+                                 "(%g m)",
+                                 w->hinge, d.depth);
+    } else if (w->hinge != 0.0) {
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/hinge",
+                             "only a flap has a hinge: leave it out for a piston");
+    }
+    if (solitary) {
+        if (w->height > SPH_SOLITARY_MAX * d.depth)
+            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/height",
+                                 "a solitary wave of H/d = %.3g is beyond Goring's law: its "
+                                 "first-order theory holds up to H/d = %.2g (d = %.4g m; the "
+                                 "highest solitary wave is 0.78 d)",
+                                 w->height / d.depth, SPH_SOLITARY_MAX, d.depth);
+    } else {
+        const double steep = w->height / d.length, limit = SPH_WAVE_BREAKING * tanh(d.k * d.depth);
+        if (steep > limit)
+            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/height",
+                                 "the wave would break: H/L = %.4g (L = %.4g m at d = %.4g m) "
+                                 "exceeds the breaking limit 0.142 tanh(kd) = %.4g: lower the "
+                                 "height or lengthen the period",
+                                 steep, d.length, d.depth, limit);
+    }
+    /* how far the paddle's particles travel back (behind the face) and forward (the face at the
+     * still water level): a piston's regular motion +-S/2, a solitary wave's 0 to S; a flap's
+     * back at the tank's top turns (top - hinge) / (d - l) times as far as the face */
+    double fwd = solitary ? d.stroke : 0.5 * d.stroke, bwd = solitary ? 0.0 : 0.5 * d.stroke;
+    if (w->type == SPH_WAVEMAKER_FLAP)
+        bwd *= fmax(c->tank.max[1] - c->tank.min[1] - w->hinge, 0.0) / (d.depth - w->hinge);
+    const double back = w->x - w->layers * c->dx - bwd;
     if (back < c->tank.min[0] || back < c->domain.min[0])
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/x",
                              "the paddle's stroke (S = %.4g m) takes its back to x = %.4g m, "
                              "beyond the tank's wall at %g m: move the paddle's face at least "
                              "%.4g m from the wall",
                              d.stroke, back, fmax(c->tank.min[0], c->domain.min[0]),
-                             w->layers * c->dx + 0.5 * d.stroke);
-    if (w->x + 0.5 * d.stroke >= far)
+                             w->layers * c->dx + bwd);
+    if (w->x + fwd >= far)
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/height",
                              "the paddle's stroke (S = %.4g m) takes its face to x = %.4g m, "
                              "past the fluid's far end at %g m",
-                             d.stroke, w->x + 0.5 * d.stroke, far);
-    return absorption_check(c, back, w->x + 0.5 * d.stroke, err);
+                             d.stroke, w->x + fwd, far);
+    return absorption_check(c, back, w->x + fwd, err);
 }
 
 long sph_wavemaker_points(const sph_config *c, double *const *pos)
@@ -184,7 +228,7 @@ int sph_paddle_init(sph_paddle *p, const sph_config *c, const sph_particles *P, 
     p->first = first;
     p->np = sph_wavemaker_points(c, NULL);
     p->rest = NULL;
-    p->law = (sph_piston_law){0.0, 0.0, 0.0};
+    p->law = (sph_paddle_law){0};
     if (p->np == 0)
         return 0;
     p->rest = malloc((size_t)p->np * 2 * sizeof *p->rest);
@@ -196,9 +240,28 @@ int sph_paddle_init(sph_paddle *p, const sph_config *c, const sph_particles *P, 
     }
     sph_wave_design d;
     if (sph_wave_design_of(c, &d) == 0) /* checked: always */
-        p->law = (sph_piston_law){
-            .stroke = d.stroke, .omega = d.omega, .tramp = c->wavemaker.ramp * c->wavemaker.period};
+        sph_paddle_law_of(c, &d, &p->law);
     return 0;
+}
+
+void sph_paddle_law_of(const sph_config *c, const sph_wave_design *d, sph_paddle_law *law)
+{
+    const sph_wavemaker_spec *m = &c->wavemaker;
+    *law = (sph_paddle_law){.stroke = d->stroke, .omega = d->omega, .tramp = m->ramp * m->period};
+    if (m->waves == SPH_WAVES_SOLITARY) {
+        law->solitary = 1;
+        law->height = m->height;
+        law->depth = d->depth;
+        law->kappa = d->kappa;
+        law->celerity = d->celerity;
+        law->x0 = m->height / (d->kappa * d->depth) * (1.0 + tanh(sph_solitary_theta(law, 0.0)));
+    }
+    if (m->type == SPH_WAVEMAKER_FLAP) {
+        law->flap = 1;
+        law->hx = m->x;
+        law->hy = c->tank.min[1] + m->hinge;
+        law->arm = d->depth - m->hinge;
+    }
 }
 
 void sph_paddle_free(sph_paddle *p)
@@ -213,7 +276,7 @@ void sph_paddle_move(const sph_paddle *p, sph_particles *P, long n, double t)
     if (p->np == 0)
         return;
     double v;
-    const double X = sph_piston_motion(&p->law, t, &v);
+    const double X = sph_paddle_motion(&p->law, t, &v);
     const long first = p->first, np = p->np;
     const int M = P->mixed;
 #pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
@@ -221,10 +284,12 @@ void sph_paddle_move(const sph_paddle *p, sph_particles *P, long n, double t)
         const long q = P->id[i] - first;
         if (q < 0 || q >= np || P->type[i] != SPH_BOUNDARY)
             continue;
-        P->x[i] = p->rest[2 * q] + X;
-        P->y[i] = p->rest[2 * q + 1];
-        SPH_SET(M, P, vx, i, v);
-        SPH_SET(M, P, vy, i, 0.0);
+        double x[2], u[2];
+        sph_paddle_place(&p->law, p->rest[2 * q], p->rest[2 * q + 1], X, v, x, u);
+        P->x[i] = x[0];
+        P->y[i] = x[1];
+        SPH_SET(M, P, vx, i, u[0]);
+        SPH_SET(M, P, vy, i, u[1]);
     }
 }
 

@@ -7,7 +7,9 @@
  * outside their faces), the tank's height in rows from its bottom. They are the last wall
  * particles of the fill (after the tank's and the obstacles'), with ids [first, first + np); the
  * table of their rest positions is indexed by id - first, so nothing follows them through the
- * cell sort. Each step places them rigidly at rest + X(t) with the velocity dX/dt (a piston).
+ * cell sort. Each step places them rigidly: a piston at rest + X(t) with the velocity dX/dt, a
+ * flap turned about its hinge (on the face, `hinge` above the tank's bottom) so that its face at
+ * the still water level is X(t) ahead of rest (sph_wave_law.h).
  * The paddle's motion is a function of time alone: nothing of it lives across steps but the
  * configuration (a restart rebuilds the table from the fill).
  *
@@ -25,7 +27,7 @@
 typedef struct sph_paddle {
     long first, np;     /* the paddle's particles: ids [first, first + np) */
     double *rest;       /* 2 per particle: its position at rest [m], by id - first */
-    sph_piston_law law; /* its motion */
+    sph_paddle_law law; /* its motion */
 } sph_paddle;
 
 /* The design of c's wavemaker (sph_config.h; type not none): 0, or -1 when the depth or gravity
@@ -33,9 +35,11 @@ typedef struct sph_paddle {
 int sph_wave_design_of(const sph_config *c, sph_wave_design *w);
 
 /* Checks c's wavemaker and damping zone (after the shared checks: dx, domain, tank), err->path
- * at the field: a flap (not in this version), a method, dimension, device or wall treatment that
- * cannot move a paddle, fluid behind the paddle's face, a wave steeper than the breaking limit,
- * a stroke the tank cannot hold, a damping zone outside the domain or over the paddle's travel. */
+ * at the field: a method, dimension, device or wall treatment that cannot move a paddle, fluid
+ * behind the paddle's face, a regular wave without a period or steeper than the breaking limit,
+ * a solitary wave with one, higher than SPH_SOLITARY_MAX d or from a flap, a hinge outside the
+ * water column (or given for a piston), a stroke the tank cannot hold, a damping zone outside the
+ * domain or over the paddle's travel. */
 int sph_wavemaker_check(const sph_config *c, sph_error *err);
 
 /* The paddle's particles of c (0 without a wavemaker); with pos, their positions into pos[0],
@@ -47,7 +51,11 @@ long sph_wavemaker_points(const sph_config *c, double *const *pos);
 int sph_paddle_init(sph_paddle *p, const sph_config *c, const sph_particles *P, long first);
 void sph_paddle_free(sph_paddle *p);
 
-/* Places the paddle's particles among P's first n at time t: rest + X(t), velocity dX/dt. */
+/* The law of motion of c's paddle, of design d (sph_wave_design_of). */
+void sph_paddle_law_of(const sph_config *c, const sph_wave_design *d, sph_paddle_law *law);
+
+/* Places the paddle's particles among P's first n at time t (sph_paddle_place: a piston at rest +
+ * X(t) with the velocity dX/dt, a flap turned about its hinge). */
 void sph_paddle_move(const sph_paddle *p, sph_particles *P, long n, double t);
 
 /* The damping zone of c after a step of dt: every fluid particle's velocity among P's first n

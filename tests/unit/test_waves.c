@@ -5,7 +5,16 @@
  *
  * - the piston's transfer function at kd = 1: 2 (cosh 2 - 1) / (sinh 2 + 2) = 0.98178930731303
  *   (evaluated in Python's math module), and its limits: 2kd in shallow water (kd -> 0; the
- *   series of both sides to first order), 2 in deep water;
+ *   series of both sides to first order), 2 in deep water; the flap's at kd = 1 hinged on the
+ *   bottom, 0.528087623589261 (Dean & Dalrymple's closed form in mpmath), and 0.25 d above it,
+ *   0.376853729014670 (mpmath's quadrature of the plane-wave solution's integral 4 sinh kd /
+ *   (sinh 2kd + 2kd) k int_0^d (z - l) / (d - l) cosh kz dz, not the closed form), its limits kd/2
+ *   in shallow water and 2 (1 - 1/kd) in deep water (hinged on the bottom);
+ * - Goring's solitary wave law: X(0) = 0, X rising to the stroke sqrt(16 H d / 3) (less the start
+ *   X(theta(0))), its velocity dX/dt (a centred difference) and c eta / (d + eta) with eta = H
+ *   sech^2(kappa (c t - X) - 3.8) at the paddle (the law's defining equation, to 1e-12);
+ * - the flap's placement: rigid (each particle's distance to the hinge kept), its face crossing
+ *   the still water level X ahead of rest, its velocity the positions' derivative;
  * - the dispersion solver: kd tanh(kd) = omega^2 d / g to rounding over y from 1e-4 to 50, and
  *   d = 0.4 m, T = 1.27 s -> kd = 1.19803592561098 (Python, bisection to 1e-15);
  * - the ramp: 0 at t = 0, 1/2 half way, 1 from its end on; its rate the derivative (a centred
@@ -16,13 +25,16 @@
  *   velocity dX/dt after some steps (to rounding: the same arithmetic); a fluid particle in the
  *   damping zone's far end slowed by 1 - dt beta; a restart at step 60 continues to the same
  *   bits as the run that went on;
+ * - a sim with a flap: its particles turned about the hinge by atan(X / (d - l)); a sim of
+ *   cases/wave_solitary.json: the piston at Goring's X(t);
  * - bad inputs: each refused at its field's path;
  * - the wave analysis (server/sphd_waves.c): a sampled sine's height and period by zero
  *   up-crossing; each gauge's window (ramp + 1) T + distance / cg with cg = 1.18939862610825
  *   m/s (Python: kd by bisection, cg = omega / (2k) (1 + 2kd / sinh 2kd)); linear theory's
  *   ramped train at the case's gauges (its envelope moving at cg) measured at H from the
  *   window on, which an analysis from the end of the ramp alone would not (its far gauges'
- *   windows would take in the growing front).
+ *   windows would take in the growing front); a solitary wave's sech^2 passing three gauges at c:
+ *   each crest's height and time, and the celerity fitted over them.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -50,6 +62,82 @@ static void transfer_function(void **state)
     for (double kd = 1e-3; kd < 2e-2; kd *= 2.0) /* shallow water: H/S -> kd (1 + O(kd^2)) */
         assert_true(fabs(sph_piston_transfer(kd) / kd - 1.0) < kd);
     assert_true(fabs(sph_piston_transfer(20.0) - 2.0) < 1e-12); /* deep water */
+    assert_true(fabs(sph_flap_transfer(1.0, 0.0) - 0.528087623589261) < 1e-14);
+    assert_true(fabs(sph_flap_transfer(1.0, 0.25) - 0.376853729014670) < 1e-14);
+    for (double kd = 1e-3; kd < 2e-2; kd *= 2.0) /* shallow water: H/S -> kd / 2 */
+        assert_true(fabs(sph_flap_transfer(kd, 0.0) / (0.5 * kd) - 1.0) < kd);
+    assert_true(fabs(sph_flap_transfer(30.0, 0.0) / (2.0 * (1.0 - 1.0 / 30.0)) - 1.0) < 1e-12);
+}
+
+/* Goring's law at H/d = 0.2 in d = 0.4 m (cases/wave_solitary.json's wave). */
+static sph_paddle_law goring(void)
+{
+    const double H = 0.08, d = 0.4, g = 9.81;
+    sph_paddle_law p = {.solitary = 1, .height = H, .depth = d};
+    p.kappa = sqrt(3.0 * H / (4.0 * d * d * d));
+    p.celerity = sqrt(g * (d + H));
+    p.stroke = sqrt(16.0 * H * d / 3.0);
+    p.x0 = H / (p.kappa * d) * (1.0 + tanh(sph_solitary_theta(&p, 0.0)));
+    return p;
+}
+
+static void solitary_law(void **state)
+{
+    (void)state;
+    const sph_paddle_law p = goring();
+    double v, va, vb;
+    assert_true(sph_paddle_motion(&p, 0.0, &v) == 0.0);
+    assert_true(p.x0 > 0.0 && p.x0 < 1e-3 * p.stroke); /* Goring's start: tanh(-3.8) */
+    double last = 0.0;
+    for (double t = 0.01; t < 6.0; t += 0.0731) {
+        const double X = sph_paddle_motion(&p, t, &v);
+        assert_true(X >= last && v >= 0.0); /* forward only */
+        last = X;
+        const double h = 1e-6;
+        const double fd =
+            (sph_paddle_motion(&p, t + h, &va) - sph_paddle_motion(&p, t - h, &vb)) / (2 * h);
+        assert_true(fabs(fd - v) < 1e-8);
+        /* dX/dt = c eta / (d + eta), eta at the paddle (its position X + x0 from theta's origin) */
+        const double th = p.kappa * (p.celerity * t - (X + p.x0)) - SPH_SOLITARY_THETA0;
+        const double eta = p.height / (cosh(th) * cosh(th));
+        assert_true(fabs(v - p.celerity * eta / (p.depth + eta)) < 1e-12);
+    }
+    /* the stroke done within the paddle's time 2 (3.8 + H/d) / (kappa c) */
+    const double dur = 2.0 * (3.8 + p.height / p.depth) / (p.kappa * p.celerity);
+    assert_true(fabs(sph_paddle_motion(&p, dur, &v) + p.x0 - p.stroke) < 1e-3 * p.stroke);
+    assert_true(fabs(sph_paddle_motion(&p, 1e3, &v) + p.x0 - p.stroke) < 1e-12);
+}
+
+/* A flap hinged at (1, 0.1) with arm 0.3: rigid, the face X ahead at the still water level. */
+static void flap_place(void **state)
+{
+    (void)state;
+    const sph_paddle_law p = {.flap = 1, .hx = 1.0, .hy = 0.1, .arm = 0.3};
+    const double rest[4][2] = {{0.99, 0.05}, {0.95, 0.4}, {0.99, 0.65}, {0.93, 0.11}};
+    for (double X = -0.05; X <= 0.05; X += 0.0125) {
+        const double Xv = 0.7;
+        for (int k = 0; k < 4; k++) {
+            double x[2], u[2], xa[2], xb[2], w[2];
+            sph_paddle_place(&p, rest[k][0], rest[k][1], X, Xv, x, u);
+            const double r0 = hypot(rest[k][0] - p.hx, rest[k][1] - p.hy);
+            assert_true(fabs(hypot(x[0] - p.hx, x[1] - p.hy) - r0) < 1e-15);
+            const double h = 1e-7; /* the velocity: d/dt with X moving at Xv */
+            sph_paddle_place(&p, rest[k][0], rest[k][1], X + h * Xv, Xv, xa, w);
+            sph_paddle_place(&p, rest[k][0], rest[k][1], X - h * Xv, Xv, xb, w);
+            assert_true(fabs((xa[0] - xb[0]) / (2 * h) - u[0]) < 1e-7);
+            assert_true(fabs((xa[1] - xb[1]) / (2 * h) - u[1]) < 1e-7);
+        }
+        /* the face (through the hinge) turned: at the still water level, X ahead */
+        double top[2], u[2];
+        sph_paddle_place(&p, p.hx, p.hy + 1.0, X, 0.0, top, u);
+        const double at = p.hx + (top[0] - p.hx) * p.arm / (top[1] - p.hy);
+        assert_true(fabs(at - (p.hx + X)) < 1e-15);
+    }
+    /* a piston: moved by X */
+    const sph_paddle_law q = {0};
+    double x[2], u[2];
+    sph_paddle_place(&q, 0.5, 0.2, 0.03, 0.4, x, u);
+    assert_true(x[0] == 0.5 + 0.03 && x[1] == 0.2 && u[0] == 0.4 && u[1] == 0.0);
 }
 
 static void dispersion(void **state)
@@ -83,13 +171,13 @@ static void ramp(void **state)
         assert_true(fabs(fd - rate) <= 1e-7 * fabs(rate) + 1e-9);
     }
     /* the piston's velocity is its displacement's derivative */
-    const sph_piston_law p = {.stroke = 0.04, .omega = 5.0, .tramp = 2.0};
+    const sph_paddle_law p = {.stroke = 0.04, .omega = 5.0, .tramp = 2.0};
     for (double t = 0.05; t < 4.0; t += 0.37) {
         double v, va, vb;
-        sph_piston_motion(&p, t, &v);
+        sph_paddle_motion(&p, t, &v);
         const double h = 1e-6;
         const double fd =
-            (sph_piston_motion(&p, t + h, &va) - sph_piston_motion(&p, t - h, &vb)) / (2 * h);
+            (sph_paddle_motion(&p, t + h, &va) - sph_paddle_motion(&p, t - h, &vb)) / (2 * h);
         assert_true(fabs(fd - v) < 1e-8);
     }
 }
@@ -124,10 +212,10 @@ static void paddle_moves(void **state)
     assert_int_equal(sph_sim_wave_design(&cfg, &w), 0);
     assert_true(fabs(w.k * w.depth - 1.19803592561098) < 1e-12);
     assert_int_equal(sph_sim_advance(s, 400, INFINITY, &err), 0);
-    const sph_piston_law law = {
+    const sph_paddle_law law = {
         .stroke = w.stroke, .omega = w.omega, .tramp = cfg.wavemaker.ramp * cfg.wavemaker.period};
     double v;
-    const double X = sph_piston_motion(&law, sph_sim_time(s), &v);
+    const double X = sph_paddle_motion(&law, sph_sim_time(s), &v);
     assert_true(fabs(X) > 1e-4); /* it has moved */
     sph_particle_view pv;
     sph_sim_particles(s, &pv);
@@ -145,6 +233,76 @@ static void paddle_moves(void **state)
     }
     assert_int_equal(np, cfg.wavemaker.layers * 14); /* 0.7 m of tank at dx = 0.05 */
     sph_sim_destroy(s);
+}
+
+/* A flap hinged 0.1 m above the bottom: after some steps each paddle particle, turned back about
+ * the hinge by phi = atan(X / (d - l)), is on its rest lattice (columns dx/2, 3dx/2, ... behind
+ * the face, rows dx/2, 3dx/2, ... above the bottom), moving at dphi/dt about the hinge; the
+ * stroke from the flap's transfer function. A solitary wave's piston (cases/wave_solitary.json)
+ * at Goring's X(t). */
+static void paddle_turns(void **state)
+{
+    (void)state;
+    static const char *const flap[] = {"dx=0.05",
+                                       "wavemaker.layers=3",
+                                       "wavemaker.type=flap",
+                                       "wavemaker.hinge=0.1",
+                                       "wavemaker.x=0.3",
+                                       "fluid.0.box.min.0=0.3",
+                                       NULL};
+    static const char *const sol[] = {"dx=0.05", "wavemaker.layers=3", NULL};
+    for (int solitary = 0; solitary < 2; solitary++) {
+        const sph_config cfg =
+            load_case(solitary ? "wave_solitary.json" : "wave_flume.json", solitary ? sol : flap);
+        sph_error err;
+        sph_sim *s = sph_sim_create(&cfg, &err);
+        if (!s)
+            fail_msg("%s: %s", err.path, err.message);
+        sph_wave_design w;
+        assert_int_equal(sph_sim_wave_design(&cfg, &w), 0);
+        const double d = w.depth, l = cfg.wavemaker.hinge, H = cfg.wavemaker.height;
+        sph_paddle_law law;
+        if (solitary) {
+            law = goring(); /* the same wave: H 0.08 m in 0.4 m */
+            assert_true(fabs(w.stroke - law.stroke) < 1e-15 && d == law.depth && H == law.height);
+        } else {
+            assert_true(fabs(w.stroke - H / sph_flap_transfer(w.k * d, l / d)) < 1e-15);
+            law = (sph_paddle_law){.stroke = w.stroke,
+                                   .omega = w.omega,
+                                   .tramp = cfg.wavemaker.ramp * cfg.wavemaker.period};
+        }
+        assert_int_equal(sph_sim_advance(s, 400, INFINITY, &err), 0);
+        double v;
+        const double X = sph_paddle_motion(&law, sph_sim_time(s), &v);
+        assert_true(fabs(X) > 1e-4); /* it has moved */
+        const double hx = cfg.wavemaker.x, hy = cfg.tank.min[1] + l, arm = d - l;
+        const double phi = solitary ? 0.0 : atan2(X, arm);
+        const double dphi = solitary ? 0.0 : arm * v / (arm * arm + X * X);
+        sph_particle_view pv;
+        sph_sim_particles(s, &pv);
+        long np = 0;
+        const double dx = cfg.dx;
+        for (long i = 0; i < pv.n; i++) {
+            if (pv.type[i] != 1 || pv.pos[1][i] < -0.02 || pv.pos[0][i] < cfg.tank.min[0] ||
+                pv.pos[0][i] > 1.0)
+                continue; /* the paddle: wall particles inside the tank, above its bottom */
+            double rx = pv.pos[0][i] - X, ry = pv.pos[1][i], ux = v, uy = 0.0;
+            if (!solitary) { /* turned back about the hinge */
+                const double px = pv.pos[0][i] - hx, py = pv.pos[1][i] - hy;
+                rx = hx + px * cos(phi) - py * sin(phi);
+                ry = hy + px * sin(phi) + py * cos(phi);
+                ux = dphi * py;
+                uy = -dphi * px;
+            }
+            const double k = (hx - rx) / dx - 0.5, r = (ry - cfg.tank.min[1]) / dx - 0.5;
+            assert_true(fabs(k - round(k)) < 1e-9 && k >= -1e-9 && k < cfg.wavemaker.layers);
+            assert_true(fabs(r - round(r)) < 1e-9 && r >= -1e-9);
+            assert_true(fabs(pv.vel[0][i] - ux) < 1e-12 && fabs(pv.vel[1][i] - uy) < 1e-12);
+            np++;
+        }
+        assert_int_equal(np, cfg.wavemaker.layers * 14); /* 0.7 m of tank at dx = 0.05 */
+        sph_sim_destroy(s);
+    }
 }
 
 /* A restart in the ramp continues to the same bits (the paddle's law a function of time). */
@@ -230,8 +388,44 @@ static void bad_inputs(void **state)
     /* damping zone outside the domain, or over the paddle's travel */
     refused((const char *const[]){"absorption.to=12", NULL}, "/absorption/to");
     refused((const char *const[]){"absorption.from=0.15", NULL}, "/absorption/from");
-    /* a flap, the GPU, mDBC: not in this version */
-    refused((const char *const[]){"wavemaker.type=flap", NULL}, "/wavemaker/type");
+    /* a flap's hinge out of the water column (d = 0.4 m), a hinge for a piston */
+    refused((const char *const[]){"wavemaker.type=flap", "wavemaker.hinge=0.4", NULL},
+            "/wavemaker/hinge");
+    refused((const char *const[]){"wavemaker.type=flap", "wavemaker.hinge=-0.01", NULL},
+            "/wavemaker/hinge");
+    refused((const char *const[]){"wavemaker.hinge=0.1", NULL}, "/wavemaker/hinge");
+    /* a flap's top swings back (0.7 - 0) / 0.4 times its stroke at the still water level: with
+     * the face 0.095 m from the wall, 3 layers (0.06 m) and the piston's S/2 (0.0216 m) fit, the
+     * flap's (0.047 m at the level, 0.082 m at the top) do not */
+    refused((const char *const[]){"wavemaker.type=flap", "wavemaker.x=0.095", "wavemaker.layers=3",
+                                  "fluid.0.box.min.0=0.095", NULL},
+            "/wavemaker/x");
+    /* a solitary wave: with a period, from a flap, beyond H/d = 0.6, a reflection of it; regular
+     * waves without a period */
+    static const char *const flap_sol[] = {"wavemaker.type=flap", NULL};
+    static const char *const high[] = {"wavemaker.waves.height=0.25", NULL};
+    static const char *const refl[] = {"diagnostics.reflection=[\"g5d\",\"g10d\"]", NULL};
+    static const char *const noperiod[] = {"wavemaker.waves.type=regular", NULL};
+    static const char *const period[] = {"wavemaker.waves.period=1.5", NULL};
+    const struct {
+        const char *const *sets;
+        const char *path;
+    } sol[] = {{flap_sol, "/wavemaker/type"},
+               {high, "/wavemaker/waves/height"},
+               {refl, "/diagnostics/reflection"},
+               {noperiod, "/wavemaker/waves/period"},
+               {period, "/wavemaker/waves/period"}};
+    for (size_t k = 0; k < sizeof sol / sizeof *sol; k++) {
+        sph_config cfg;
+        sph_error err;
+        int rc = parse_case("wave_solitary.json", sol[k].sets, &cfg, &err);
+        if (rc == 0)
+            rc = sph_sim_check(&cfg, &err);
+        if (rc == 0 || strcmp(err.path, sol[k].path) != 0)
+            fail_msg("case %zu: %s (%s), expected an error at %s", k, rc ? err.path : "accepted",
+                     rc ? err.message : "", sol[k].path);
+    }
+    /* the GPU, mDBC: not in this version */
     refused((const char *const[]){"device=gpu", NULL}, "/wavemaker");
     refused((const char *const[]){"boundary.density=mdbc", NULL}, "/boundary/density");
 }
@@ -376,6 +570,57 @@ static void analysis_reflection(void **state)
     free(g);
 }
 
+/* A solitary wave of Goring's theory, eta = H sech^2(kappa (c t - x) - 3.8) with x from the
+ * paddle, passing cases/wave_solitary.json's gauges (sampled every 0.02 s, a level of 0.4 m
+ * under it): each crest's height within 0.2% of H and time within 2 ms of the theory's, the
+ * celerity within 0.1% of c; a run that ends before the last window closes fits the others. */
+static void analysis_solitary(void **state)
+{
+    (void)state;
+    const sph_config cfg = load_case("wave_solitary.json", (const char *const[]){NULL});
+    sph_wave_design w;
+    assert_int_equal(sph_sim_wave_design(&cfg, &w), 0);
+    const int ng = cfg.ngauges;
+    const long n = 300; /* 6 s */
+    double *t = malloc(n * sizeof *t), *g = malloc(n * ng * sizeof *g);
+    assert_non_null(t);
+    assert_non_null(g);
+    const double H = cfg.wavemaker.height;
+    for (long i = 0; i < n; i++) {
+        t[i] = 0.02 * (double)i;
+        for (int k = 0; k < ng; k++) {
+            const double x = cfg.gauges[k].x - cfg.wavemaker.x;
+            const double s = 1.0 / cosh(w.kappa * (w.celerity * t[i] - x) - 3.8);
+            g[i * ng + k] = w.depth + H * s * s;
+        }
+    }
+    json_t *o = sphd_waves_solitary_json(&cfg, t, g, n);
+    assert_non_null(o);
+    assert_true(fabs(json_real_value(json_object_get(o, "celerity")) / w.celerity - 1.0) < 1e-3);
+    assert_true(json_real_value(json_object_get(o, "theory")) == w.celerity);
+    for (int k = 0; k < ng; k++) {
+        json_t *gk = json_object_get(json_object_get(o, "gauges"), cfg.gauges[k].name);
+        const double x = cfg.gauges[k].x - cfg.wavemaker.x;
+        const double tc = (x + 3.8 / w.kappa) / w.celerity;
+        assert_true(fabs(json_real_value(json_object_get(gk, "height")) / H - 1.0) < 2e-3);
+        assert_true(fabs(json_real_value(json_object_get(gk, "time")) - tc) < 2e-3);
+        assert_true(fabs(json_real_value(json_object_get(gk, "level")) - w.depth) < 1e-4);
+    }
+    json_decref(o);
+    /* the run ends at 4.2 s, before the last gauge's window closes (4.6 s): the others' fit */
+    o = sphd_waves_solitary_json(&cfg, t, g, 211);
+    printf("celerity over two gauges: %.5f m/s (%.5f)\n",
+           json_real_value(json_object_get(o, "celerity")), w.celerity);
+    assert_true(fabs(json_real_value(json_object_get(o, "celerity")) / w.celerity - 1.0) < 5e-3);
+    json_decref(o);
+    /* no regular analysis of a solitary wave, and no solitary one of regular waves */
+    assert_null(sphd_waves_json(&cfg, t, g, n));
+    const sph_config reg = load_case("wave_flume.json", (const char *const[]){NULL});
+    assert_null(sphd_waves_solitary_json(&reg, t, g, n));
+    free(t);
+    free(g);
+}
+
 /* diagnostics.reflection: refused without a wavemaker, for an unknown gauge, one named twice. */
 static void reflection_refused(void **state)
 {
@@ -400,7 +645,10 @@ int main(void)
         cmocka_unit_test(dispersion),
         cmocka_unit_test(ramp),
         cmocka_unit_test(damping_weight),
+        cmocka_unit_test(solitary_law),
+        cmocka_unit_test(flap_place),
         cmocka_unit_test(paddle_moves),
+        cmocka_unit_test(paddle_turns),
         cmocka_unit_test(restart_same_bits),
         cmocka_unit_test(damping_stops),
         cmocka_unit_test(bad_inputs),
@@ -408,6 +656,7 @@ int main(void)
         cmocka_unit_test(analysis_window),
         cmocka_unit_test(analysis_developed_train),
         cmocka_unit_test(analysis_reflection),
+        cmocka_unit_test(analysis_solitary),
         cmocka_unit_test(reflection_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
