@@ -27,14 +27,15 @@
  * (sph_pressure_spec); 17: sph_config.delta_form; 18: sph_config.precision, float arrays
  * under mixed precision; 19: WCSPH saves no pressure array (derived from the density) */
 #define SIM_VERSION                                                                                \
-    26u /* 20: the geometry list (sph_config.geometry); 21: polygon bodies                         \
+    27u /* 20: the geometry list (sph_config.geometry); 21: polygon bodies                         \
          * (sph_body_spec.corners); 22: geometry walls' mirror points (mDBC);                      \
          * 23: the wavemaker and the damping zone (sph_config.wavemaker,                           \
          * .absorption; the paddle's motion is a function of time, no state);                      \
          * 24: particle shifting (sph_config.shifting; its displacements live within a step);      \
          * 25: the reused neighbour list (sph_config.neighbour_skin; the cells' starts of its      \
          * build and the displacement since); 26: the flap's hinge and solitary waves              \
-         * (sph_wavemaker_spec.hinge, SPH_WAVES_SOLITARY) */
+         * (sph_wavemaker_spec.hinge, SPH_WAVES_SOLITARY); 27: run-up gauges                       \
+         * (sph_gauge_spec.to) */
 
 typedef struct {
     char magic[8];

@@ -33,6 +33,8 @@ sph_config sph_config_default(void)
     c.probes = SPH_PROBE_FRONT_X | SPH_PROBE_HEIGHT_LEFT;
     c.max_bytes = SPH_CONFIG_DEFAULT_MAX_BYTES;
     c.mps = sph_mps_config_default();
+    for (int k = 0; k < SPH_CONFIG_MAX_GAUGES; k++)
+        c.gauges[k].to = NAN; /* a line, unless the case gives `to` */
     c.wavemaker.layers = 3;
     c.wavemaker.ramp = SPH_WAVEMAKER_RAMP_DEFAULT;
     c.absorption.beta = SPH_DAMPING_BETA_DEFAULT;

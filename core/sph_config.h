@@ -146,6 +146,7 @@ typedef struct sph_gauge_spec {
     char name[SPH_GAUGE_NAME_MAX]; /* its key in diag events and its series in diag.h5 */
     double x;                      /* the line's abscissa [m] */
     double y;                      /* 3D: the line's y [m] */
+    double to; /* a run-up gauge: the top of the water over x in [x, to] [m]; NaN: a line */
 } sph_gauge_spec;
 
 /* A pressure probe: the pressure at a point (a sensor on a wall), interpolated from the fluid

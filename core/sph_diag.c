@@ -10,7 +10,8 @@
  * the right wall. A height gauge walks upwards over the fluid within dx of its line across gaps
  * of at most one empty bin: the top of the continuous water column from the bottom, as a wire
  * gauge reads it (a sheet or a jet falling above the surface, with air between, does not count);
- * 0 when no fluid is there: a dry gauge.
+ * 0 when no fluid is there: a dry gauge. A run-up gauge (`to`) walks upwards over the fluid
+ * over [x, to] across gaps of a support, as the front walks along x: the highest water there.
  */
 #include "sph_sim_impl.h"
 
@@ -168,8 +169,13 @@ void sph_diag_compute(sph_sim *s)
     for (int k = 0; k < c->ngauges; k++) {
         const double xg = c->gauges[k].x, yg = c->gauges[k].y;
         /* the fluid within dx of the vertical line (x) in 2D, (x, y) in 3D */
-        const double top = probe2(s, vert, P->x, bottom, xg - c->dx, xg + c->dx,
-                                  V == 2 ? P->y : NULL, yg - c->dx, yg + c->dx, 1);
+        /* a run-up gauge: the fluid over [x, to] (3D: within dx of y), across gaps of a
+         * support (a sheet on a beach is thin) */
+        const int range = isfinite(c->gauges[k].to);
+        const double top = range ? probe2(s, vert, P->x, bottom, xg, c->gauges[k].to,
+                                          V == 2 ? P->y : NULL, yg - c->dx, yg + c->dx, -1)
+                                 : probe2(s, vert, P->x, bottom, xg - c->dx, xg + c->dx,
+                                          V == 2 ? P->y : NULL, yg - c->dx, yg + c->dx, 1);
         d->gauge[k] = isnan(top) ? 0.0 : top - bottom; /* a dry gauge reads 0 */
     }
     d->npressure = c->npressure;

@@ -74,6 +74,8 @@ void sph_fill_count(const sph_config *c, sph_fill_counts *n)
         const sph_config *f = sph_fill_prepared(c, &tmp, NULL);
         n->fluid = f ? f->geometry_fluid : 0;
         n->wall = f ? f->geometry_wall : 0;
+        if (has_walls(c)) /* a wavemaker's paddle after the scene's walls */
+            n->wall += sph_wavemaker_points(c, NULL);
         n->body = sph_body_count(c);
         return;
     }
@@ -168,6 +170,11 @@ static int fill_scene(const sph_config *c, sph_particles *P, double *mirror, sph
         settle(c, P, cnt.fluid, n, SPH_BOUNDARY, 0.0, rho + cnt.fluid);
         if (mirror)
             rc = mirrors(sc, c, P, cnt.fluid, cnt.wall, owner, mirror, err);
+    }
+    if (rc == 0 && has_walls(c)) { /* a wavemaker's paddle, the last wall particles */
+        double *const pad[3] = {P->x + n, P->y + n, NULL};
+        const long np = sph_wavemaker_points(c, pad);
+        settle(c, P, n, n + np, SPH_BOUNDARY, (c->wavemaker.layers + 0.5) * c->dx, NULL);
     }
     sph_scene_destroy(sc);
     free(owner);

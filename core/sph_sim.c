@@ -159,6 +159,15 @@ static int gauge_check(const sph_config *c, sph_error *err)
                                      "(%g, %g) m)",
                                      g->name, ax, v, c->has_tank ? "tank" : "domain", ax, lo, hi);
         }
+        if (!isnan(g->to)) { /* a run-up gauge: [x, to] inside the tank */
+            const double hi = c->has_tank ? c->tank.max[0] : c->domain.max[0];
+            snprintf(path, sizeof path, "/diagnostics/gauges/%d/to", k);
+            if (!(g->to > g->x && g->to <= hi))
+                return sph_error_set(err, SPH_ERR_INVALID, path,
+                                     "the run-up gauge '%s' reads x in [x, to]: 'to' (%g m) must "
+                                     "lie past x (%g m) and inside the %s (up to %g m)",
+                                     g->name, g->to, g->x, c->has_tank ? "tank" : "domain", hi);
+        }
     }
     for (int k = 0; k < c->npressure; k++) {
         const sph_pressure_spec *q = &c->pressure[k];

@@ -942,6 +942,11 @@ const sph_case_field sph_case_fields[] = {
     {.path = "/diagnostics/gauges/*/y", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
      .required = SPH_CF_SIMS, .when = "/dim=3", .lo = -1e6, .hi = 1e6, GAUGE(y),
      .doc = "3D: the vertical line's y [m], inside the tank (the domain without one)"},
+    {.path = "/diagnostics/gauges/*/to", .type = SPH_CF_NUMBER, .methods = SPH_CF_SIMS,
+     .lo = -1e6, .hi = 1e6, GAUGE(to),
+     .doc = "a run-up gauge: the top of the water over x in [x, to] [m] (past x, inside the "
+            "tank) instead of on a line: the highest point the water reaches there, e.g. on a "
+            "beach; absent: a line"},
     {.path = "/diagnostics/pressure", .type = SPH_CF_ARRAY, .methods = SPH_CF_SIMS, .lo = 0,
      .hi = SPH_CONFIG_MAX_GAUGES, CFG(pressure), .stride = sizeof(sph_pressure_spec),
      .count_off = offsetof(sph_config, npressure),

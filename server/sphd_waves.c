@@ -140,8 +140,9 @@ json_t *sphd_waves_solitary_json(const sph_config *c, const double *t, const dou
          * the theory's wave is above sech^2(2) = 7% of its height */
         const double dx = fabs(c->gauges[k].x - c->wavemaker.x);
         const double crest = (dx + w.lag) / w.celerity;
-        const double t0 = crest - 2.0 / (w.kappa * w.celerity);
-        const double t1 = crest + 2.0 / (w.kappa * w.celerity);
+        const int runup = !isnan(c->gauges[k].to); /* from the front's arrival to the end */
+        const double t0 = runup ? dx / w.celerity : crest - 2.0 / (w.kappa * w.celerity);
+        const double t1 = runup ? t[n - 1] : crest + 2.0 / (w.kappa * w.celerity);
         double H, tc, level;
         const int got = sphd_waves_crest(t, g + k, ng, n, dx / w.celerity, t0, t1, &H, &tc, &level);
         json_object_set_new(gauges, c->gauges[k].name,
@@ -149,7 +150,7 @@ json_t *sphd_waves_solitary_json(const sph_config *c, const double *t, const dou
                                       sph_json_real_or_null(H), "time", sph_json_real_or_null(tc),
                                       "level", sph_json_real_or_null(level), "from",
                                       sph_json_real_or_null(t0), "to", sph_json_real_or_null(t1)));
-        if (got && t1 <= t[n - 1]) {
+        if (got && !runup && t1 <= t[n - 1]) {
             const double x = c->gauges[k].x;
             sx += x;
             st += tc;

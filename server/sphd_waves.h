@@ -42,8 +42,9 @@ json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, l
  * "stroke", "gauges": {"GAUGE": {"height", "time", "level", "from", "to"}}}, each gauge's crest
  * (sphd_waves_crest) within [from, to], the theory's crest time +- 2 / (kappa c) (the crest
  * (x - x_paddle + 3.8 / kappa) / c), the still level the mean before the theory's front reaches
- * the gauge ((x - x_paddle) / c); the celerity the least-squares slope of
- * the gauges' x against their crests' times (null with fewer than 2 whole windows), "theory"
+ * the gauge ((x - x_paddle) / c); a run-up gauge's (`to`) the highest reading from that arrival
+ * to the run's end, the run-up above the still level; the celerity the least-squares slope of
+ * the line gauges' x against their crests' times (null with fewer than 2 whole windows), "theory"
  * sqrt(g (d + H)). NULL without a solitary wave or gauges (new reference). */
 json_t *sphd_waves_solitary_json(const sph_config *c, const double *t, const double *g, long n);
 

@@ -107,10 +107,15 @@ int sph_wavemaker_check(const sph_config *c, sph_error *err)
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker",
                              "a paddle is made of dynamic wall particles: it needs a tank with "
                              "\"type\": \"dynamic\" walls");
-    if (c->ngeometry > 0)
-        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker",
-                             "a wavemaker stands in the built-in tank (boundary.tank and fluid "
-                             "boxes), not with a geometry list, in this version");
+    for (int k = 0; k < c->ngeometry; k++)
+        if (c->geometry[k].role == SPH_ROLE_FLUID) {
+            char path[64];
+            snprintf(path, sizeof path, "/geometry/%d/role", k);
+            return sph_error_set(err, SPH_ERR_INVALID, path,
+                                 "with a wavemaker the water is the fluid boxes (its depth and "
+                                 "its place in front of the paddle are theirs): give structures "
+                                 "and beaches as wall, obstacle or void items");
+        }
     if (c->wall_density != SPH_WALL_CONTINUITY)
         return sph_error_set(err, SPH_ERR_INVALID, "/boundary/density",
                              "mDBC walls do not move in this version: a wavemaker needs "

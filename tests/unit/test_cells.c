@@ -608,7 +608,7 @@ static void test_pressure_probes(void **state)
         c.npressure = 3;
 
         c.ngauges = 1;
-        c.gauges[0] = (sph_gauge_spec){"floor", 0.1, 0.05};
+        c.gauges[0] = (sph_gauge_spec){"floor", 0.1, 0.05, NAN};
         assert_null(sph_sim_create(&c, &err));
         assert_string_equal(err.path, "/diagnostics/pressure/1/name");
         c.ngauges = 0;
@@ -656,21 +656,26 @@ static void test_probes(void **state)
 }
 
 /* A height gauge reads the water's height on its line: a droplet above it does not count, a
- * hump on the surface does, a sheet above with air between does not, a dry line reads 0; the
- * checks refuse a bad gauge at its path. */
+ * hump on the surface does, a sheet above with air between does not, a dry line reads 0; a
+ * run-up gauge over [x, to] reads the highest water there, across gaps of a support (the sheet
+ * counts, the droplet does not) and 0 over a dry range; the checks refuse a bad gauge at its
+ * path. */
 static void test_gauges(void **state)
 {
     (void)state;
     sph_config c = block_config();
-    c.ngauges = 2;
-    c.gauges[0] = (sph_gauge_spec){"wet", 0.105, 0.0};
-    c.gauges[1] = (sph_gauge_spec){"dry", 0.5, 0.0};
+    c.ngauges = 4;
+    c.gauges[0] = (sph_gauge_spec){"wet", 0.105, 0.0, NAN};
+    c.gauges[1] = (sph_gauge_spec){"dry", 0.5, 0.0, NAN};
+    c.gauges[2] = (sph_gauge_spec){"top", 0.05, 0.0, 0.3};
+    c.gauges[3] = (sph_gauge_spec){"dryrange", 0.4, 0.0, 0.6};
     sph_error err;
     sph_sim *s = sph_sim_create(&c, &err);
     assert_non_null(s);
-    assert_int_equal(s->diag.ngauges, 2);
+    assert_int_equal(s->diag.ngauges, 4);
     assert_true(fabs(s->diag.gauge[0] - 0.1) < 1e-12);
     assert_true(s->diag.gauge[1] == 0.0);
+    assert_true(fabs(s->diag.gauge[2] - 0.1) < 1e-12 && s->diag.gauge[3] == 0.0);
     /* column ix = 10 (x = 0.105): its top particle raised by 1.5 dx stays connected (the hump
      * counts); one from column 11, within dx of the line, lifted far above is a droplet */
     for (long i = 0; i < s->P.n; i++) {
@@ -682,6 +687,7 @@ static void test_gauges(void **state)
     sph_diag_compute(s);
     assert_true(fabs(s->diag.gauge[0] - 0.115) < 1e-12);
     assert_true(s->diag.gauge[1] == 0.0);
+    assert_true(fabs(s->diag.gauge[2] - 0.115) < 1e-12); /* the droplet at 0.8 does not count */
     /* the gauge reads the continuous column: a particle (from column 9, x = 0.095, within dx of
      * the line) one empty bin above the hump (y = 0.11, the bin [0.11, 0.12)) counts; two empty
      * bins above (air between, though within a kernel support) it does not */
@@ -695,18 +701,27 @@ static void test_gauges(void **state)
             s->P.y[i] = 0.145;
     sph_diag_compute(s);
     assert_true(fabs(s->diag.gauge[0] - 0.115) < 1e-12);
+    /* the run-up gauge: two empty bins (less than a support) between: the sheet counts */
+    assert_true(fabs(s->diag.gauge[2] - 0.15) < 1e-12);
     sph_sim_destroy(s);
+    c.gauges[2].to = 0.05; /* not past x */
+    assert_null(sph_sim_create(&c, &err));
+    assert_string_equal(err.path, "/diagnostics/gauges/2/to");
+    c.gauges[2].to = 1.5; /* past the tank */
+    assert_null(sph_sim_create(&c, &err));
+    assert_string_equal(err.path, "/diagnostics/gauges/2/to");
+    c.ngauges = 2;
 
     c.gauges[1].x = 1.0; /* on the domain's edge */
     assert_null(sph_sim_create(&c, &err));
     assert_string_equal(err.path, "/diagnostics/gauges/1/x");
-    c.gauges[1] = (sph_gauge_spec){"wet", 0.5, 0.0};
+    c.gauges[1] = (sph_gauge_spec){"wet", 0.5, 0.0, NAN};
     assert_null(sph_sim_create(&c, &err));
     assert_string_equal(err.path, "/diagnostics/gauges/1/name");
-    c.gauges[1] = (sph_gauge_spec){"runup", 0.5, 0.0};
+    c.gauges[1] = (sph_gauge_spec){"runup", 0.5, 0.0, NAN};
     assert_null(sph_sim_create(&c, &err));
     assert_string_equal(err.path, "/diagnostics/gauges/1/name");
-    c.gauges[1] = (sph_gauge_spec){"a.b", 0.5, 0.0};
+    c.gauges[1] = (sph_gauge_spec){"a.b", 0.5, 0.0, NAN};
     assert_null(sph_sim_create(&c, &err));
     assert_string_equal(err.path, "/diagnostics/gauges/1/name");
 }

@@ -239,7 +239,8 @@ static void paddle_moves(void **state)
  * the hinge by phi = atan(X / (d - l)), is on its rest lattice (columns dx/2, 3dx/2, ... behind
  * the face, rows dx/2, 3dx/2, ... above the bottom), moving at dphi/dt about the hinge; the
  * stroke from the flap's transfer function. A solitary wave's piston (cases/wave_solitary.json)
- * at Goring's X(t). */
+ * at Goring's X(t), and the same in cases/wave_runup.json, whose beach is a geometry item (the
+ * paddle after the scene's walls). */
 static void paddle_turns(void **state)
 {
     (void)state;
@@ -251,10 +252,18 @@ static void paddle_turns(void **state)
                                        "fluid.0.box.min.0=0.3",
                                        NULL};
     static const char *const sol[] = {"dx=0.05", "wavemaker.layers=3", NULL};
-    for (int solitary = 0; solitary < 2; solitary++) {
-        const sph_config cfg =
-            load_case(solitary ? "wave_solitary.json" : "wave_flume.json", solitary ? sol : flap);
+    static const char *const files[] = {"wave_flume.json", "wave_solitary.json", "wave_runup.json"};
+    static const char *const rsets[] = {"dx=0.05", "wavemaker.layers=3",
+                                        "wavemaker.waves.height=0.08", NULL};
+    for (int run = 0; run < 3; run++) {
+        const int solitary = run > 0;
+        /* the whole case: wave_runup.json's beach is a surface it owns (sph_case_clear) */
+        sph_case *cs = calloc(1, sizeof *cs);
+        assert_non_null(cs);
         sph_error err;
+        if (parse_full_case(files[run], run == 2 ? rsets : solitary ? sol : flap, cs, &err))
+            fail_msg("%s: %s: %s", files[run], err.path, err.message);
+        const sph_config cfg = cs->sim;
         sph_sim *s = sph_sim_create(&cfg, &err);
         if (!s)
             fail_msg("%s: %s", err.path, err.message);
@@ -300,8 +309,11 @@ static void paddle_turns(void **state)
             assert_true(fabs(pv.vel[0][i] - ux) < 1e-12 && fabs(pv.vel[1][i] - uy) < 1e-12);
             np++;
         }
-        assert_int_equal(np, cfg.wavemaker.layers * 14); /* 0.7 m of tank at dx = 0.05 */
+        const long rows = lround((cfg.tank.max[1] - cfg.tank.min[1]) / dx);
+        assert_int_equal(np, cfg.wavemaker.layers * rows);
         sph_sim_destroy(s);
+        sph_case_clear(cs);
+        free(cs);
     }
 }
 
@@ -415,6 +427,19 @@ static void bad_inputs(void **state)
                {refl, "/diagnostics/reflection"},
                {noperiod, "/wavemaker/waves/period"},
                {period, "/wavemaker/waves/period"}};
+    /* with a wavemaker the water is the fluid boxes: a geometry fluid item is refused */
+    sph_case *cs = calloc(1, sizeof *cs);
+    assert_non_null(cs);
+    sph_error err;
+    int rc = parse_full_case("wave_runup.json",
+                             (const char *const[]){"geometry.0.role=fluid", NULL}, cs, &err);
+    if (rc == 0)
+        rc = sph_sim_check(&cs->sim, &err);
+    sph_case_clear(cs);
+    free(cs);
+    if (rc == 0 || strcmp(err.path, "/geometry/0/role") != 0)
+        fail_msg("a fluid item with a wavemaker: %s (%s)", rc ? err.path : "accepted",
+                 rc ? err.message : "");
     for (size_t k = 0; k < sizeof sol / sizeof *sol; k++) {
         sph_config cfg;
         sph_error err;

@@ -1,0 +1,128 @@
+"""The wave flume (issue 45): a solitary wave from Goring's piston, its run-up on a plane beach
+against Synolakis (1987), and regular waves from a piston and a flap.
+
+- Solitary wave (cases/wave_solitary.json: d = 0.4 m, H/d = 0.2): the crest's height at 5, 7.5
+  and 10 depths from the paddle above the still level, and the crest's celerity fitted over the
+  three gauges (the result's `solitary`, PROTOCOL.md section 1.8). Bounds (the issue's): the
+  height ten depths down the flume within 5% of H, the celerity within 2% of sqrt(g (d + H)), at
+  the finest dx run.
+- Run-up (cases/wave_runup.json: the same flume and piston, a 1:2.75 beach from 10 depths on):
+  the largest reading of the run-up gauge over the beach above the still level, R/d, against
+  Synolakis' law for non-breaking waves R/d = 2.831 sqrt(cot beta) (H/d)^(5/4) at H/d = 0.05
+  and 0.1 (his breaking limit on this slope: H/d = 0.818 (cot beta)^(-10/9) = 0.27); within 10%
+  at the finest dx, at the nominal H (the law's offshore height; at the incident crest the
+  gauge 5 depths before the toe measures: noted). H/d = 0.2, three quarters of the breaking
+  limit, is run and noted beside them. Each run lasts until 2.5 s after the theory's crest
+  reaches the toe (a lower wave is longer and slower: its crest trails its front by 3.8 /
+  kappa, 7.9 m at H/d = 0.05).
+- Regular waves (cases/wave_flume.json: d = 0.4 m, H = 0.05 m, T = 1.27 s, kd = 1.20): the
+  zero-up-crossing height one, two and three wavelengths from the paddle and the period, piston
+  and flap. Bound (the issue's): the height two wavelengths from the paddle within 5% of H, the
+  period within 1%.
+
+The ci level runs the solitary wave and the run-up at H/d = 0.1 at dx = 0.02 m.
+"""
+import math
+
+TITLE = "wave flume: solitary wave, run-up on a beach, piston and flap"
+G, D = 9.81, 0.4
+COT = 2.75                      # the beach's 1:2.75 slope
+SOLITARY_H = 0.08
+HEIGHT_BOUND, CELERITY_BOUND = 0.05, 0.02
+RUNUP_BOUND = 0.10
+REGULAR_H, REGULAR_T = 0.05, 1.27
+REGULAR_BOUND, PERIOD_BOUND = 0.05, 0.01
+TOE, PADDLE = 4.2, 0.2           # the beach's toe and the paddle's face [m]
+# run-up: (H/d, dx, checked)
+RUNS = {"full": {"solitary": [0.02, 0.01],
+                 "runup": [(0.05, 0.01, True), (0.1, 0.02, False), (0.1, 0.01, True),
+                           (0.2, 0.02, False), (0.2, 0.01, False)],
+                 "regular": [("piston", 0.02), ("flap", 0.02)]},
+        "ci": {"solitary": [0.02], "runup": [(0.1, 0.02, True)], "regular": []}}
+RESOLUTION = {"full": "dx = 0.02 and 0.01 m (20 and 40 particles over the depth)",
+              "ci": "dx = 0.02 m"}
+
+
+def synolakis(h):
+    """Synolakis' run-up law R/d at H/d = h on the case's slope."""
+    return 2.831 * math.sqrt(COT) * h ** 1.25
+
+
+def result(d):
+    import json
+    import os
+    with open(os.path.join(d, "result.json")) as f:
+        return json.load(f)
+
+
+def run(ctx):
+    runs = RUNS[ctx.level]
+    ctx.note("Resolution: %s; h = 2 dx, 4 layers of walls and paddle, Fourtakas' delta-SPH, "
+             "water's viscosity (the flume's numerics, docs/validation.md)." % RESOLUTION[ctx.level])
+    # the solitary wave
+    sol = runs["solitary"]
+    for dx in sol:
+        _, d = ctx.sphd_run("cases/wave_solitary.json", ["dx=%g" % dx, "output.every=100"])
+        r = result(d)
+        s = r["solitary"]
+        g = s["gauges"]
+        hs = ", ".join("%s %+.1f%%" % (k, 100 * (v["height"] / SOLITARY_H - 1))
+                       for k, v in g.items())
+        how = ("crests above the still level: %s; %d steps, %.0f s, %d lost; %.0f particles over "
+               "H" % (hs, r["steps"], r["wall_time"], r["particles"]["lost"], SOLITARY_H / dx))
+        h10 = g["g10d"]["height"] / SOLITARY_H - 1
+        cel = s["celerity"] / s["theory"] - 1
+        if dx == min(sol):
+            ctx.check("solitary, dx = %g m: the crest ten depths down the flume against H, "
+                      "relative" % dx, round(h10, 4), HEIGHT_BOUND, abs(h10) <= HEIGHT_BOUND, how)
+            ctx.check("solitary, dx = %g m: the crest's celerity (5 to 10 depths) against "
+                      "sqrt(g (d + H)) = %.4f m/s, relative" % (dx, s["theory"]), round(cel, 4),
+                      CELERITY_BOUND, abs(cel) <= CELERITY_BOUND, how)
+        else:
+            ctx.note("Solitary wave at dx = %g m: ten depths %+.1f%%, celerity %+.2f%% (%s)."
+                     % (dx, 100 * h10, 100 * cel, how))
+    # the run-up
+    for h, dx, checked in runs["runup"]:
+        kappa, c = math.sqrt(0.75 * h) / D, math.sqrt(G * D * (1 + h))
+        end = (TOE - PADDLE + 3.8 / kappa) / c + 2.5
+        _, d = ctx.sphd_run("cases/wave_runup.json", ["dx=%g" % dx, "output.every=100",
+                                                      "time.end=%.2f" % end,
+                                                      "wavemaker.waves.height=%g" % (h * D)])
+        r = result(d)
+        g = r["solitary"]["gauges"]
+        R = g["beach"]["height"] / D
+        hinc = g["g5d"]["height"] / D
+        law, law_inc = synolakis(h), synolakis(hinc)
+        rel, rel_inc = R / law - 1, R / law_inc - 1
+        how = ("largest reading %.4f m above the still level at t = %.2f s; the incident crest "
+               "5 depths before the toe %.4f m (H/d %.4f: the law %.4f, %+.1f%%); %d steps, "
+               "%.0f s, %d lost" % (R * D, g["beach"]["time"], hinc * D, hinc, law_inc,
+                                    100 * rel_inc, r["steps"], r["wall_time"],
+                                    r["particles"]["lost"]))
+        label = "run-up, H/d = %g, dx = %g m" % (h, dx)
+        if checked:
+            ctx.check("%s: R/d = %.4f against Synolakis' %.4f, relative" % (label, R, law),
+                      round(rel, 4), RUNUP_BOUND, abs(rel) <= RUNUP_BOUND, how)
+        else:
+            ctx.note("%s: R/d = %.4f against %.4f (%+.1f%%); %s." % (label, R, law, 100 * rel,
+                                                                     how))
+    # regular waves
+    for paddle, dx in runs["regular"]:
+        _, d = ctx.sphd_run("cases/wave_flume.json", ["dx=%g" % dx, "output.every=100",
+                                                      "time.end=14",
+                                                      "wavemaker.type=%s" % paddle])
+        r = result(d)
+        w = r["waves"]
+        hs = ", ".join("%s %+.1f%% (%d waves)" % (k, 100 * (v["height"] / REGULAR_H - 1),
+                                                   v["count"])
+                       for k, v in w.items() if v["height"] is not None)
+        how = "heights: %s; %d steps, %.0f s; %.1f particles over H" % (
+            hs, r["steps"], r["wall_time"], REGULAR_H / dx)
+        e2 = w["g2L"]["height"] / REGULAR_H - 1
+        ep = w["g1L"]["period"] / REGULAR_T - 1
+        ctx.check("regular, %s, dx = %g m: the height two wavelengths from the paddle against "
+                  "H, relative" % (paddle, dx), round(e2, 4), REGULAR_BOUND,
+                  abs(e2) <= REGULAR_BOUND, how)
+        ctx.check("regular, %s, dx = %g m: the period one wavelength from the paddle against "
+                  "T, relative" % (paddle, dx), round(ep, 4), PERIOD_BOUND,
+                  abs(ep) <= PERIOD_BOUND, how)
