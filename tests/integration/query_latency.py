@@ -113,4 +113,4 @@ try:
     F.check(d.shutdown() == 0, "sphd shuts down cleanly", d.log()[-2000:])
 finally:
     d.close()
-F.done()
+sys.exit(F.done())

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Parameter sweeps through a real sphd (local executor): the `sweep` op makes one job per
 combination (the product of the lists, the last varying fastest), `list` with `sweep`, the sweep's
-table from `export` (CSV and JSON), each job's result equal to the same case submitted alone,
+table from `export` (CSV and JSON; a wave flume's sweep over the period with its wave analysis),
+each job's result equal to the same case submitted alone,
 idempotent resubmission, and bad input refused whole (nothing created). With sphctl: `sweep`,
 `list --sweep`, `export --sweep`, and `sweep --watch` (lines, --json, a TTY; the exit code of the
 worst job; SIGINT leaves the jobs alone).
@@ -107,6 +108,28 @@ try:
     F.check(c["format"] == "csv" and len(table) == 4 and table[2]["kernel.type"] == "cubic_spline"
             and float(table[2]["time.end"]) == 0.01 and int(table[2]["steps"]) == res["S-2"]["steps"],
             "export csv: the same table", table[:1])
+
+    # a wave flume swept over the period (issue 45): the table carries each job's wave analysis
+    # (the result's waves and reflection under dotted names); a coarse, short flume (dx 0.05,
+    # no ramp: g1L's window opens at T + distance / cg, about 3 s)
+    flume = json.load(open(os.path.join(src, "cases", "wave_flume.json")))
+    fset = ["dx=0.05", "wavemaker.layers=3", "wavemaker.ramp=0", "time.end=6",
+            "output.every=100"]
+    fr = d.ok("sweep", {"case": flume, "set": fset, "sweep": "WF",
+                        "vary": [{"path": "wavemaker.waves.period", "values": [1.27, 1.5]}]})
+    wait_done([j["job"] for j in fr["jobs"]])
+    w = d.ok("export", {"sweep": "WF", "format": "json"})
+    cols = w.get("columns", [])
+    wrows = w.get("rows", [])
+    F.check(all(c in cols for c in ("waves.g1L.height", "waves.g1L.period",
+                                    "reflection.coefficient")),
+            "export of a flume sweep: the wave analysis' columns", cols)
+    F.check(len(wrows) == 2 and all(r.get("waves.g1L.count", 0) >= 1 for r in wrows) and
+            abs(wrows[0]["waves.g1L.period"] / 1.27 - 1) < 0.02 and
+            abs(wrows[1]["waves.g1L.period"] / 1.5 - 1) < 0.02,
+            "export of a flume sweep: each job's measured period is its own",
+            [{k: r.get(k) for k in ("wavemaker.waves.period", "waves.g1L.period",
+                                    "waves.g1L.height")} for r in wrows])
 
     # again: the same jobs (created false); another case under the same id: conflict
     r2 = d.ok("sweep", {"case": case, "set": fixed, "vary": vary, "sweep": "S"})
@@ -226,4 +249,4 @@ try:
     F.check(d.shutdown() == 0, "sphd shuts down cleanly", d.log()[-2000:])
 finally:
     d.close()
-F.done()
+sys.exit(F.done())
