@@ -261,9 +261,10 @@ take_j(unsigned F, const int D, const fctx *c, double *SPH_RESTRICT ax, double *
 
 /* The same into float arrays (F_MIXED: no SPS): each contribution rounded to float and added in
  * float, as the sums are stored (one conversion a field).
- * TODO(issue 24): mixed precision's pair loop runs 20-35% slower than double's (bench_dambreak,
- * 1 thread), about 10% more instructions from these conversions and the loads'; the next thing to
- * try is the pair physics in float (sph_wcsph_pair on a real type), as DualSPHysics computes. */
+ * TODO(issue 48): mixed precision's pair loop runs 0.65-0.84x double's rate (bench_dambreak, 1
+ * thread); the pair physics in float did not change that (bench/README.md, "Mixed precision's
+ * arithmetic in float": the loss is in these float read-modify-writes; left to try: j's sums
+ * without them, or the candidates compacted with AVX-512 behind dispatch). */
 SPH_HD static inline __attribute__((always_inline)) void
 take_j_f(unsigned F, const int D, float *SPH_RESTRICT ax, float *SPH_RESTRICT ay,
          float *SPH_RESTRICT az, float *SPH_RESTRICT drho, long j,
