@@ -172,7 +172,7 @@ static int fill_scene(const sph_config *c, sph_particles *P, double *mirror, sph
             rc = mirrors(sc, c, P, cnt.fluid, cnt.wall, owner, mirror, err);
     }
     if (rc == 0 && has_walls(c)) { /* a wavemaker's paddle, the last wall particles */
-        double *const pad[3] = {P->x + n, P->y + n, NULL};
+        double *const pad[3] = {P->x + n, P->y + n, P->z ? P->z + n : NULL};
         const long np = sph_wavemaker_points(c, pad);
         settle(c, P, n, n + np, SPH_BOUNDARY, (c->wavemaker.layers + 0.5) * c->dx, NULL);
     }
@@ -208,7 +208,7 @@ int sph_fill(const sph_config *c, sph_particles *P, double *mirror, sph_error *e
         i += n;
     }
     if (has_walls(c)) { /* a wavemaker's paddle, the last wall particles (sph_wavemaker.h) */
-        double *const at[3] = {P->x + i, P->y + i, NULL};
+        double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};
         const long n = sph_wavemaker_points(c, at);
         settle(c, P, i, i + n, SPH_BOUNDARY, (c->wavemaker.layers + 0.5) * c->dx, NULL);
         i += n;

@@ -696,8 +696,8 @@ const sph_case_field sph_case_fields[] = {
             "body's acceleration (Adami et al. 2012); continuity: their own density, as dynamic "
             "walls"},
     {.path = "/wavemaker", .type = SPH_CF_OBJECT, .methods = SPH_CF_WCSPH,
-     .doc = "a paddle of wall particles that makes waves (section 1.8; 2D, dynamic walls with "
-            "continuity density, the built-in tank, the CPU); absent: none"},
+     .doc = "a paddle of wall particles that makes waves (section 1.8; 2D or 3D, dynamic walls with "
+            "continuity density, the built-in tank); absent: none"},
     {.path = "/wavemaker/type", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
      .required = SPH_CF_WCSPH, .names = wavemaker_names, .values = wavemaker_values,
      CFG(wavemaker.type),
@@ -735,7 +735,7 @@ const sph_case_field sph_case_fields[] = {
      .lo = 0.0, .lo_open = 1, .hi = 1e3, CFG(wavemaker.period),
      .doc = "the wave period T [s]: required for regular waves, refused for a solitary one"},
     {.path = "/absorption", .type = SPH_CF_OBJECT, .methods = SPH_CF_WCSPH,
-     .doc = "a passive damping zone (section 1.8; the CPU); absent: none"},
+     .doc = "a passive damping zone (section 1.8); absent: none"},
     {.path = "/absorption/type", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
      .required = SPH_CF_WCSPH, .names = absorption_names, .values = absorption_values,
      CFG(absorption.type),

@@ -17,11 +17,12 @@
 int sph_wave_design_of(const sph_config *c, sph_wave_design *w)
 {
     const sph_wavemaker_spec *m = &c->wavemaker;
+    const int V = c->dim - 1; /* the vertical axis */
     double top = -INFINITY;
     for (int b = 0; b < c->nfluid; b++)
-        top = fmax(top, c->fluid[b].max[1]);
-    const double g = -c->gravity[1];
-    *w = (sph_wave_design){.depth = top - c->tank.min[1]};
+        top = fmax(top, c->fluid[b].max[V]);
+    const double g = -c->gravity[V];
+    *w = (sph_wave_design){.depth = top - c->tank.min[V]};
     if (!(w->depth > 0.0) || !(g > 0.0) || !isfinite(w->depth) || !(m->height > 0.0))
         return -1;
     if (m->waves == SPH_WAVES_SOLITARY) {
@@ -57,9 +58,6 @@ static int absorption_check(const sph_config *c, double lo, double hi, sph_error
     if (c->method != SPH_METHOD_WCSPH)
         return sph_error_set(err, SPH_ERR_INVALID, "/absorption",
                              "a damping zone needs the wcsph method in this version");
-    if (c->device != SPH_DEVICE_CPU)
-        return sph_error_set(err, SPH_ERR_INVALID, "/absorption",
-                             "a damping zone runs on the CPU in this version (device: gpu)");
     if (!(a->beta >= 0.0) || !isfinite(a->beta))
         return sph_error_set(err, SPH_ERR_INVALID, "/absorption/beta",
                              "beta must be a number >= 0 [1/s]");
@@ -96,13 +94,6 @@ int sph_wavemaker_check(const sph_config *c, sph_error *err)
     if (c->method != SPH_METHOD_WCSPH)
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker",
                              "a wavemaker needs the wcsph method in this version");
-    if (c->dim != 2)
-        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker",
-                             "a wavemaker runs in 2D only in this version (dim = 2)");
-    if (c->device != SPH_DEVICE_CPU)
-        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker",
-                             "the paddle runs on the CPU only in this version (device: gpu): "
-                             "use \"device\": \"cpu\"");
     if (c->boundary != SPH_BOUNDARY_DYNAMIC || !c->has_tank)
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker",
                              "a paddle is made of dynamic wall particles: it needs a tank with "
@@ -193,7 +184,8 @@ int sph_wavemaker_check(const sph_config *c, sph_error *err)
      * back at the tank's top turns (top - hinge) / (d - l) times as far as the face */
     double fwd = solitary ? d.stroke : 0.5 * d.stroke, bwd = solitary ? 0.0 : 0.5 * d.stroke;
     if (w->type == SPH_WAVEMAKER_FLAP)
-        bwd *= fmax(c->tank.max[1] - c->tank.min[1] - w->hinge, 0.0) / (d.depth - w->hinge);
+        bwd *= fmax(c->tank.max[c->dim - 1] - c->tank.min[c->dim - 1] - w->hinge, 0.0) /
+               (d.depth - w->hinge);
     const double back = w->x - w->layers * c->dx - bwd;
     if (back < c->tank.min[0] || back < c->domain.min[0])
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/x",
@@ -212,19 +204,25 @@ int sph_wavemaker_check(const sph_config *c, sph_error *err)
 
 long sph_wavemaker_points(const sph_config *c, double *const *pos)
 {
-    if (c->wavemaker.type == SPH_WAVEMAKER_NONE || c->dim != 2 || !c->has_tank)
+    if (c->wavemaker.type == SPH_WAVEMAKER_NONE || !c->has_tank)
         return 0;
     const double dx = c->dx;
+    const int V = c->dim - 1;
     const long L = c->wavemaker.layers;
-    const long ny = sph_lattice_axis_count(c->tank.min[1], c->tank.max[1], dx);
+    /* the tank's height in rows (along V) and, in 3D, its width across (along y) */
+    const long nv = sph_lattice_axis_count(c->tank.min[V], c->tank.max[V], dx);
+    const long ny = V == 2 ? sph_lattice_axis_count(c->tank.min[1], c->tank.max[1], dx) : 1;
     if (!pos)
-        return L * ny;
+        return L * nv * ny;
     long i = 0;
     for (long k = 0; k < L; k++)
-        for (long iy = 0; iy < ny; iy++, i++) {
-            pos[0][i] = c->wavemaker.x - (k + 0.5) * dx;
-            pos[1][i] = c->tank.min[1] + (iy + 0.5) * dx;
-        }
+        for (long iy = 0; iy < ny; iy++)
+            for (long iv = 0; iv < nv; iv++, i++) {
+                pos[0][i] = c->wavemaker.x - (k + 0.5) * dx;
+                pos[V][i] = c->tank.min[V] + (iv + 0.5) * dx;
+                if (V == 2)
+                    pos[1][i] = c->tank.min[1] + (iy + 0.5) * dx;
+            }
     return i;
 }
 
@@ -236,12 +234,14 @@ int sph_paddle_init(sph_paddle *p, const sph_config *c, const sph_particles *P, 
     p->law = (sph_paddle_law){0};
     if (p->np == 0)
         return 0;
+    /* in 2D (x, y), in 3D (x, z): the plane the paddle moves in (y stays) */
+    const double *vert = c->dim == 3 ? P->z : P->y;
     p->rest = malloc((size_t)p->np * 2 * sizeof *p->rest);
     if (!p->rest)
         return -1;
     for (long q = 0; q < p->np; q++) {
         p->rest[2 * q] = P->x[first + q];
-        p->rest[2 * q + 1] = P->y[first + q];
+        p->rest[2 * q + 1] = vert[first + q];
     }
     sph_wave_design d;
     if (sph_wave_design_of(c, &d) == 0) /* checked: always */
@@ -264,7 +264,7 @@ void sph_paddle_law_of(const sph_config *c, const sph_wave_design *d, sph_paddle
     if (m->type == SPH_WAVEMAKER_FLAP) {
         law->flap = 1;
         law->hx = m->x;
-        law->hy = c->tank.min[1] + m->hinge;
+        law->hy = c->tank.min[c->dim - 1] + m->hinge;
         law->arm = d->depth - m->hinge;
     }
 }
@@ -282,20 +282,10 @@ void sph_paddle_move(const sph_paddle *p, sph_particles *P, long n, double t)
         return;
     double v;
     const double X = sph_paddle_motion(&p->law, t, &v);
-    const long first = p->first, np = p->np;
     const int M = P->mixed;
 #pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++) {
-        const long q = P->id[i] - first;
-        if (q < 0 || q >= np || P->type[i] != SPH_BOUNDARY)
-            continue;
-        double x[2], u[2];
-        sph_paddle_place(&p->law, p->rest[2 * q], p->rest[2 * q + 1], X, v, x, u);
-        P->x[i] = x[0];
-        P->y[i] = x[1];
-        SPH_SET(M, P, vx, i, u[0]);
-        SPH_SET(M, P, vy, i, u[1]);
-    }
+    for (long i = 0; i < n; i++)
+        sph_paddle_particle(&p->law, p->rest, p->first, p->np, P, M, i, X, v);
 }
 
 void sph_damping_apply(const sph_config *c, sph_particles *P, long n, double dt)
@@ -303,18 +293,8 @@ void sph_damping_apply(const sph_config *c, sph_particles *P, long n, double dt)
     const sph_absorption_spec *a = &c->absorption;
     if (a->type == 0)
         return;
-    const int M = P->mixed, dim = P->dim;
-    const double beta = a->beta, from = a->from, to = a->to;
+    const int M = P->mixed;
 #pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
-    for (long i = 0; i < n; i++) {
-        if (P->type[i] != SPH_FLUID)
-            continue;
-        const double f = sph_damping_factor(P->x[i], dt, beta, from, to);
-        if (f == 1.0)
-            continue;
-        SPH_SET(M, P, vx, i, f * SPH_GET(M, P, vx, i));
-        SPH_SET(M, P, vy, i, f * SPH_GET(M, P, vy, i));
-        if (dim == 3)
-            SPH_SET(M, P, vz, i, f * SPH_GET(M, P, vz, i));
-    }
+    for (long i = 0; i < n; i++)
+        sph_damping_particle(P, M, i, dt, a->beta, a->from, a->to);
 }

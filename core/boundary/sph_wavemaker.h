@@ -4,7 +4,8 @@
  *
  * The paddle is a block of dynamic wall particles: `layers` columns behind its wet face at x
  * (the face towards +x, the particles dx/2, 3dx/2, ... behind it, as the tank's walls sit
- * outside their faces), the tank's height in rows from its bottom. They are the last wall
+ * outside their faces), the tank's height in rows from its bottom (in 3D, where z is the vertical,
+ * also its width in y). They are the last wall
  * particles of the fill (after the tank's and the obstacles'), with ids [first, first + np); the
  * table of their rest positions is indexed by id - first, so nothing follows them through the
  * cell sort. Each step places them rigidly: a piston at rest + X(t) with the velocity dX/dt, a
@@ -21,6 +22,7 @@
 
 #include "sph_config.h"
 #include "sph_error.h"
+#include "sph_hd.h"
 #include "sph_particles.h"
 #include "sph_wave_law.h"
 
@@ -42,8 +44,8 @@ int sph_wave_design_of(const sph_config *c, sph_wave_design *w);
  * domain or over the paddle's travel. */
 int sph_wavemaker_check(const sph_config *c, sph_error *err);
 
-/* The paddle's particles of c (0 without a wavemaker); with pos, their positions into pos[0],
- * pos[1]. */
+/* The paddle's particles of c (0 without a wavemaker); with pos, their positions into pos[0] ..
+ * pos[dim - 1]. */
 long sph_wavemaker_points(const sph_config *c, double *const *pos);
 
 /* Builds c's paddle over P's particles [first, first + np) as the fill left them (ids their
@@ -57,6 +59,47 @@ void sph_paddle_law_of(const sph_config *c, const sph_wave_design *d, sph_paddle
 /* Places the paddle's particles among P's first n at time t (sph_paddle_place: a piston at rest +
  * X(t) with the velocity dX/dt, a flap turned about its hinge). */
 void sph_paddle_move(const sph_paddle *p, sph_particles *P, long n, double t);
+
+/* Particle i of P, when it is one of the paddle's (ids [first, first + np), a wall particle):
+ * placed by the law at the displacement X with the rate v (sph_paddle_motion; rest: its table,
+ * 2 a particle, by id - first), in the plane x-y (2D) or x-z (3D). The C loop's and a GPU
+ * thread's work; M: mixed storage. */
+SPH_HD static inline void sph_paddle_particle(const sph_paddle_law *law, const double *rest,
+                                              long first, long np, sph_particles *P, int M, long i,
+                                              double X, double v)
+{
+    const long q = P->id[i] - first;
+    if (q < 0 || q >= np || P->type[i] != SPH_BOUNDARY)
+        return;
+    double x[2], u[2];
+    sph_paddle_place(law, rest[2 * q], rest[2 * q + 1], X, v, x, u);
+    P->x[i] = x[0];
+    SPH_SET(M, P, vx, i, u[0]);
+    if (P->dim == 3) {
+        P->z[i] = x[1];
+        SPH_SET(M, P, vy, i, 0.0);
+        SPH_SET(M, P, vz, i, u[1]);
+    } else {
+        P->y[i] = x[1];
+        SPH_SET(M, P, vy, i, u[1]);
+    }
+}
+
+/* Fluid particle i of P after a step of dt in a damping zone [from, to] of rate beta: its
+ * velocity times sph_damping_factor (the C loop's and a GPU thread's work). */
+SPH_HD static inline void sph_damping_particle(sph_particles *P, int M, long i, double dt,
+                                               double beta, double from, double to)
+{
+    if (P->type[i] != SPH_FLUID)
+        return;
+    const double f = sph_damping_factor(P->x[i], dt, beta, from, to);
+    if (f == 1.0)
+        return;
+    SPH_SET(M, P, vx, i, f * SPH_GET(M, P, vx, i));
+    SPH_SET(M, P, vy, i, f * SPH_GET(M, P, vy, i));
+    if (P->dim == 3)
+        SPH_SET(M, P, vz, i, f * SPH_GET(M, P, vz, i));
+}
 
 /* The damping zone of c after a step of dt: every fluid particle's velocity among P's first n
  * times sph_damping_factor. A no-op without one. */

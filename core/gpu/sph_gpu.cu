@@ -208,6 +208,23 @@ __global__ void k_gravity(sph_particles P, double gx, double gy, double gz, long
         atomic_max_d(&r->amax2, m);
 }
 
+/* A wavemaker's paddle at the displacement X and rate v (sph_wavemaker.h), and a damping zone:
+ * a thread a particle, the C loops' functions. */
+__global__ void k_paddle(sph_particles P, sph_paddle_law law, const double *rest, long first,
+                         long np, double X, double v, long n)
+{
+    const long i = (long)blockIdx.x * BS + threadIdx.x;
+    if (i < n)
+        sph_paddle_particle(&law, rest, first, np, &P, 0, i, X, v);
+}
+
+__global__ void k_damp(sph_particles P, double dt, double beta, double from, double to, long n)
+{
+    const long i = (long)blockIdx.x * BS + threadIdx.x;
+    if (i < n)
+        sph_damping_particle(&P, 0, i, dt, beta, from, to);
+}
+
 template <int D> __global__ void k_correct(sph_particles P, step_ctx k, double dt, long n, red *r)
 {
     __shared__ typename reduce_d::TempStorage tmp;
@@ -255,6 +272,7 @@ struct sph_gpu {
     void *cub_tmp;
     size_t cub_bytes; /* the larger of the two sorts' (by cell; 3D: by z within each cell) */
     int key_bits;
+    double *rest; /* a paddle's rest table (su.paddle_np > 0) */
     red *r;
     red *r_host; /* pinned */
     cudaStream_t st;
@@ -354,6 +372,13 @@ static int alloc_arrays(sph_gpu *g, const sph_particles *H, sph_error *err)
     }
     CK(cudaMalloc(&g->cub_tmp, g->cub_bytes ? g->cub_bytes : 1), "allocating the sort");
     g->bytes += (double)g->cub_bytes;
+    if (g->su.paddle_np > 0) {
+        const size_t rb = (size_t)g->su.paddle_np * 2 * sizeof(double);
+        CK(cudaMalloc((void **)&g->rest, rb), "allocating the paddle");
+        CK(cudaMemcpy(g->rest, g->su.paddle_rest, rb, cudaMemcpyHostToDevice),
+           "copying the paddle");
+        g->bytes += (double)rb;
+    }
     CK(cudaMalloc((void **)&g->cfg, sizeof(sph_config)), "allocating the setup");
     CK(cudaMalloc((void **)&g->kern, sizeof(sph_kernel)), "allocating the setup");
     CK(cudaMalloc((void **)&g->r, sizeof(red)), "allocating the setup");
@@ -510,7 +535,8 @@ static step_ctx step_ctx_of(const sph_gpu *g)
     return k;
 }
 
-template <int D> static int step_d(sph_gpu *g, double dt, sph_gpu_step_out *o, sph_error *err)
+template <int D>
+static int step_d(sph_gpu *g, double t, double dt, sph_gpu_step_out *o, sph_error *err)
 {
     sph_particles *P = &g->P;
     const long n = g->n;
@@ -525,6 +551,12 @@ template <int D> static int step_d(sph_gpu *g, double dt, sph_gpu_step_out *o, s
     k_reset<<<1, 1, 0, g->st>>>(g->r);
     if (g->nactive > 0) /* (a grid of no blocks is a launch error) */
         k_predict<D><<<blocks(g->nactive), BS, 0, g->st>>>(*P, k, dt, g->nactive, g->r);
+    if (g->su.paddle_np > 0 && g->nactive > 0) { /* the paddle at the step's end, as the CPU */
+        double v;
+        const double X = sph_paddle_motion(&g->su.paddle, t + dt, &v);
+        k_paddle<<<blocks(g->nactive), BS, 0, g->st>>>(
+            *P, g->su.paddle, g->rest, g->su.paddle_first, g->su.paddle_np, X, v, g->nactive);
+    }
     cudaEventRecord(g->ev[1], g->st);
 
     /* the sort by cell: keys, a stable radix sort, the cells' starts, the arrays permuted. The
@@ -593,6 +625,9 @@ template <int D> static int step_d(sph_gpu *g, double dt, sph_gpu_step_out *o, s
     /* corrector */
     if (nact > 0)
         k_correct<D><<<blocks(nact), BS, 0, g->st>>>(*P, k, dt, nact, g->r);
+    const sph_absorption_spec *ab = &g->su.cfg.absorption;
+    if (ab->type != 0 && nact > 0) /* a damping zone, after the corrector's figures, as the CPU */
+        k_damp<<<blocks(nact), BS, 0, g->st>>>(*P, dt, ab->beta, ab->from, ab->to, nact);
     cudaEventRecord(g->ev[4], g->st);
     CK(cudaMemcpyAsync(g->r_host, g->r, sizeof(red), cudaMemcpyDeviceToHost, g->st),
        "reading the step's figures");
@@ -616,10 +651,10 @@ template <int D> static int step_d(sph_gpu *g, double dt, sph_gpu_step_out *o, s
     return 0;
 }
 
-extern "C" int sph_gpu_step(sph_gpu *g, double dt, sph_gpu_step_out *o, sph_error *err)
+extern "C" int sph_gpu_step(sph_gpu *g, double t, double dt, sph_gpu_step_out *o, sph_error *err)
 {
     memset(o, 0, sizeof *o);
-    return g->dim == 3 ? step_d<3>(g, dt, o, err) : step_d<2>(g, dt, o, err);
+    return g->dim == 3 ? step_d<3>(g, t, dt, o, err) : step_d<2>(g, t, dt, o, err);
 }
 
 extern "C" int sph_gpu_download(sph_gpu *g, sph_particles *P, sph_error *err)
@@ -651,6 +686,7 @@ extern "C" void sph_gpu_destroy(sph_gpu *g)
         cudaFree(g->ib[k]);
     cudaFree(g->start);
     cudaFree(g->cub_tmp);
+    cudaFree(g->rest);
     cudaFree(g->cfg);
     cudaFree(g->kern);
     cudaFree(g->r);

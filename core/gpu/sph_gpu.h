@@ -1,7 +1,8 @@
 /*
  * sph_gpu: the WCSPH step on an NVIDIA GPU (CUDA; built with -DSPH_CUDA=ON, sph_gpu.cu). The whole
  * step stays on the device: the cell sort (keys, a stable radix sort, the cells' starts), the
- * per-particle preparation, the gather pair loop, gravity, the predictor and the corrector. The
+ * per-particle preparation, the gather pair loop, gravity, the predictor and the corrector, a
+ * wavemaker's paddle and a damping zone (core/boundary/sph_wavemaker.h's SPH_HD functions). The
  * physics is the C loops' own: every kernel calls the SPH_HD functions of
  * core/wcsph/sph_wcsph_particle.h, sph_wcsph_loop.h and sph_cells.h; this file adds the
  * scheduling, the reductions and the transfers only.
@@ -19,6 +20,7 @@
 #include "sph_error.h"
 #include "sph_kernel.h"
 #include "sph_particles.h"
+#include "sph_wavemaker.h"
 #include "sph_wcsph_loop.h"
 
 #include <stddef.h>
@@ -36,6 +38,11 @@ typedef struct sph_gpu_setup {
     sph_cells grid;     /* the grid's shape (its arrays are not read) */
     sph_wcsph_consts k; /* the force constants (no ghosts, no bodies among the options) */
     long nactive;       /* the particles in cells (the rest, lost, at the end) */
+    /* a wavemaker's paddle (np 0: none): its law, its particles' ids [first, first + np) and
+     * their rest table (2 a particle, by id - first; the host's, copied at creation) */
+    sph_paddle_law paddle;
+    long paddle_first, paddle_np;
+    const double *paddle_rest;
 } sph_gpu_setup;
 
 /* What a step found: the active count after the sort, the predictor's and corrector's non-finite
@@ -56,9 +63,10 @@ int sph_gpu_describe(int k, char *name, size_t len, double *bytes);
  * NULL with err set (SPH_ERR_INVALID without a GPU, SPH_ERR_NOMEM when it does not fit). */
 sph_gpu *sph_gpu_create(const sph_gpu_setup *su, const sph_particles *P, sph_error *err);
 
-/* One step of dt: predictor, sort, forces, corrector. Returns 0, or -1 with err set when the
- * device fails (the step's figures in *o either way). */
-int sph_gpu_step(sph_gpu *g, double dt, sph_gpu_step_out *o, sph_error *err);
+/* One step of dt from time t: predictor (and a paddle placed at t + dt), sort, forces, corrector
+ * (and a damping zone). Returns 0, or -1 with err set when the device fails (the step's figures
+ * in *o either way). */
+int sph_gpu_step(sph_gpu *g, double t, double dt, sph_gpu_step_out *o, sph_error *err);
 
 /* Copies the particles back into P (which must hold as many); the device order, which is the
  * cell order of the latest sort. Returns 0 or -1 with err set. */

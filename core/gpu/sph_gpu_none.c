@@ -27,9 +27,10 @@ sph_gpu *sph_gpu_create(const sph_gpu_setup *su, const sph_particles *P, sph_err
     return NULL;
 }
 
-int sph_gpu_step(sph_gpu *g, double dt, sph_gpu_step_out *o, sph_error *err)
+int sph_gpu_step(sph_gpu *g, double t, double dt, sph_gpu_step_out *o, sph_error *err)
 {
     (void)g;
+    (void)t;
     (void)dt;
     (void)o;
     return sph_error_set(err, SPH_ERR_INVALID, "/device", "this sphd was built without CUDA");

@@ -5,8 +5,8 @@
  * restores on the CPU and the other way round). The set-up and the first force evaluation run
  * on the CPU (init); the particles go to the device at the first step and come back when the
  * host reads them (sync: diagnostics, outputs, checkpoints, queries).
- * The GPU runs dynamic walls (DBC, continuity density) without rigid bodies: ghost walls, mDBC
- * and bodies are refused at their paths.
+ * The GPU runs dynamic walls (DBC, continuity density) without rigid bodies, with a wavemaker's
+ * paddle and a damping zone: ghost walls, mDBC and bodies are refused at their paths.
  */
 #include "sph_gpu.h"
 #include "sph_wcsph.h"
@@ -84,6 +84,10 @@ static int gpu_step(sph_sim *s, double dt_cap, sph_error *err)
         sph_gpu_setup su = {.cfg = s->cfg, .kernel = s->kernel, .grid = s->cells};
         sph_wcsph_consts_of(s, &su.k);
         su.nactive = s->nactive;
+        su.paddle = s->paddle.law; /* a wavemaker's paddle (np 0: none) */
+        su.paddle_first = s->paddle.first;
+        su.paddle_np = s->paddle.np;
+        su.paddle_rest = s->paddle.rest;
         if (!(gs->g = sph_gpu_create(&su, &s->P, err)))
             return err ? err->code : SPH_ERR_NOMEM;
     }
@@ -93,7 +97,7 @@ static int gpu_step(sph_sim *s, double dt_cap, sph_error *err)
     if (rc)
         return rc;
     sph_gpu_step_out o;
-    if (sph_gpu_step(gs->g, dt, &o, err))
+    if (sph_gpu_step(gs->g, s->t, dt, &o, err))
         return err ? err->code : SPH_ERR_IO;
     gs->stale = 1;
     s->timing.neighbours += o.t_neighbours;

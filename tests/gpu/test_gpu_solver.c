@@ -5,7 +5,9 @@
  *     m/s, densities within 1e-9 relative (the GPU's gather loop sums in another order than the
  *     CPU's symmetric one; test_wcsph_gather shows the two agree to 2e-15 per evaluation): the 2D
  *     dam break (Wendland C2, delta-SPH, artificial viscosity), the same with laminar viscosity
- *     and SPS, and the 3D Test 2 (dynamic walls, continuity density);
+ *     and SPS, and the 3D Test 2 (dynamic walls, continuity density); wave flumes (issue 45): a
+ *     piston with a damping zone, a flap, a solitary wave, the 3D flume (the paddle's particles
+ *     placed by the law on both devices, to rounding);
  *   - a GPU run saved at step 50 and restored continues like the run that was not interrupted;
  *     a GPU run's state restores on the CPU (the same arrays) and continues within the tolerance
  *     above of the GPU's own continuation.
@@ -184,6 +186,33 @@ int main(void)
     cpu_against_gpu("dambreak.json", dam);
     cpu_against_gpu("dambreak.json", sps);
     cpu_against_gpu("dambreak3d.json", test2);
+    /* wave flumes: no ramp, so that the paddle moves from the first step; the damping zone over
+     * most of the fluid */
+    static const char *const piston[] = {"dx=0.05",          "wavemaker.layers=3",
+                                         "wavemaker.ramp=0", "absorption.from=0.5",
+                                         "absorption.to=2",  NULL};
+    static const char *const flap[] = {"dx=0.05",
+                                       "wavemaker.layers=3",
+                                       "wavemaker.ramp=0",
+                                       "wavemaker.type=\"flap\"",
+                                       "wavemaker.hinge=0.1",
+                                       "wavemaker.x=0.3",
+                                       "fluid.0.box.min.0=0.3",
+                                       NULL};
+    static const char *const solitary[] = {"dx=0.05", "wavemaker.layers=3", NULL};
+    static const char *const flume3d[] = {"domain.max.0=2",
+                                          "boundary.tank.max.0=2",
+                                          "fluid.0.box.max.0=2",
+                                          "absorption.from=1.5",
+                                          "absorption.to=2",
+                                          "wavemaker.ramp=0",
+                                          "diagnostics.gauges.0.x=1",
+                                          "diagnostics.gauges.1.x=1.2",
+                                          NULL};
+    cpu_against_gpu("wave_flume.json", piston);
+    cpu_against_gpu("wave_flume.json", flap);
+    cpu_against_gpu("wave_solitary.json", solitary);
+    cpu_against_gpu("wave_flume3d.json", flume3d);
     checkpoints();
     printf("gpu_solver: %s\n", failures ? "FAILED" : "passed");
     return failures ? 1 : 0;

@@ -218,15 +218,28 @@ static void paddle_moves(void **state)
     static const char *const sol[] = {"dx=0.05", "wavemaker.layers=3", NULL};
     static const char *const rsets[] = {"dx=0.05", "wavemaker.layers=3",
                                         "wavemaker.waves.height=0.08", NULL};
+    /* the 3D flume (0.12 m wide: 3 particles across at its dx = 0.04 m) cut to 2 m, no ramp, a
+     * piston and a flap */
+#define SHORT3                                                                                     \
+    "domain.max.0=2", "boundary.tank.max.0=2", "fluid.0.box.max.0=2", "absorption.from=1.5",       \
+        "absorption.to=2", "wavemaker.ramp=0", "diagnostics.gauges.0.x=1",                         \
+        "diagnostics.gauges.1.x=1.2"
+    static const char *const small3[] = {SHORT3, NULL};
+    static const char *const flap3[] = {SHORT3,
+                                        "wavemaker.type=flap",
+                                        "wavemaker.hinge=0.1",
+                                        "wavemaker.x=0.4",
+                                        "fluid.0.box.min.0=0.4",
+                                        NULL};
+#undef SHORT3
     static const struct {
         const char *file;
         const char *const *sets;
-    } runs[] = {{"wave_flume.json", small},
-                {"wave_flume.json", flap},
-                {"wave_solitary.json", sol},
-                {"wave_runup.json", rsets}};
-    for (int run = 0; run < 4; run++) {
-        const int solitary = run > 1;
+    } runs[] = {{"wave_flume.json", small},    {"wave_flume.json", flap},
+                {"wave_solitary.json", sol},   {"wave_runup.json", rsets},
+                {"wave_flume3d.json", small3}, {"wave_flume3d.json", flap3}};
+    for (int run = 0; run < 6; run++) {
+        const int solitary = run == 2 || run == 3;
         /* the whole case: wave_runup.json's beach is a surface it owns (sph_case_clear) */
         sph_case *cs = calloc(1, sizeof *cs);
         assert_non_null(cs);
@@ -244,8 +257,8 @@ static void paddle_moves(void **state)
         if (solitary) {
             law = goring(); /* the same wave: H 0.08 m in 0.4 m */
             assert_true(fabs(w.stroke - law.stroke) < 1e-15 && d == law.depth && H == law.height);
-        } else if (run == 0) {
-            assert_true(fabs(w.k * d - 1.19803592561098) < 1e-12);
+        } else if (run == 0 || run == 4) {
+            assert_true(run == 4 || fabs(w.k * d - 1.19803592561098) < 1e-12);
             assert_true(fabs(w.stroke - H / sph_piston_transfer(w.k * d)) < 1e-15);
         } else {
             assert_true(fabs(w.stroke - H / sph_flap_transfer(w.k * d, l / d)) < 1e-15);
@@ -254,12 +267,13 @@ static void paddle_moves(void **state)
             law = (sph_paddle_law){.stroke = w.stroke,
                                    .omega = w.omega,
                                    .tramp = cfg.wavemaker.ramp * cfg.wavemaker.period};
-        assert_int_equal(sph_sim_advance(s, 400, INFINITY, &err), 0);
+        assert_int_equal(sph_sim_advance(s, run >= 4 ? 50 : 400, INFINITY, &err), 0);
         double v;
         const double X = sph_paddle_motion(&law, sph_sim_time(s), &v);
         assert_true(fabs(X) > 1e-4); /* it has moved */
-        const double hx = cfg.wavemaker.x, hy = cfg.tank.min[1] + l, arm = d - l;
-        const int flapped = run == 1;
+        const int V = cfg.dim - 1;   /* the vertical axis; in 3D y stays */
+        const double hx = cfg.wavemaker.x, hy = cfg.tank.min[V] + l, arm = d - l;
+        const int flapped = run == 1 || run == 5;
         const double phi = flapped ? atan2(X, arm) : 0.0;
         const double dphi = flapped ? arm * v / (arm * arm + X * X) : 0.0;
         sph_particle_view pv;
@@ -267,25 +281,27 @@ static void paddle_moves(void **state)
         long np = 0;
         const double dx = cfg.dx;
         for (long i = 0; i < pv.n; i++) {
-            if (pv.type[i] != 1 || pv.pos[1][i] < -0.02 || pv.pos[0][i] < cfg.tank.min[0] ||
-                pv.pos[0][i] > 1.0)
+            if (pv.type[i] != 1 || pv.pos[V][i] < 0.0 || pv.pos[0][i] < cfg.tank.min[0] ||
+                pv.pos[0][i] > 1.0 || (V == 2 && (pv.pos[1][i] < 0.0 || pv.pos[1][i] > 0.12)))
                 continue; /* the paddle: wall particles inside the tank, above its bottom */
-            double rx = pv.pos[0][i] - X, ry = pv.pos[1][i], ux = v, uy = 0.0;
+            double rx = pv.pos[0][i] - X, ry = pv.pos[V][i], ux = v, uy = 0.0;
             if (flapped) { /* turned back about the hinge */
-                const double px = pv.pos[0][i] - hx, py = pv.pos[1][i] - hy;
+                const double px = pv.pos[0][i] - hx, py = pv.pos[V][i] - hy;
                 rx = hx + px * cos(phi) - py * sin(phi);
                 ry = hy + px * sin(phi) + py * cos(phi);
                 ux = dphi * py;
                 uy = -dphi * px;
             }
-            const double k = (hx - rx) / dx - 0.5, r = (ry - cfg.tank.min[1]) / dx - 0.5;
+            const double k = (hx - rx) / dx - 0.5, r = (ry - cfg.tank.min[V]) / dx - 0.5;
             assert_true(fabs(k - round(k)) < 1e-9 && k >= -1e-9 && k < cfg.wavemaker.layers);
             assert_true(fabs(r - round(r)) < 1e-9 && r >= -1e-9);
-            assert_true(fabs(pv.vel[0][i] - ux) < 1e-12 && fabs(pv.vel[1][i] - uy) < 1e-12);
+            assert_true(fabs(pv.vel[0][i] - ux) < 1e-12 && fabs(pv.vel[V][i] - uy) < 1e-12);
+            assert_true(V == 1 || pv.vel[1][i] == 0.0);
             np++;
         }
-        const long rows = lround((cfg.tank.max[1] - cfg.tank.min[1]) / dx);
-        assert_int_equal(np, cfg.wavemaker.layers * rows);
+        const long rows = lround((cfg.tank.max[V] - cfg.tank.min[V]) / dx);
+        const long across = V == 2 ? lround((cfg.tank.max[1] - cfg.tank.min[1]) / dx) : 1;
+        assert_int_equal(np, cfg.wavemaker.layers * rows * across);
         sph_sim_destroy(s);
         sph_case_clear(cs);
         free(cs);
@@ -425,8 +441,7 @@ static void bad_inputs(void **state)
             fail_msg("case %zu: %s (%s), expected an error at %s", k, rc ? err.path : "accepted",
                      rc ? err.message : "", sol[k].path);
     }
-    /* the GPU, mDBC: not in this version */
-    refused((const char *const[]){"device=gpu", NULL}, "/wavemaker");
+    /* mDBC: not in this version */
     refused((const char *const[]){"boundary.density=mdbc", NULL}, "/boundary/density");
 }
 
