@@ -218,7 +218,7 @@ static void paddle_moves(void **state)
     static const char *const sol[] = {"dx=0.05", "wavemaker.layers=3", NULL};
     static const char *const rsets[] = {"dx=0.05", "wavemaker.layers=3",
                                         "wavemaker.waves.height=0.08", NULL};
-    /* the 3D flume (0.12 m wide: 3 particles across at its dx = 0.04 m) cut to 2 m, no ramp, a
+    /* the 3D flume (0.4 m wide: 10 particles across at its dx = 0.04 m) cut to 2 m, no ramp, a
      * piston and a flap */
 #define SHORT3                                                                                     \
     "domain.max.0=2", "boundary.tank.max.0=2", "fluid.0.box.max.0=2", "absorption.from=1.5",       \
@@ -282,7 +282,8 @@ static void paddle_moves(void **state)
         const double dx = cfg.dx;
         for (long i = 0; i < pv.n; i++) {
             if (pv.type[i] != 1 || pv.pos[V][i] < 0.0 || pv.pos[0][i] < cfg.tank.min[0] ||
-                pv.pos[0][i] > 1.0 || (V == 2 && (pv.pos[1][i] < 0.0 || pv.pos[1][i] > 0.12)))
+                pv.pos[0][i] > 1.0 ||
+                (V == 2 && (pv.pos[1][i] < 0.0 || pv.pos[1][i] > cfg.tank.max[1])))
                 continue; /* the paddle: wall particles inside the tank, above its bottom */
             double rx = pv.pos[0][i] - X, ry = pv.pos[V][i], ux = v, uy = 0.0;
             if (flapped) { /* turned back about the hinge */
