@@ -39,6 +39,7 @@ static int parse_file(const char *path, sph_error *err)
     int rc = sph_case_load(path, &root, err);
     if (rc == 0)
         rc = sph_case_from_json(root, c, err);
+    sph_case_clear(c); /* a polygon's surface (cases/wave_runup.json's beach) */
     free(c);
     json_decref(root);
     return rc;
