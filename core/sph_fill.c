@@ -147,6 +147,18 @@ static int mirrors(sph_scene *sc, const sph_config *c, const sph_particles *P, l
     return 0;
 }
 
+/* A wavemaker's paddle (sph_wavemaker.h), the last wall particles, from P's particle i on:
+ * their count (0 without one). */
+static long fill_paddle(const sph_config *c, sph_particles *P, long i)
+{
+    if (!has_walls(c))
+        return 0;
+    double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};
+    const long n = sph_wavemaker_points(c, at);
+    settle(c, P, i, i + n, SPH_BOUNDARY, (c->wavemaker.layers + 0.5) * c->dx, NULL);
+    return n;
+}
+
 /* The geometry's particles (the built-in shapes among them) from its scene, and the walls'
  * mirror points with mirror not NULL; 0, -1 when the scene cannot be built or filled (a restored
  * state's surfaces are not at hand: its particles come from the state), or sph_scene_mark_wet's
@@ -171,11 +183,8 @@ static int fill_scene(const sph_config *c, sph_particles *P, double *mirror, sph
         if (mirror)
             rc = mirrors(sc, c, P, cnt.fluid, cnt.wall, owner, mirror, err);
     }
-    if (rc == 0 && has_walls(c)) { /* a wavemaker's paddle, the last wall particles */
-        double *const pad[3] = {P->x + n, P->y + n, P->z ? P->z + n : NULL};
-        const long np = sph_wavemaker_points(c, pad);
-        settle(c, P, n, n + np, SPH_BOUNDARY, (c->wavemaker.layers + 0.5) * c->dx, NULL);
-    }
+    if (rc == 0)
+        fill_paddle(c, P, n);
     sph_scene_destroy(sc);
     free(owner);
     free(rho);
@@ -207,12 +216,7 @@ int sph_fill(const sph_config *c, sph_particles *P, double *mirror, sph_error *e
         settle(c, P, i, i + n, SPH_BOUNDARY, 0.0, NULL);
         i += n;
     }
-    if (has_walls(c)) { /* a wavemaker's paddle, the last wall particles (sph_wavemaker.h) */
-        double *const at[3] = {P->x + i, P->y + i, P->z ? P->z + i : NULL};
-        const long n = sph_wavemaker_points(c, at);
-        settle(c, P, i, i + n, SPH_BOUNDARY, (c->wavemaker.layers + 0.5) * c->dx, NULL);
-        i += n;
-    }
+    i += fill_paddle(c, P, i);
     return 0;
 }
 

@@ -272,7 +272,7 @@ struct sph_gpu {
     void *cub_tmp;
     size_t cub_bytes; /* the larger of the two sorts' (by cell; 3D: by z within each cell) */
     int key_bits;
-    double *rest; /* a paddle's rest table (su.paddle_np > 0) */
+    double *rest; /* a paddle's rest table (su.paddle.np > 0: the device's copy) */
     red *r;
     red *r_host; /* pinned */
     cudaStream_t st;
@@ -372,10 +372,10 @@ static int alloc_arrays(sph_gpu *g, const sph_particles *H, sph_error *err)
     }
     CK(cudaMalloc(&g->cub_tmp, g->cub_bytes ? g->cub_bytes : 1), "allocating the sort");
     g->bytes += (double)g->cub_bytes;
-    if (g->su.paddle_np > 0) {
-        const size_t rb = (size_t)g->su.paddle_np * 2 * sizeof(double);
+    if (g->su.paddle.np > 0) {
+        const size_t rb = (size_t)g->su.paddle.np * 2 * sizeof(double);
         CK(cudaMalloc((void **)&g->rest, rb), "allocating the paddle");
-        CK(cudaMemcpy(g->rest, g->su.paddle_rest, rb, cudaMemcpyHostToDevice),
+        CK(cudaMemcpy(g->rest, g->su.paddle.rest, rb, cudaMemcpyHostToDevice),
            "copying the paddle");
         g->bytes += (double)rb;
     }
@@ -551,11 +551,11 @@ static int step_d(sph_gpu *g, double t, double dt, sph_gpu_step_out *o, sph_erro
     k_reset<<<1, 1, 0, g->st>>>(g->r);
     if (g->nactive > 0) /* (a grid of no blocks is a launch error) */
         k_predict<D><<<blocks(g->nactive), BS, 0, g->st>>>(*P, k, dt, g->nactive, g->r);
-    if (g->su.paddle_np > 0 && g->nactive > 0) { /* the paddle at the step's end, as the CPU */
+    if (g->su.paddle.np > 0 && g->nactive > 0) { /* the paddle at the step's end, as the CPU */
         double v;
-        const double X = sph_paddle_motion(&g->su.paddle, t + dt, &v);
+        const double X = sph_paddle_motion(&g->su.paddle.law, t + dt, &v);
         k_paddle<<<blocks(g->nactive), BS, 0, g->st>>>(
-            *P, g->su.paddle, g->rest, g->su.paddle_first, g->su.paddle_np, X, v, g->nactive);
+            *P, g->su.paddle.law, g->rest, g->su.paddle.first, g->su.paddle.np, X, v, g->nactive);
     }
     cudaEventRecord(g->ev[1], g->st);
 

@@ -38,11 +38,7 @@ typedef struct sph_gpu_setup {
     sph_cells grid;     /* the grid's shape (its arrays are not read) */
     sph_wcsph_consts k; /* the force constants (no ghosts, no bodies among the options) */
     long nactive;       /* the particles in cells (the rest, lost, at the end) */
-    /* a wavemaker's paddle (np 0: none): its law, its particles' ids [first, first + np) and
-     * their rest table (2 a particle, by id - first; the host's, copied at creation) */
-    sph_paddle_law paddle;
-    long paddle_first, paddle_np;
-    const double *paddle_rest;
+    sph_paddle paddle;  /* a wavemaker's (np 0: none); its rest table the host's, copied */
 } sph_gpu_setup;
 
 /* What a step found: the active count after the sort, the predictor's and corrector's non-finite

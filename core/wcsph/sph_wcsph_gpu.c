@@ -84,10 +84,7 @@ static int gpu_step(sph_sim *s, double dt_cap, sph_error *err)
         sph_gpu_setup su = {.cfg = s->cfg, .kernel = s->kernel, .grid = s->cells};
         sph_wcsph_consts_of(s, &su.k);
         su.nactive = s->nactive;
-        su.paddle = s->paddle.law; /* a wavemaker's paddle (np 0: none) */
-        su.paddle_first = s->paddle.first;
-        su.paddle_np = s->paddle.np;
-        su.paddle_rest = s->paddle.rest;
+        su.paddle = s->paddle; /* a wavemaker's (np 0: none) */
         if (!(gs->g = sph_gpu_create(&su, &s->P, err)))
             return err ? err->code : SPH_ERR_NOMEM;
     }
