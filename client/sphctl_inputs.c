@@ -1,5 +1,5 @@
-/* The files a case names (its geometry items' "mesh"), read next to the case file and sent with
- * submit and sweep as args.files (PROTOCOL.md 3.11). */
+/* The files a case names (its geometry items' "mesh", a wavemaker's series: sph_case_files),
+ * read next to the case file and sent with submit and sweep as args.files (PROTOCOL.md 3.11). */
 #include "sphctl.h"
 
 #include "sph_base64.h"
@@ -16,17 +16,15 @@
 
 #define MAX_COMBINATIONS 10000L /* sphd's limit for a sweep */
 
-/* Adds the names the case names to names ({NAME: geometry index}), the first item naming each. */
+/* Adds the names the case names (sph_case_files) to names ({NAME: [what, path]}), the first
+ * field naming each. */
 static void add_names(const json_t *root, json_t *names)
 {
-    size_t k;
-    const json_t *g;
-    json_array_foreach(json_object_get(root, "geometry"), k, g)
-    {
-        const json_t *m = json_object_get(g, "mesh");
-        if (json_is_string(m) && !json_object_get(names, json_string_value(m)))
-            json_object_set_new(names, json_string_value(m), json_integer((json_int_t)k));
-    }
+    sph_case_file f[SPH_CASE_FILES_MAX];
+    const int n = sph_case_files(root, f, SPH_CASE_FILES_MAX);
+    for (int k = 0; k < n && k < SPH_CASE_FILES_MAX; k++)
+        if (!json_object_get(names, f[k].name))
+            json_object_set_new(names, f[k].name, json_pack("[s,s]", f[k].what, f[k].path));
 }
 
 /* Applies "PATH=VALUE" strings; a failure is left for sphd to report. */
@@ -132,7 +130,8 @@ int sphctl_attach_files(sphctl *c, const json_t *root, const json_t *sets, const
     json_t *kj;
     json_object_foreach(names, name, kj)
     {
-        const long k = (long)json_integer_value(kj);
+        const char *what = json_string_value(json_array_get(kj, 0));
+        const char *at = json_string_value(json_array_get(kj, 1));
         char why[512], path[4096 + 256];
         if (json_object_size(files) >= SPH_INPUT_MAX_COUNT) {
             fprintf(stderr, "sphctl: %s: the case names more than %d files\n", c->file,
@@ -141,8 +140,7 @@ int sphctl_attach_files(sphctl *c, const json_t *root, const json_t *sets, const
             break;
         }
         if (sph_input_name_check(name, why, sizeof why) != 0) {
-            fprintf(stderr, "sphctl: %s: geometry item %ld (/geometry/%ld/mesh): %s\n", c->file, k,
-                    k, why);
+            fprintf(stderr, "sphctl: %s: %s (%s): %s\n", c->file, what, at, why);
             rc = SPHCTL_EX_DATAERR;
             break;
         }
@@ -152,12 +150,12 @@ int sphctl_attach_files(sphctl *c, const json_t *root, const json_t *sets, const
         if (read_input(path, &data, &len) != 0) {
             if (errno == EFBIG)
                 fprintf(stderr,
-                        "sphctl: %s: geometry item %ld names %s: %zu bytes, more than the %ld "
-                        "bytes a file sent with a case may have\n",
-                        c->file, k, path, len, SPH_INPUT_MAX_FILE);
+                        "sphctl: %s: %s names %s: %zu bytes, more than the %ld bytes a file "
+                        "sent with a case may have\n",
+                        c->file, what, path, len, SPH_INPUT_MAX_FILE);
             else
-                fprintf(stderr, "sphctl: %s: geometry item %ld names '%s': cannot read %s: %s\n",
-                        c->file, k, name, path, strerror(errno));
+                fprintf(stderr, "sphctl: %s: %s names '%s': cannot read %s: %s\n", c->file, what,
+                        name, path, strerror(errno));
             rc = errno == EFBIG ? SPHCTL_EX_DATAERR : SPHCTL_EX_NOINPUT;
             break;
         }

@@ -27,7 +27,7 @@
  * (sph_pressure_spec); 17: sph_config.delta_form; 18: sph_config.precision, float arrays
  * under mixed precision; 19: WCSPH saves no pressure array (derived from the density) */
 #define SIM_VERSION                                                                                \
-    27u /* 20: the geometry list (sph_config.geometry); 21: polygon bodies                         \
+    28u /* 20: the geometry list (sph_config.geometry); 21: polygon bodies                         \
          * (sph_body_spec.corners); 22: geometry walls' mirror points (mDBC);                      \
          * 23: the wavemaker and the damping zone (sph_config.wavemaker,                           \
          * .absorption; the paddle's motion is a function of time, no state);                      \
@@ -35,7 +35,9 @@
          * 25: the reused neighbour list (sph_config.neighbour_skin; the cells' starts of its      \
          * build and the displacement since); 26: the flap's hinge and solitary waves              \
          * (sph_wavemaker_spec.hinge, SPH_WAVES_SOLITARY); 27: run-up gauges                       \
-         * (sph_gauge_spec.to) */
+         * (sph_gauge_spec.to); 28: second-order, irregular and series waves                       \
+         * (sph_wavemaker_spec.order, .spectrum, .hs, .tp, .gamma, .duration, .seed, .file,        \
+         * .series; a series' rows follow the header) */
 
 typedef struct {
     char magic[8];
@@ -47,6 +49,7 @@ typedef struct {
     double t, dt, amax, vmax;
     int64_t nstart; /* the cells' starts saved (a reused neighbour list's build): 0 or ncells + 2 */
     double moved;   /* the neighbour list's displacement bound since its build [m] */
+    int64_t nseries; /* a series wavemaker's rows: their times then displacements follow */
     sph_config cfg;
     sph_diag diag;
     sph_envelope wave; /* the kinetic-energy peaks so far (initial fields with a theory) */
@@ -60,9 +63,10 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     const size_t nbs = (size_t)s->bodies.n;
     const size_t nm = (size_t)s->nmirror * (size_t)s->cfg.dim;
     const size_t ns = s->cfg.neighbour_skin > 0.0 ? (size_t)s->cells.ncells + 2 : 0;
-    const size_t size = sizeof(sim_header) + sph_method_arrays_size(arrays, na) * n +
-                        n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state) + nm * sizeof(double) +
-                        ns * sizeof(int);
+    const size_t nq = (size_t)s->paddle.rows.n;
+    const size_t size = sizeof(sim_header) + 2 * nq * sizeof(double) +
+                        sph_method_arrays_size(arrays, na) * n + n * (1 + sizeof(int)) +
+                        nbs * sizeof(sph_body_state) + nm * sizeof(double) + ns * sizeof(int);
     unsigned char *b = malloc(size);
     if (!b)
         return sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for a %zu-byte checkpoint",
@@ -86,12 +90,19 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     h.vmax = s->vmax;
     h.nstart = (int64_t)ns;
     h.moved = s->nlist.moved;
+    h.nseries = (int64_t)nq;
     h.cfg = s->cfg;
+    h.cfg.wavemaker.series = NULL; /* an address: the rows follow */
     h.diag = s->diag;
     h.wave = s->wave;
     unsigned char *p = b;
     memcpy(p, &h, sizeof h);
     p += sizeof h;
+    if (nq) {
+        memcpy(p, s->paddle.rows.t, nq * sizeof(double));
+        memcpy(p + nq * sizeof(double), s->paddle.rows.x, nq * sizeof(double));
+    }
+    p += 2 * nq * sizeof(double);
     for (int i = 0; i < na; i++) {
         memcpy(p, arrays[i].p, n * arrays[i].size);
         p += n * arrays[i].size;
@@ -146,16 +157,43 @@ static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
         h.cfg.geometry[k].mesh = NULL;
     if (device >= 0) /* the state's layout is the same on every device */
         h.cfg.device = (sph_device)device;
-    /* the configuration's particles are the state's: checked before they are allocated */
-    long nf = 0, nb = 0;
-    if (sph_sim_check(&h.cfg, err))
-        return NULL;
-    sph_sim_estimate_bytes(&h.cfg, &nf, &nb);
-    if (h.n != nf + nb || (size_t)h.n > (len - sizeof h) / (1 + sizeof(int))) {
-        sph_error_set(err, SPH_ERR_IO, "", "simulation state does not match its configuration");
+    /* a series wavemaker's rows, right after the header */
+    const size_t nq = (size_t)h.nseries;
+    if (h.nseries < 0 || h.nseries > SPH_WAVE_SERIES_MAX ||
+        (len - sizeof h) / (2 * sizeof(double)) < nq) {
+        sph_error_set(err, SPH_ERR_IO, "", "simulation state has a bad wave series");
         return NULL;
     }
-    sph_sim *s = sph_sim_create(&h.cfg, err);
+    sph_wave_series q = {.n = (long)nq};
+    if (nq) {
+        q.t = malloc(nq * sizeof(double));
+        q.x = malloc(nq * sizeof(double));
+        if (!q.t || !q.x) {
+            free(q.t);
+            free(q.x);
+            sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the wave series");
+            return NULL;
+        }
+        memcpy(q.t, (const unsigned char *)buf + sizeof h, nq * sizeof(double));
+        memcpy(q.x, (const unsigned char *)buf + sizeof h + nq * sizeof(double),
+               nq * sizeof(double));
+    }
+    h.cfg.wavemaker.series = nq ? &q : NULL;
+    const size_t hq = sizeof h + 2 * nq * sizeof(double); /* the header and the rows */
+    /* the configuration's particles are the state's: checked before they are allocated */
+    long nf = 0, nb = 0;
+    sph_sim *s = NULL;
+    if (sph_sim_check(&h.cfg, err))
+        goto done;
+    sph_sim_estimate_bytes(&h.cfg, &nf, &nb);
+    if (h.n != nf + nb || (size_t)h.n > (len - hq) / (1 + sizeof(int))) {
+        sph_error_set(err, SPH_ERR_IO, "", "simulation state does not match its configuration");
+        goto done;
+    }
+    s = sph_sim_create(&h.cfg, err); /* its paddle copies the rows */
+done:
+    free(q.t);
+    free(q.x);
     if (!s)
         return NULL;
     sph_array arrays[40];
@@ -167,7 +205,7 @@ static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
     const size_t ns = s->cfg.neighbour_skin > 0.0 ? (size_t)s->cells.ncells + 2 : 0;
     if (h.n != s->P.n || (s->P.txx != NULL) != (h.sps != 0) || h.nbodies != s->bodies.n ||
         h.nmirror != s->nmirror || h.nstart != (int64_t)ns ||
-        len != sizeof h + per * n + n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state) +
+        len != hq + per * n + n * (1 + sizeof(int)) + nbs * sizeof(sph_body_state) +
                    nm * sizeof(double) + ns * sizeof(int)) {
         sph_sim_destroy(s);
         sph_error_set(err, SPH_ERR_IO, "", "simulation state does not match its configuration");
@@ -179,7 +217,7 @@ static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
         sph_error_set(err, SPH_ERR_IO, "", "simulation state has impossible counters or times");
         return NULL;
     }
-    const unsigned char *p = (const unsigned char *)buf + sizeof h;
+    const unsigned char *p = (const unsigned char *)buf + hq;
     /* types are SPH_FLUID, SPH_BOUNDARY, SPH_LOST or SPH_BODY (ghosts live only inside a force
      * evaluation), the ids a permutation of 0..n-1 (the server indexes by id), and a particle is
      * a body's exactly when its id is one of the bodies' (the pair loop and the bodies index

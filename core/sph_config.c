@@ -37,6 +37,9 @@ sph_config sph_config_default(void)
         c.gauges[k].to = NAN; /* a line, unless the case gives `to` */
     c.wavemaker.layers = 3;
     c.wavemaker.ramp = SPH_WAVEMAKER_RAMP_DEFAULT;
+    c.wavemaker.order = 1;
+    c.wavemaker.gamma = SPH_JONSWAP_GAMMA_DEFAULT;
+    c.wavemaker.seed = 1;
     c.absorption.beta = SPH_DAMPING_BETA_DEFAULT;
     c.shifting.coefficient = SPH_SHIFT_COEFFICIENT_DEFAULT;
     /* at rest; the standing wave's parameters and the solitary wave's order (the third slot) at

@@ -196,7 +196,23 @@ typedef enum {
 } sph_wavemaker_type;
 
 /* The waves a wavemaker makes. */
-typedef enum { SPH_WAVES_REGULAR = 0, SPH_WAVES_SOLITARY, SPH_WAVES_COUNT } sph_waves_type;
+typedef enum {
+    SPH_WAVES_REGULAR = 0, /* first-order wavemaker theory (second order: Madsen's piston) */
+    SPH_WAVES_SOLITARY,    /* Goring's piston law */
+    SPH_WAVES_IRREGULAR,   /* a JONSWAP spectrum's random-phase components, first order */
+    SPH_WAVES_SERIES,      /* the displacement read from a file (time, displacement) */
+    SPH_WAVES_COUNT
+} sph_waves_type;
+
+/* The displacement of a paddle at the still water level as a file gives it: n rows of time [s]
+ * increasing and displacement [m] (sph_wavemaker.h reads and checks it). */
+typedef struct sph_wave_series {
+    long n;
+    double *t, *x;
+} sph_wave_series;
+
+#define SPH_WAVE_SERIES_MAX      1000000L /* rows of a series [-] */
+#define SPH_IRREGULAR_COMPONENTS 2048     /* the most components of an irregular sea [-] */
 
 /* A case's "wavemaker": a piston or a flap of `layers` columns of wall particles, the tank's
  * height, whose wet face (towards +x) rests at x (a flap's hinge on it, `hinge` above the tank's
@@ -208,9 +224,21 @@ typedef struct sph_wavemaker_spec {
     int layers;              /* columns of wall particles behind the face [-] */
     double ramp;             /* periods over which the motion rises to its full stroke [-] */
     double hinge;            /* flap: the hinge's height above the tank's bottom [m] */
-    sph_waves_type waves;    /* regular or solitary */
-    double height;           /* the target wave height H [m] */
+    sph_waves_type waves;    /* regular, solitary, irregular or series */
+    double height;           /* the target wave height H [m] (regular, solitary) */
     double period;           /* the wave period T [s] (regular; 0: not given) */
+    int order;               /* regular: 1 (first-order theory) or 2 (Madsen 1971, a piston) */
+    /* irregular: a JONSWAP spectrum of significant height hs [m] (Hm0 = 4 sqrt(m0)), peak
+     * period tp [s] and peak enhancement gamma, discretised into components 1 / duration apart
+     * in frequency from 0.5 to 3 times the peak's (the motion repeats after duration [s]), each
+     * with a phase drawn from seed */
+    int spectrum; /* irregular: 0, JONSWAP (the only one) */
+    double hs, tp, gamma, duration;
+    long seed;
+    /* series: the file the case names (relative to it) and its rows once read (NULL before:
+     * the case owns them, sph_case_load_files) */
+    char file[SPH_GEOMETRY_FILE_MAX];
+    const sph_wave_series *series;
 } sph_wavemaker_spec;
 
 /* A case's "absorption": a passive damping zone (Altomare et al. 2017) that relaxes the fluid's
@@ -250,6 +278,7 @@ typedef struct sph_wave_design {
 
 #define SPH_DAMPING_BETA_DEFAULT   10.0 /* [1/s] */
 #define SPH_WAVEMAKER_RAMP_DEFAULT 2.0  /* periods [-] */
+#define SPH_JONSWAP_GAMMA_DEFAULT  3.3  /* the JONSWAP peak enhancement factor [-] */
 
 /* The MPS method's fields (Koshizuka & Oka 1996; Sheu, Chiao & Huang 2011): defaults from
  * sph_mps_config_default() (core/mps/sph_mps.c). */

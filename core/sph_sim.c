@@ -458,10 +458,16 @@ sph_sim *sph_sim_create(const sph_config *cfg_in, sph_error *err)
         s->cfg.geometry[k].mesh = NULL;
     /* a wavemaker's paddle: the last wall particles, before the bodies' (a restored state's
      * particles overwrite these, its paddle where the state left it) */
-    if (sph_paddle_init(&s->paddle, cfg, &s->P,
-                        nf + nb - nbody - sph_wavemaker_points(cfg, NULL))) {
+    const int prc =
+        sph_paddle_init(&s->paddle, cfg, &s->P, nf + nb - nbody - sph_wavemaker_points(cfg, NULL));
+    s->cfg.wavemaker.series = s->paddle.rows.n > 0 ? &s->paddle.rows : NULL; /* the sim's copy */
+    if (prc) {
         sph_sim_destroy(s);
-        sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the paddle");
+        if (prc == -2)
+            sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/file",
+                          "the wavemaker's series was not read (sph_case_load_files)");
+        else
+            sph_error_set(err, SPH_ERR_NOMEM, "", "out of memory for the paddle");
         return NULL;
     }
     sph_paddle_move(&s->paddle, &s->P, nf + nb, 0.0);

@@ -1,8 +1,10 @@
 #include "sph_case.h"
 #include "sph_case_table.h"
 #include "sph_fill.h"
+#include "sph_inputs.h"
 #include "sph_mesh_io.h"
 #include "sph_sim.h"
+#include "sph_wavemaker.h"
 #include "sph_json.h"
 
 #include <errno.h>
@@ -669,6 +671,10 @@ void sph_case_clear(sph_case *c)
 {
     if (!c)
         return;
+    sph_wave_series_free(c->series);
+    free(c->series);
+    c->series = NULL;
+    c->sim.wavemaker.series = NULL;
     for (int k = 0; k < SPH_CONFIG_MAX_GEOMETRY; k++) {
         if (c->meshes[k]) {
             sph_mesh_free(c->meshes[k]);
@@ -679,25 +685,177 @@ void sph_case_clear(sph_case *c)
     }
 }
 
-int sph_case_file_names(const json_t *root, const char **names, int max)
+int sph_case_files(const json_t *root, sph_case_file *files, int max)
 {
-    const json_t *geo = json_is_object(root) ? json_object_get(root, "geometry") : NULL;
-    if (!json_is_array(geo))
-        return 0;
     int n = 0;
-    for (size_t k = 0; k < json_array_size(geo); k++) {
+    const json_t *geo = json_is_object(root) ? json_object_get(root, "geometry") : NULL;
+    for (size_t k = 0; json_is_array(geo) && k < json_array_size(geo); k++) {
         const json_t *f = json_object_get(json_array_get(geo, k), "mesh");
         if (!json_is_string(f))
             continue;
-        if (n < max)
-            names[n] = json_string_value(f);
+        if (n < max) {
+            files[n].name = json_string_value(f);
+            snprintf(files[n].path, sizeof files[n].path, "/geometry/%zu/mesh", k);
+            snprintf(files[n].what, sizeof files[n].what, "geometry item %zu", k);
+        }
+        n++;
+    }
+    const json_t *w = json_is_object(root) ? json_object_get(root, "wavemaker") : NULL;
+    const json_t *waves = json_is_object(w) ? json_object_get(w, "waves") : NULL;
+    const json_t *type = json_is_object(waves) ? json_object_get(waves, "type") : NULL;
+    const json_t *f = json_is_object(waves) ? json_object_get(waves, "file") : NULL;
+    if (json_is_string(f) && json_is_string(type) &&
+        strcmp(json_string_value(type), "series") == 0) {
+        if (n < max) {
+            files[n].name = json_string_value(f);
+            snprintf(files[n].path, sizeof files[n].path, "/wavemaker/waves/file");
+            snprintf(files[n].what, sizeof files[n].what, "the wavemaker's series");
+        }
         n++;
     }
     return n;
 }
 
-int sph_case_load_meshes(sph_case *c, const char *dir, const sph_mesh_limits *lim, sph_error *err)
+int sph_case_file_names(const json_t *root, const char **names, int max)
 {
+    sph_case_file f[SPH_CASE_FILES_MAX];
+    const int n = sph_case_files(root, f, SPH_CASE_FILES_MAX);
+    for (int i = 0; i < n && i < max && i < SPH_CASE_FILES_MAX; i++)
+        names[i] = f[i].name;
+    return n;
+}
+
+void sph_wave_series_free(sph_wave_series *q)
+{
+    if (!q)
+        return;
+    free(q->t);
+    free(q->x);
+    *q = (sph_wave_series){0};
+}
+
+/* Appends a row to q (grown by doubling in *cap). 0, or -1 out of memory. */
+static int series_push(sph_wave_series *q, long *cap, double t, double x)
+{
+    if (q->n == *cap) {
+        const long nc = *cap ? 2 * *cap : 256;
+        double *nt = realloc(q->t, (size_t)nc * sizeof *nt);
+        if (nt)
+            q->t = nt;
+        double *nx = nt ? realloc(q->x, (size_t)nc * sizeof *nx) : NULL;
+        if (!nx)
+            return -1;
+        q->x = nx;
+        *cap = nc;
+    }
+    q->t[q->n] = t;
+    q->x[q->n] = x;
+    q->n++;
+    return 0;
+}
+
+int sph_wave_series_parse(const char *text, size_t len, const char *name, sph_wave_series *q,
+                          sph_error *err)
+{
+    const char *path = "/wavemaker/waves/file";
+    *q = (sph_wave_series){0};
+    long cap = 0, line = 0;
+    int rc = 0;
+    for (size_t i = 0; i < len && rc == 0;) {
+        size_t e = i;
+        while (e < len && text[e] != '\n')
+            e++;
+        line++;
+        char buf[256];
+        size_t m = e - i < sizeof buf - 1 ? e - i : sizeof buf - 1;
+        memcpy(buf, text + i, m);
+        buf[m] = '\0';
+        i = e + 1;
+        char *p = buf;
+        while (*p == ' ' || *p == '\t' || *p == '\r')
+            p++;
+        if (*p == '\0' || *p == '#')
+            continue;
+        for (char *c = p; *c; c++)
+            if (*c == ',' || *c == ';' || *c == '\t' || *c == '\r')
+                *c = ' ';
+        char *end;
+        errno = 0;
+        const double t = strtod(p, &end);
+        char *end2 = end;
+        const double x = end != p ? strtod(end, &end2) : 0.0;
+        while (*end2 == ' ')
+            end2++;
+        if (end == p || end2 == end || *end2 != '\0' || errno == ERANGE || !isfinite(t) ||
+            !isfinite(x)) {
+            if (q->n == 0 && line == 1)
+                continue; /* a header */
+            rc = sph_error_set(err, SPH_ERR_INVALID, path,
+                               "%s line %ld: expected 'time, displacement' (two numbers, s and "
+                               "m), found \"%.40s\"",
+                               name, line, p);
+        } else if (q->n >= SPH_WAVE_SERIES_MAX) {
+            rc = sph_error_set(err, SPH_ERR_INVALID, path, "%s: more than %ld rows", name,
+                               SPH_WAVE_SERIES_MAX);
+        } else if (q->n > 0 && !(t > q->t[q->n - 1])) {
+            rc = sph_error_set(err, SPH_ERR_INVALID, path,
+                               "%s line %ld: the time %g s does not increase (after %g s)", name,
+                               line, t, q->t[q->n - 1]);
+        } else if (series_push(q, &cap, t, x)) {
+            rc = sph_error_set(err, SPH_ERR_NOMEM, path, "out of memory");
+        }
+    }
+    if (rc == 0 && q->n < 2)
+        rc = sph_error_set(err, SPH_ERR_INVALID, path,
+                           "%s: a series needs at least 2 rows of 'time, displacement'", name);
+    if (rc)
+        sph_wave_series_free(q);
+    return rc;
+}
+
+/* Reads c's wavemaker's series (a series wavemaker: its file relative to dir) into c->series
+ * and points the config at it. */
+static int load_series(sph_case *c, const char *dir, sph_error *err)
+{
+    sph_wavemaker_spec *m = &c->sim.wavemaker;
+    const char *path = "/wavemaker/waves/file";
+    if (m->type == SPH_WAVEMAKER_NONE || m->waves != SPH_WAVES_SERIES || m->series)
+        return 0;
+    char why[256], file[4096];
+    if (sph_input_name_check(m->file, why, sizeof why) != 0)
+        return sph_error_set(err, SPH_ERR_INVALID, path, "%s", why);
+    snprintf(file, sizeof file, "%s/%s", dir && *dir ? dir : ".", m->file);
+    FILE *fp = fopen(file, "rb");
+    if (!fp)
+        return sph_error_set(err, SPH_ERR_INVALID, path, "cannot read %s: %s", m->file,
+                             strerror(errno));
+    char *buf = malloc((size_t)SPH_INPUT_MAX_FILE + 1);
+    const size_t got = buf ? fread(buf, 1, (size_t)SPH_INPUT_MAX_FILE + 1, fp) : 0;
+    fclose(fp);
+    if (!buf)
+        return sph_error_set(err, SPH_ERR_NOMEM, path, "out of memory");
+    if (got > (size_t)SPH_INPUT_MAX_FILE) {
+        free(buf);
+        return sph_error_set(err, SPH_ERR_INVALID, path, "%s is larger than %ld bytes", m->file,
+                             (long)SPH_INPUT_MAX_FILE);
+    }
+    sph_wave_series *q = calloc(1, sizeof *q);
+    int rc = q ? sph_wave_series_parse(buf, got, m->file, q, err)
+               : sph_error_set(err, SPH_ERR_NOMEM, path, "out of memory");
+    free(buf);
+    if (rc) {
+        free(q);
+        return rc;
+    }
+    c->series = q;
+    m->series = q;
+    return sph_wavemaker_check(&c->sim, err); /* the rows' own checks: jumps, the stroke */
+}
+
+int sph_case_load_files(sph_case *c, const char *dir, const sph_mesh_limits *lim, sph_error *err)
+{
+    if (load_series(c, dir, err))
+        return SPH_ERR_INVALID;
     int loaded = 0;
     for (int k = 0; k < c->sim.ngeometry; k++) {
         sph_geometry_spec *g = &c->sim.geometry[k];

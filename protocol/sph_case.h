@@ -63,8 +63,9 @@ typedef struct sph_case {
     sph_config sim;           /* a particle simulation (sph_case_is_sim) */
     sph_output_config output; /* a particle simulation */
     /* the surfaces of the geometry items (polygons, from the case; meshes, from
-     * sph_case_load_meshes), owned: sph_case_clear frees them */
+     * sph_case_load_files), owned: sph_case_clear frees them */
     sph_mesh *meshes[SPH_CONFIG_MAX_GEOMETRY];
+    sph_wave_series *series; /* a wavemaker's series (sph_case_load_files), owned */
 } sph_case;
 
 /* Reads a case file into a new JSON object (*root, new reference). SPH_ERR_IO if the file cannot
@@ -79,19 +80,43 @@ int sph_case_from_json(const json_t *root, sph_case *out, sph_error *err);
  * geometry owns nothing, and then it is a no-op). */
 void sph_case_clear(sph_case *c);
 
-/* Reads the mesh files c's geometry names ("mesh": "FILE"), each relative to dir (the case
- * file's directory; the job's files directory in sphd), within lim (NULL: the defaults), and
- * points the config's items at them. SPH_ERR_INVALID at the item's path (/geometry/K/mesh) for a
- * missing, unreadable, unknown-format, too large or broken file. A case with no mesh: 0. */
-int sph_case_load_meshes(sph_case *c, const char *dir, const sph_mesh_limits *lim, sph_error *err);
+/* Reads the files c names, each relative to dir (the case file's directory; the job's files
+ * directory in sphd): the mesh files of its geometry ("mesh": "FILE", within lim, NULL: the
+ * defaults) and a wavemaker's series ("waves": {"type": "series", "file": "FILE"}), and points
+ * the config at them. SPH_ERR_INVALID at the item's path (/geometry/K/mesh,
+ * /wavemaker/waves/file) for a missing, unreadable, unknown-format, too large or broken file,
+ * and for the checks that need the file (a mesh's place, a series' jumps and stroke). A case
+ * that names no file: 0. */
+int sph_case_load_files(sph_case *c, const char *dir, const sph_mesh_limits *lim, sph_error *err);
+
+/* A wave series from text (rows "time, displacement", comma, semicolon, space or tab separated;
+ * blank lines, lines from '#' and a first line that is no row skipped; times increasing): into
+ * q (freed by sph_wave_series_free), or SPH_ERR_INVALID at /wavemaker/waves/file naming the
+ * line (name: the file's, for the message). */
+int sph_wave_series_parse(const char *text, size_t len, const char *name, sph_wave_series *q,
+                          sph_error *err);
+void sph_wave_series_free(sph_wave_series *q);
 
 /* A line on the surface of geometry item k as read (a mesh: its file, triangles, vertices and the
  * degenerate triangles dropped) into buf; 0, or -1 when item k has no surface read. *warn is set
  * to 1 when something was dropped. */
 int sph_case_mesh_note(const sph_case *c, int k, char *buf, size_t n, int *warn);
 
-/* The files a case (JSON, unchecked) names: each geometry item's "mesh" string, in order, into
- * names[0 .. max) (borrowed from root). Returns how many there are (more than max possible). */
+/* A file a case names: its name (borrowed from the case's JSON), the JSON pointer of the field
+ * that names it, and what names it, for messages ("geometry item 2"). */
+typedef struct sph_case_file {
+    const char *name;
+    char path[48];
+    char what[48];
+} sph_case_file;
+#define SPH_CASE_FILES_MAX (SPH_CONFIG_MAX_GEOMETRY + 1) /* the meshes and a series */
+
+/* The files a case (JSON, unchecked) names, in order: each geometry item's "mesh" string, then
+ * a series wavemaker's "file", into files[0 .. max). Returns how many there are (more than max
+ * possible). The one list sphctl sends and sphd expects, writes and reads (PROTOCOL.md 3.11). */
+int sph_case_files(const json_t *root, sph_case_file *files, int max);
+
+/* The names of sph_case_files into names[0 .. max). */
 int sph_case_file_names(const json_t *root, const char **names, int max);
 
 /* Steering (PROTOCOL.md 3.12): 0 if the case field at a dotted path (an assignment's left side,

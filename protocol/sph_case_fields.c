@@ -64,8 +64,10 @@ static const int probe_bits[] = {SPH_PROBE_FRONT_X,     SPH_PROBE_HEIGHT_LEFT, 0
                                  SPH_PROBE_PENETRATION, SPH_PROBE_RUNUP};
 static const char *const wavemaker_names[] = {"piston", "flap", NULL};
 static const int wavemaker_values[] = {SPH_WAVEMAKER_PISTON, SPH_WAVEMAKER_FLAP};
-static const char *const waves_names[] = {"regular", "solitary", NULL};
-static const int waves_values[] = {SPH_WAVES_REGULAR, SPH_WAVES_SOLITARY};
+static const char *const waves_names[] = {"regular", "solitary", "irregular", "series", NULL};
+static const int waves_values[] = {SPH_WAVES_REGULAR, SPH_WAVES_SOLITARY, SPH_WAVES_IRREGULAR,
+                                   SPH_WAVES_SERIES};
+static const char *const spectrum_names[] = {"jonswap", NULL};
 static const char *const absorption_names[] = {"damping", NULL};
 static const int absorption_values[] = {1};
 static const char *const shape_names[] = {"circle", "box", "polygon", NULL};
@@ -403,8 +405,8 @@ static int parse_reflection(const json_t *v, const char *path, sph_config *c, sp
                              "remove \"reflection\"");
     if (c->wavemaker.waves != SPH_WAVES_REGULAR)
         return sph_error_set(err, SPH_ERR_INVALID, path,
-                             "the reflection is of regular waves: a solitary wave has none to "
-                             "split");
+                             "the reflection is of regular waves, split at their frequency: "
+                             "a solitary wave, an irregular sea or a series has no single one");
     o->nreflect = 0;
     for (size_t i = 0; i < json_array_size(v); i++) {
         char at[SPH_ERROR_PATH_MAX];
@@ -725,15 +727,56 @@ const sph_case_field sph_case_fields[] = {
      CFG(wavemaker.waves),
      .doc = "regular: first-order wavemaker theory, the stroke S from the piston's H/S = 2 "
             "(cosh 2kd - 1) / (sinh 2kd + 2kd) or the flap's (section 1.8), k from omega^2 = g k "
-            "tanh(kd), d the fluid's top above the tank's bottom; solitary: one solitary wave "
-            "from Goring's piston law (section 1.8)"},
+            "tanh(kd), d the fluid's top above the tank's bottom (second order from a piston: "
+            "`order`); solitary: one solitary wave from Goring's piston law; irregular: a JONSWAP "
+            "sea of random-phase components at first order; series: the displacement a file "
+            "gives (section 1.8)"},
     {.path = "/wavemaker/waves/height", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
-     .required = SPH_CF_WCSPH, .lo = 0.0, .lo_open = 1, .hi = 1e3, CFG(wavemaker.height),
+     .required = SPH_CF_WCSPH, .when = "/wavemaker/waves/type=regular|solitary", .lo = 0.0,
+     .lo_open = 1, .hi = 1e3, CFG(wavemaker.height),
      .doc = "the wave height H [m]: regular waves below the breaking limit H/L = 0.142 "
             "tanh(kd), a solitary wave up to 0.6 d"},
     {.path = "/wavemaker/waves/period", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
-     .lo = 0.0, .lo_open = 1, .hi = 1e3, CFG(wavemaker.period),
+     .when = "/wavemaker/waves/type=regular|solitary", .lo = 0.0, .lo_open = 1, .hi = 1e3,
+     CFG(wavemaker.period),
      .doc = "the wave period T [s]: required for regular waves, refused for a solitary one"},
+    {.path = "/wavemaker/waves/order", .type = SPH_CF_INTEGER, .methods = SPH_CF_WCSPH,
+     .when = "/wavemaker/waves/type=regular", .lo = 1, .hi = 2, .has_def = 1, .def = 1,
+     CFG(wavemaker.order),
+     .doc = "1: first-order wavemaker theory; 2: Madsen's (1971) second order, a piston only, "
+            "the Ursell number H L^2 / d^3 below 8 pi^2 / 3"},
+    {.path = "/wavemaker/waves/spectrum", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
+     .when = "/wavemaker/waves/type=irregular", .names = spectrum_names, .has_def = 1, .def = 0,
+     CFG(wavemaker.spectrum),
+     .doc = "jonswap: Hasselmann et al.'s (1973) spectrum (gamma 1: Pierson-Moskowitz's)"},
+    {.path = "/wavemaker/waves/hs", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .when = "/wavemaker/waves/type=irregular", .lo = 0.0,
+     .lo_open = 1, .hi = 1e3, CFG(wavemaker.hs),
+     .doc = "the significant wave height Hs = 4 sqrt(m0) [m], Hs over the peak's wavelength "
+            "below the breaking limit 0.142 tanh(k d)"},
+    {.path = "/wavemaker/waves/tp", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .when = "/wavemaker/waves/type=irregular", .lo = 0.0,
+     .lo_open = 1, .hi = 1e3, CFG(wavemaker.tp), .doc = "the spectrum's peak period [s]"},
+    {.path = "/wavemaker/waves/gamma", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .when = "/wavemaker/waves/type=irregular", .lo = 1.0, .hi = 10.0, .has_def = 1,
+     .def = SPH_JONSWAP_GAMMA_DEFAULT, CFG(wavemaker.gamma),
+     .doc = "the peak enhancement factor [-]"},
+    {.path = "/wavemaker/waves/duration", .type = SPH_CF_NUMBER, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .when = "/wavemaker/waves/type=irregular", .lo = 0.0,
+     .lo_open = 1, .hi = 1e5, CFG(wavemaker.duration),
+     .doc = "the sea's record before it repeats [s], at least 10 tp: the components are "
+            "1 / duration apart from 0.5 to 3 times the peak frequency, at most 2048"},
+    {.path = "/wavemaker/waves/seed", .type = SPH_CF_INTEGER, .methods = SPH_CF_WCSPH,
+     .when = "/wavemaker/waves/type=irregular", .lo = 0, .hi = 2147483647, .has_def = 1,
+     .def = 1, CFG(wavemaker.seed),
+     .doc = "the seed of the components' random phases: the same seed, the same sea"},
+    {.path = "/wavemaker/waves/file", .type = SPH_CF_STRING, .methods = SPH_CF_WCSPH,
+     .required = SPH_CF_WCSPH, .when = "/wavemaker/waves/type=series", CFG(wavemaker.file),
+     .doc = "a text file of rows 'time, displacement' [s, m] (comma, space or tab separated; a "
+            "header line and lines from '#' skipped), relative to the case file, that travels "
+            "with the job like a mesh (section 3.11): the face's displacement at the still "
+            "water level, times increasing, the paddle at rest at 0 before the first row and "
+            "never faster than sqrt(g d)"},
     {.path = "/absorption", .type = SPH_CF_OBJECT, .methods = SPH_CF_WCSPH,
      .doc = "a passive damping zone (section 1.8); absent: none"},
     {.path = "/absorption/type", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,

@@ -1,5 +1,6 @@
 /*
- * sph_inputs: the files a case names (its geometry items' "mesh"), as they travel with a job:
+ * sph_inputs: the files a case names (its geometry items' "mesh", a wavemaker's series "file":
+ * sph_case_files), as they travel with a job:
  * sphctl reads them next to the case file and sends them in `submit` and `sweep`
  * (args.files), sphd keeps them in the job's directory under files/ (PROTOCOL.md 3.11). The
  * limits and the rule for a name are here so that both sides agree.
@@ -18,8 +19,8 @@
  * --max-msg-size (16 MiB). */
 #define SPH_INPUT_MAX_FILE  (8L << 20)
 #define SPH_INPUT_MAX_TOTAL (8L << 20)
-/* Files of one request (every geometry item may name one). */
-#define SPH_INPUT_MAX_COUNT SPH_CONFIG_MAX_GEOMETRY
+/* Files of one request (every geometry item may name one, and a wavemaker its series). */
+#define SPH_INPUT_MAX_COUNT (SPH_CONFIG_MAX_GEOMETRY + 1)
 /* The job directory's subdirectory that holds them. */
 #define SPH_INPUT_DIR "files"
 

@@ -1107,7 +1107,7 @@ static int op_sweep(sphd_request *r, json_t **result, sphd_err *e)
                 sphd_inputs_dir(scratch, files, sizeof files) != 0)
                 rc = -1;
             else
-                bad = sph_case_load_meshes(tmp, files, NULL, &err) != 0;
+                bad = sph_case_load_files(tmp, files, NULL, &err) != 0;
             sphd_inputs_remove(scratch, ci);
         }
         if (rc) {

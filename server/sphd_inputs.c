@@ -1,5 +1,6 @@
 /*
- * The files a case names (its geometry items' "mesh") as a job's inputs: `submit` and `sweep`
+ * The files a case names (its geometry items' "mesh", a wavemaker's series: sph_case_files) as a
+ * job's inputs: `submit` and `sweep`
  * bring them in args.files, checked here (names, base64, size, CRC-32, exactly the files the
  * case names), and sphd keeps them in the job's directory under files/ before the job is
  * accepted, so that a restarted sphd, or a runner on a cluster node, reads them from there
@@ -125,24 +126,19 @@ int sphd_inputs_decode(const json_t *files, sphd_inputs *out, sphd_err *e)
 int sphd_inputs_match(const json_t *case_json, const sphd_inputs *in, unsigned char *used,
                       sphd_err *e)
 {
-    size_t k;
-    const json_t *g;
-    char path[64], why[512], fp[512];
-    json_array_foreach(json_object_get(case_json, "geometry"), k, g)
-    {
-        const json_t *m = json_object_get(g, "mesh");
-        if (!json_is_string(m))
-            continue;
-        snprintf(path, sizeof path, "/geometry/%zu/mesh", k);
-        const char *name = json_string_value(m);
+    sph_case_file files[SPH_CASE_FILES_MAX];
+    const int n = sph_case_files(case_json, files, SPH_CASE_FILES_MAX);
+    char why[512], fp[512];
+    for (int k = 0; k < n && k < SPH_CASE_FILES_MAX; k++) {
+        const char *name = files[k].name;
         if (sph_input_name_check(name, why, sizeof why) != 0)
-            return sphd_err_set(e, SPHD_E_INVALID_CASE, path, "%s", why);
+            return sphd_err_set(e, SPHD_E_INVALID_CASE, files[k].path, "%s", why);
         const sphd_input *f = sphd_inputs_get(in, name);
         if (!f)
             return sphd_err_set(e, SPHD_E_BAD_REQUEST, files_path(name, fp, sizeof fp),
-                                "geometry item %zu names '%.128s', which 'files' lacks: send "
-                                "the file with the case (sphctl does)",
-                                k, name);
+                                "%s names '%.128s', which 'files' lacks: send the file with the "
+                                "case (sphctl does)",
+                                files[k].what, name);
         if (used)
             used[f - in->f] = 1;
     }
@@ -156,7 +152,8 @@ int sphd_inputs_unused(const sphd_inputs *in, const unsigned char *used, sphd_er
         if (!used[i])
             return sphd_err_set(e, SPHD_E_BAD_REQUEST, files_path(in->f[i].name, fp, sizeof fp),
                                 "the case names no file '%.128s' (no geometry item has it as "
-                                "\"mesh\"): leave it out",
+                                "\"mesh\", nor the wavemaker as its series' \"file\"): leave "
+                                "it out",
                                 in->f[i].name);
     return 0;
 }
@@ -174,12 +171,11 @@ int sphd_inputs_dir(const char *dir, char *buf, size_t n)
 
 int sphd_inputs_write(const char *dir, const json_t *case_json, const sphd_inputs *in, sphd_err *e)
 {
-    size_t k;
-    const json_t *g;
-    json_array_foreach(json_object_get(case_json, "geometry"), k, g)
-    {
-        const char *name = json_string_value(json_object_get(g, "mesh"));
-        const sphd_input *f = name ? sphd_inputs_get(in, name) : NULL;
+    sph_case_file files[SPH_CASE_FILES_MAX];
+    const int n = sph_case_files(case_json, files, SPH_CASE_FILES_MAX);
+    for (int k = 0; k < n && k < SPH_CASE_FILES_MAX; k++) {
+        const char *name = files[k].name;
+        const sphd_input *f = sphd_inputs_get(in, name);
         if (!f)
             continue;
         char path[SPHD_PATH_MAX + 256];
@@ -198,13 +194,12 @@ int sphd_inputs_write(const char *dir, const json_t *case_json, const sphd_input
 
 void sphd_inputs_remove(const char *dir, const json_t *case_json)
 {
-    size_t k;
-    const json_t *g;
-    json_array_foreach(json_object_get(case_json, "geometry"), k, g)
-    {
-        const char *name = json_string_value(json_object_get(g, "mesh"));
+    sph_case_file files[SPH_CASE_FILES_MAX];
+    const int n = sph_case_files(case_json, files, SPH_CASE_FILES_MAX);
+    for (int k = 0; k < n && k < SPH_CASE_FILES_MAX; k++) {
+        const char *name = files[k].name;
         char path[SPHD_PATH_MAX + 256];
-        if (!name || input_path(dir, name, path, sizeof path) != 0)
+        if (input_path(dir, name, path, sizeof path) != 0)
             continue;
         unlink(path);
         /* the directories below files/ that are empty now, then files/ itself */
@@ -222,14 +217,11 @@ void sphd_inputs_remove(const char *dir, const json_t *case_json)
 
 int sphd_inputs_same(const char *dir, const json_t *case_json, const sphd_inputs *in)
 {
-    size_t k;
-    const json_t *g;
-    json_array_foreach(json_object_get(case_json, "geometry"), k, g)
-    {
-        const char *name = json_string_value(json_object_get(g, "mesh"));
-        const sphd_input *f = name ? sphd_inputs_get(in, name) : NULL;
-        if (!name)
-            continue;
+    sph_case_file files[SPH_CASE_FILES_MAX];
+    const int n = sph_case_files(case_json, files, SPH_CASE_FILES_MAX);
+    for (int k = 0; k < n && k < SPH_CASE_FILES_MAX; k++) {
+        const char *name = files[k].name;
+        const sphd_input *f = sphd_inputs_get(in, name);
         char path[SPHD_PATH_MAX + 256];
         if (!f || input_path(dir, name, path, sizeof path) != 0)
             return 0;

@@ -377,7 +377,7 @@ sphd_job *sphd_job_submit(sphd_daemon *d, const char *id, json_t *case_json, int
         return NULL;
     }
     if (sphd_inputs_dir(j->dir, files, sizeof files) != 0 ||
-        sph_case_load_meshes(j->c, files, NULL, &err) != 0) {
+        sph_case_load_files(j->c, files, NULL, &err) != 0) {
         sphd_err_set(e, SPHD_E_INVALID_CASE, err.path, "%s", err.message);
         sphd_inputs_remove(j->dir, case_json);
         rmdir(j->dir); /* when nothing else is there */
@@ -955,7 +955,7 @@ static sphd_job *recover_one(sphd_daemon *d, const char *id)
     char files[SPHD_PATH_MAX + 16];
     if (!case_json || sph_case_from_json(case_json, j->c, &err) ||
         (sphd_inputs_dir(j->dir, files, sizeof files) == 0 &&
-         sph_case_load_meshes(j->c, files, NULL, &err) != 0)) {
+         sph_case_load_files(j->c, files, NULL, &err) != 0)) {
         sphd_log("job %s: cannot take it up again: %s", id,
                  case_json ? err.message : "case.json is missing or unreadable");
         json_decref(case_json);

@@ -134,7 +134,7 @@ int sphd_run(const sphd_run_opts *o)
              slash ? o->case_file : ".");
     if (!casedir[0])
         snprintf(casedir, sizeof casedir, "/");
-    if (sph_case_load_meshes(c, casedir, NULL, &err)) {
+    if (sph_case_load_files(c, casedir, NULL, &err)) {
         fprintf(stderr, "sphd: %s: invalid case: %s (at %s)\n", o->case_file, err.message,
                 err.path);
         sph_case_clear(c);

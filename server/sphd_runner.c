@@ -86,7 +86,7 @@ int sphd_runner_main(const char *endpoint, const char *dir, const char *keys, in
     char files[SPHD_PATH_MAX + 16];
     if (!case_json || sph_case_from_json(case_json, &c, &err) ||
         (sphd_inputs_dir(dir, files, sizeof files) == 0 &&
-         sph_case_load_meshes(&c, files, NULL, &err) != 0)) {
+         sph_case_load_files(&c, files, NULL, &err) != 0)) {
         fprintf(stderr, "sphd --runner: %s: %s\n", path, case_json ? err.message : jerr.text);
         json_decref(case_json);
         sph_case_clear(&c);

@@ -8,6 +8,7 @@
 #include "sph_sim.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 int sphd_waves_zero_up(const double *t, const double *eta, long stride, long n, double t0,
                        double *height, double *period)
@@ -91,22 +92,82 @@ int sphd_waves_crest(const double *t, const double *eta, long stride, long n, do
     return 1;
 }
 
+static int cmp_desc(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x < y) - (x > y);
+}
+
+int sphd_waves_sea(const double *t, const double *eta, long stride, long n, double t0, double *hm0,
+                   double *h13)
+{
+    *hm0 = *h13 = NAN;
+    double mean = 0.0, var = 0.0;
+    long m = 0;
+    for (long i = 0; i < n; i++)
+        if (t[i] >= t0) {
+            mean += eta[i * stride];
+            m++;
+        }
+    if (m < 3)
+        return 0;
+    mean /= (double)m;
+    for (long i = 0; i < n; i++)
+        if (t[i] >= t0)
+            var += (eta[i * stride] - mean) * (eta[i * stride] - mean);
+    *hm0 = 4.0 * sqrt(var / (double)m);
+    /* the zero-up-crossing waves' heights, as sphd_waves_zero_up takes them */
+    double *h = malloc((size_t)m * sizeof *h);
+    if (!h)
+        return 0;
+    int count = 0, started = 0;
+    double lo = INFINITY, hi = -INFINITY;
+    for (long i = 1; i < n; i++) {
+        if (t[i - 1] < t0)
+            continue;
+        const double e0 = eta[(i - 1) * stride], a = e0 - mean, b = eta[i * stride] - mean;
+        if (started) {
+            lo = fmin(lo, e0);
+            hi = fmax(hi, e0);
+        }
+        if (a < 0.0 && b >= 0.0) {
+            if (started)
+                h[count++] = hi - lo;
+            started = 1;
+            lo = INFINITY;
+            hi = -INFINITY;
+        }
+    }
+    if (count > 0) {
+        qsort(h, (size_t)count, sizeof *h, cmp_desc);
+        const int third = count / 3 > 0 ? count / 3 : 1;
+        double sum = 0.0;
+        for (int i = 0; i < third; i++)
+            sum += h[i];
+        *h13 = sum / third;
+    }
+    free(h);
+    return count;
+}
+
 double sphd_waves_window(const sph_config *c, int k)
 {
     sph_wave_design w;
-    if (c->wavemaker.waves != SPH_WAVES_REGULAR || sph_sim_wave_design(c, &w) || k < 0 ||
-        k >= c->ngauges)
+    const sph_waves_type type = c->wavemaker.waves;
+    if ((type != SPH_WAVES_REGULAR && type != SPH_WAVES_IRREGULAR) || sph_sim_wave_design(c, &w) ||
+        k < 0 || k >= c->ngauges)
         return NAN;
     /* the ramp's end reaches the gauge at ramp T + distance / cg; one period more lets the
-     * train's dispersed front go by */
-    return (c->wavemaker.ramp + 1.0) * c->wavemaker.period +
-           fabs(c->gauges[k].x - c->wavemaker.x) / w.cg;
+     * train's dispersed front go by (an irregular sea: the peak's period and group velocity) */
+    const double period = type == SPH_WAVES_IRREGULAR ? c->wavemaker.tp : c->wavemaker.period;
+    return (c->wavemaker.ramp + 1.0) * period + fabs(c->gauges[k].x - c->wavemaker.x) / w.cg;
 }
 
 json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, long n)
 {
-    if (c->wavemaker.type == SPH_WAVEMAKER_NONE || c->wavemaker.waves != SPH_WAVES_REGULAR ||
-        c->ngauges == 0 || n < 1)
+    const int irregular = c->wavemaker.waves == SPH_WAVES_IRREGULAR;
+    if (c->wavemaker.type == SPH_WAVEMAKER_NONE ||
+        (c->wavemaker.waves != SPH_WAVES_REGULAR && !irregular) || c->ngauges == 0 || n < 1)
         return NULL;
     const int ng = c->ngauges;
     json_t *out = json_object();
@@ -116,10 +177,16 @@ json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, l
         const double t0 = sphd_waves_window(c, k);
         double H, T;
         const int count = sphd_waves_zero_up(t, g + k, ng, n, t0, &H, &T);
-        json_object_set_new(out, c->gauges[k].name,
-                            json_pack("{s:o, s:o, s:i, s:o}", "height", sph_json_real_or_null(H),
-                                      "period", sph_json_real_or_null(T), "count", count, "from",
-                                      sph_json_real_or_null(t0)));
+        json_t *o =
+            json_pack("{s:o, s:o, s:i, s:o}", "height", sph_json_real_or_null(H), "period",
+                      sph_json_real_or_null(T), "count", count, "from", sph_json_real_or_null(t0));
+        if (irregular && o) {
+            double hm0, h13;
+            sphd_waves_sea(t, g + k, ng, n, t0, &hm0, &h13);
+            json_object_set_new(o, "hm0", sph_json_real_or_null(hm0));
+            json_object_set_new(o, "h13", sph_json_real_or_null(h13));
+        }
+        json_object_set_new(out, c->gauges[k].name, o);
     }
     return out;
 }

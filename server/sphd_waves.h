@@ -20,6 +20,13 @@
 int sphd_waves_zero_up(const double *t, const double *eta, long stride, long n, double t0,
                        double *height, double *period);
 
+/* An irregular sea's statistics of eta(t) (as sphd_waves_zero_up's arguments) over t >= t0: the
+ * spectral significant height Hm0 = 4 sqrt(m0), m0 the variance about the window's mean, and
+ * H1/3, the mean of the highest third of the zero-up-crossing waves. Writes both [m] (NaN
+ * without samples or waves) and returns the count of waves. */
+int sphd_waves_sea(const double *t, const double *eta, long stride, long n, double t0, double *hm0,
+                   double *h13);
+
 /* A solitary wave's crest in eta(t) (n samples, t increasing, sample i at eta[i * stride]): the
  * highest sample within [t0, t1] and the parabola through it and its neighbours, its height above
  * the still level (the mean of the samples up to t_still, the first one at least). Writes the
@@ -30,12 +37,13 @@ int sphd_waves_crest(const double *t, const double *eta, long stride, long n, do
 
 /* The window of gauge k of c: it opens one period after the end of the ramp, moving at linear
  * theory's group velocity cg, has reached the gauge, so that the waves in it are the developed
- * train, not its growing front: (ramp + 1) T + |x_gauge - x_paddle| / cg [s]. NaN without a
- * wavemaker. */
+ * train, not its growing front: (ramp + 1) T + |x_gauge - x_paddle| / cg [s] (an irregular sea:
+ * the peak's T and cg). NaN without regular or irregular waves. */
 double sphd_waves_window(const sph_config *c, int k);
 
 /* {"GAUGE": {"height", "period", "count", "from"}, ...} for c's gauges from the series t[n]
- * and g[n][ngauges] (row-major), or NULL without regular waves or gauges (new reference). */
+ * and g[n][ngauges] (row-major), an irregular sea's with "hm0" and "h13" (sphd_waves_sea)
+ * besides, or NULL without regular or irregular waves or without gauges (new reference). */
 json_t *sphd_waves_json(const sph_config *c, const double *t, const double *g, long n);
 
 /* A solitary wave's passage at c's gauges (PROTOCOL.md section 1.8): {"celerity", "theory",

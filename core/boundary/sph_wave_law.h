@@ -13,8 +13,23 @@
  *                                the still water level (the same solution for the displacement
  *                                profile (z - l) / (d - l); l = 0 is Dean & Dalrymple's flap)
  *   ramp over Tr = ramp T:       r(t) = (1 - cos(pi t / Tr)) / 2 for t < Tr, 1 after
- *   displacement at the still water level: X(t) = r(t) S/2 sin(omega t), its velocity dX/dt
- *   (a piston moves rigidly by X; a flap turns by atan(X / (d - l)) about its hinge)
+ *   displacement at the still water level: X(t) = r(t) (S/2 sin(omega t) + a2 sin(2 omega t)),
+ *                                its velocity dX/dt (a piston moves rigidly by X; a flap turns by
+ *                                atan(X / (d - l)) about its hinge); a2 = 0 at first order
+ *   second order (Madsen 1971, a piston): a2 = H^2 / (32 d) (3 cosh kd / sinh^3 kd - 2 / m1),
+ *                                m1 the piston's H / S: the second harmonic that cancels the
+ *                                free one first-order motion makes
+ *   irregular waves (JONSWAP, Hasselmann et al. 1973): S(f) ~ f^-5 exp(-5/4 (fp / f)^4)
+ *                                gamma^exp(-(f - fp)^2 / (2 sigma^2 fp^2)), sigma 0.07 below fp
+ *                                and 0.09 above, scaled so that 4 sqrt(sum S(f_i) df) = Hs over
+ *                                the components f_i = i / D in [0.5 fp, 3 fp]; each a wave of
+ *                                amplitude sqrt(2 S(f_i) df) and a random phase, made at first
+ *                                order: X(t) = r(t) sum A_i sin(omega_i t + phi_i), A_i = that
+ *                                amplitude over the transfer function at k_i d
+ *   series: X(t) from a table of rows (t_i, X_i) by cubic Hermite interpolation, the slopes
+ *                                centred differences inside and 0 at both ends (the paddle
+ *                                starts and stops at rest), X_0 before the first row and X_n-1
+ *                                after the last
  *   solitary wave (Goring 1978): a piston with dX/dt = c eta(X, t) / (d + eta(X, t)), eta = H
  *                                sech^2(theta), theta = kappa (c t - X) - theta0, kappa =
  *                                sqrt(3H / (4 d^3)), c = sqrt(g (d + H)); integrated exactly:
@@ -97,12 +112,66 @@ SPH_HD static inline double sph_wave_ramp(double t, double tr, double *rate)
 #define SPH_SOLITARY_THETA0 3.8 /* Goring's start: the wave's sech^2 at 2e-3 of its crest [-] */
 #define SPH_SOLITARY_MAX    0.6 /* the highest H/d a solitary wave's law takes [-] */
 
-/* A paddle's law of motion: what sph_paddle_motion and sph_paddle_place need. */
+/* Madsen's (1971) second harmonic of a piston's displacement a2 [m] (X = S/2 sin(omega t) + a2
+ * sin(2 omega t)) for waves of height H [m] in water of depth d [m] at kd. */
+SPH_HD static inline double sph_madsen_second(double kd, double H, double d)
+{
+    const double sh = sinh(kd);
+    return H * H / (32.0 * d) * (3.0 * cosh(kd) / (sh * sh * sh) - 2.0 / sph_piston_transfer(kd));
+}
+
+/* The JONSWAP spectrum's shape at frequency f [Hz] for the peak fp [Hz] and enhancement gamma
+ * (unscaled: the caller scales it to the significant height). */
+SPH_HD static inline double sph_jonswap_shape(double f, double fp, double gamma)
+{
+    if (!(f > 0.0))
+        return 0.0;
+    const double sigma = f <= fp ? 0.07 : 0.09, q = fp / f, e = (f - fp) / (sigma * fp);
+    return pow(f, -5.0) * exp(-1.25 * q * q * q * q) * pow(gamma, exp(-0.5 * e * e));
+}
+
+/* X(t) of a series of n >= 1 rows (t increasing) and its rate (sph_paddle_motion's series). */
+SPH_HD static inline double sph_series_motion(const double *ts, const double *xs, long n, double t,
+                                              double *v)
+{
+    *v = 0.0;
+    if (t <= ts[0])
+        return xs[0];
+    if (t >= ts[n - 1])
+        return xs[n - 1];
+    long lo = 0, hi = n - 1; /* ts[lo] < t < ts[hi] */
+    while (hi - lo > 1) {
+        const long mid = lo + (hi - lo) / 2;
+        if (ts[mid] <= t)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    const double h = ts[hi] - ts[lo], s = (t - ts[lo]) / h;
+    const double m0 = lo > 0 ? (xs[hi] - xs[lo - 1]) / (ts[hi] - ts[lo - 1]) : 0.0;
+    const double m1 = hi < n - 1 ? (xs[hi + 1] - xs[lo]) / (ts[hi + 1] - ts[lo]) : 0.0;
+    const double s2 = s * s, s3 = s2 * s;
+    const double h00 = 2.0 * s3 - 3.0 * s2 + 1.0, h10 = s3 - 2.0 * s2 + s;
+    const double h01 = -2.0 * s3 + 3.0 * s2, h11 = s3 - s2;
+    *v = ((6.0 * s2 - 6.0 * s) * (xs[lo] - xs[hi]) / h + (3.0 * s2 - 4.0 * s + 1.0) * m0 +
+          (3.0 * s2 - 2.0 * s) * m1);
+    return h00 * xs[lo] + h10 * h * m0 + h01 * xs[hi] + h11 * h * m1;
+}
+
+/* A paddle's law of motion: what sph_paddle_motion and sph_paddle_place need. The arrays of
+ * irregular waves and of a series are host memory: sph_paddle_motion runs on the host, a GPU
+ * kernel takes X and its rate (sph_paddle_place reads none of them). */
 typedef struct sph_paddle_law {
     int solitary;  /* 0: regular waves (stroke, omega, tramp), 1: Goring's solitary wave */
     double stroke; /* S: twice the amplitude of the displacement (solitary: its whole travel) [m] */
     double omega;  /* 2 pi / T [rad/s] */
     double tramp;  /* the ramp's duration [s] */
+    double second; /* regular, order 2: the second harmonic's amplitude a2 [m] */
+    int ncomp;     /* irregular: its components, 3 a component in comp: A_i [m], omega_i
+                    * [rad/s], phi_i [rad] (0: not irregular) */
+    const double *comp;
+    long nseries; /* a series: its rows (0: no series) */
+    const double *st, *sx;
     double height, depth, kappa, celerity; /* solitary: H, d [m], kappa [1/m], c [m/s] */
     double x0;     /* solitary: H / (kappa d) (1 + tanh theta(0)), taken off so that X(0) = 0 [m] */
     int flap;      /* 0: a piston, moved rigidly by X; 1: a flap turned about (hx, hy) */
@@ -143,10 +212,29 @@ SPH_HD static inline double sph_paddle_motion(const sph_paddle_law *p, double t,
         *v = p->celerity * eta / (p->depth + eta);
         return p->height / (p->kappa * p->depth) * (1.0 + tanh(th)) - p->x0;
     }
+    if (p->nseries > 0)
+        return sph_series_motion(p->st, p->sx, p->nseries, t, v);
     double rate;
     const double r = sph_wave_ramp(t, p->tramp, &rate);
+    if (p->ncomp > 0) {
+        double X = 0.0, V = 0.0;
+        for (int i = 0; i < p->ncomp; i++) {
+            const double A = p->comp[3 * i], w = p->comp[3 * i + 1],
+                         ph = w * t + p->comp[3 * i + 2];
+            X += A * sin(ph);
+            V += A * w * cos(ph);
+        }
+        *v = rate * X + r * V;
+        return r * X;
+    }
     const double a = 0.5 * p->stroke;
     const double s = sin(p->omega * t), c = cos(p->omega * t);
+    if (p->second != 0.0) {
+        const double w = p->omega, a2 = p->second, s2 = 2.0 * s * c, c2 = c * c - s * s;
+        const double X = a * s + a2 * s2, V = a * w * c + 2.0 * w * a2 * c2;
+        *v = rate * X + r * V;
+        return r * X;
+    }
     *v = a * (rate * s + r * p->omega * c);
     return a * r * s;
 }

@@ -9,10 +9,20 @@
 #include "sph_lattice.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #define PI 3.14159265358979323846
+
+/* The paddle's first-order transfer function H / S at kd (a flap's with its hinge). */
+static double transfer(const sph_config *c, double kd, double depth)
+{
+    return c->wavemaker.type == SPH_WAVEMAKER_FLAP
+               ? sph_flap_transfer(kd, c->wavemaker.hinge / depth)
+               : sph_piston_transfer(kd);
+}
 
 int sph_wave_design_of(const sph_config *c, sph_wave_design *w)
 {
@@ -23,7 +33,9 @@ int sph_wave_design_of(const sph_config *c, sph_wave_design *w)
         top = fmax(top, c->fluid[b].max[V]);
     const double g = -c->gravity[V];
     *w = (sph_wave_design){.depth = top - c->tank.min[V]};
-    if (!(w->depth > 0.0) || !(g > 0.0) || !isfinite(w->depth) || !(m->height > 0.0))
+    if (!(w->depth > 0.0) || !(g > 0.0) || !isfinite(w->depth))
+        return -1;
+    if ((m->waves == SPH_WAVES_REGULAR || m->waves == SPH_WAVES_SOLITARY) && !(m->height > 0.0))
         return -1;
     if (m->waves == SPH_WAVES_SOLITARY) {
         const double d = w->depth, H = m->height;
@@ -34,17 +46,116 @@ int sph_wave_design_of(const sph_config *c, sph_wave_design *w)
         w->lag = SPH_SOLITARY_THETA0 / w->kappa;
         return 0;
     }
-    w->omega = 2.0 * PI / m->period;
+    if (m->waves == SPH_WAVES_SERIES)
+        return 0; /* no theory: the file's motion */
+    const double period = m->waves == SPH_WAVES_IRREGULAR ? m->tp : m->period;
+    w->omega = 2.0 * PI / period;
     if (!(w->omega > 0.0) || !isfinite(w->omega))
         return -1;
     w->k = sph_wave_number(w->omega, g, w->depth);
     w->length = 2.0 * PI / w->k;
     const double kd = w->k * w->depth;
-    const double hs = m->type == SPH_WAVEMAKER_FLAP ? sph_flap_transfer(kd, m->hinge / w->depth)
-                                                    : sph_piston_transfer(kd);
-    w->stroke = m->height / hs;
+    w->stroke = (m->waves == SPH_WAVES_IRREGULAR ? m->hs : m->height) / transfer(c, kd, w->depth);
     w->cg = 0.5 * w->omega / w->k * (1.0 + 2.0 * kd / sinh(2.0 * kd));
     return 0;
+}
+
+/* The splitmix64 generator (Steele, Lea & Flood 2014): the irregular sea's phases, the same on
+ * every platform for a seed. */
+static uint64_t splitmix64(uint64_t *state)
+{
+    uint64_t z = (*state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+/* The frequency indices [lo, hi] of c's irregular sea's components, f_i = i / duration in [0.5,
+ * 3] times the peak's; their count. */
+static long component_range(const sph_wavemaker_spec *m, long *lo, long *hi)
+{
+    const double fp = 1.0 / m->tp;
+    *lo = (long)ceil(0.5 * fp * m->duration - 1e-9);
+    *hi = (long)floor(3.0 * fp * m->duration + 1e-9);
+    if (*lo < 1)
+        *lo = 1;
+    return *hi >= *lo ? *hi - *lo + 1 : 0;
+}
+
+int sph_wave_components(const sph_config *c, double depth, double **comp)
+{
+    const sph_wavemaker_spec *m = &c->wavemaker;
+    const double g = -c->gravity[c->dim - 1];
+    long lo, hi;
+    const long n = component_range(m, &lo, &hi);
+    *comp = NULL;
+    if (n < 1 || n > SPH_IRREGULAR_COMPONENTS || !(depth > 0.0) || !(g > 0.0))
+        return 0;
+    double *a = malloc((size_t)n * 3 * sizeof *a);
+    if (!a)
+        return -1;
+    const double fp = 1.0 / m->tp, df = 1.0 / m->duration;
+    double sum = 0.0;
+    for (long i = 0; i < n; i++) {
+        a[3 * i] = sph_jonswap_shape((double)(lo + i) * df, fp, m->gamma);
+        sum += a[3 * i] * df;
+    }
+    const double scale = m->hs * m->hs / 16.0 / sum; /* 4 sqrt(m0) = Hs */
+    uint64_t state = (uint64_t)m->seed;
+    for (long i = 0; i < n; i++) {
+        const double f = (double)(lo + i) * df, omega = 2.0 * PI * f;
+        const double amp = sqrt(2.0 * scale * a[3 * i] * df); /* the wave's amplitude */
+        const double kd = sph_wave_number(omega, g, depth) * depth;
+        a[3 * i] = amp / transfer(c, kd, depth);
+        a[3 * i + 1] = omega;
+        a[3 * i + 2] = 2.0 * PI * (double)(splitmix64(&state) >> 11) * 0x1.0p-53;
+    }
+    *comp = a;
+    return (int)n;
+}
+
+/* The paddle's excursion at the still water level: how far forward (*fwd) and back (*bwd) of
+ * rest its face goes over the whole motion; 0, or -1 out of memory. */
+static int excursion(const sph_config *c, const sph_wave_design *d, double *fwd, double *bwd)
+{
+    const sph_wavemaker_spec *m = &c->wavemaker;
+    *fwd = *bwd = 0.0;
+    switch (m->waves) {
+    case SPH_WAVES_SOLITARY:
+        *fwd = d->stroke;
+        return 0;
+    case SPH_WAVES_REGULAR: {
+        const double a2 =
+            m->order == 2 ? fabs(sph_madsen_second(d->k * d->depth, m->height, d->depth)) : 0.0;
+        *fwd = *bwd = 0.5 * d->stroke + a2;
+        return 0;
+    }
+    case SPH_WAVES_SERIES:
+        for (long i = 0; m->series && i < m->series->n; i++) {
+            *fwd = fmax(*fwd, m->series->x[i]);
+            *bwd = fmax(*bwd, -m->series->x[i]);
+        }
+        return 0;
+    case SPH_WAVES_IRREGULAR: { /* sampled 16 times a period of the highest component */
+        double *comp;
+        const int n = sph_wave_components(c, d->depth, &comp);
+        if (n < 0)
+            return -1;
+        sph_paddle_law law = {.ncomp = n, .comp = comp};
+        const double wmax = n > 0 ? comp[3 * (n - 1) + 1] : 1.0;
+        const long ns = (long)ceil(16.0 * m->duration * wmax / (2.0 * PI));
+        for (long j = 0; j < ns && n > 0; j++) {
+            double v;
+            const double X = sph_paddle_motion(&law, m->duration * (double)j / (double)ns, &v);
+            *fwd = fmax(*fwd, X);
+            *bwd = fmax(*bwd, -X);
+        }
+        free(comp);
+        return 0;
+    }
+    default:
+        return 0;
+    }
 }
 
 static int absorption_check(const sph_config *c, double lo, double hi, sph_error *err)
@@ -114,15 +225,46 @@ int sph_wavemaker_check(const sph_config *c, sph_error *err)
     if (!(w->layers >= 1 && w->layers <= 8))
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/layers",
                              "layers must be from 1 to 8");
-    if (!(w->height > 0.0) || !isfinite(w->height))
+    const int solitary = w->waves == SPH_WAVES_SOLITARY;
+    const int irregular = w->waves == SPH_WAVES_IRREGULAR, series = w->waves == SPH_WAVES_SERIES;
+    if ((w->waves == SPH_WAVES_REGULAR || solitary) && (!(w->height > 0.0) || !isfinite(w->height)))
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/height",
                              "the wave height must be positive");
-    const int solitary = w->waves == SPH_WAVES_SOLITARY;
+    if (irregular) {
+        if (!(w->hs > 0.0) || !isfinite(w->hs))
+            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/hs",
+                                 "the significant wave height must be positive");
+        if (!(w->tp > 0.0) || !isfinite(w->tp))
+            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/tp",
+                                 "the peak period must be positive [s]");
+        if (!(w->gamma >= 1.0 && w->gamma <= 10.0))
+            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/gamma",
+                                 "the peak enhancement factor must be from 1 (Pierson-Moskowitz) "
+                                 "to 10");
+        long lo, hi;
+        const long nc = component_range(w, &lo, &hi);
+        if (!(w->duration >= 10.0 * w->tp) || !isfinite(w->duration))
+            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/duration",
+                                 "the irregular sea's duration (%g s) must be at least 10 peak "
+                                 "periods (%g s): its components are 1 / duration apart",
+                                 w->duration, 10.0 * w->tp);
+        if (nc > SPH_IRREGULAR_COMPONENTS)
+            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/duration",
+                                 "a duration of %g s makes %ld components (1 / duration apart "
+                                 "from 0.5 to 3 times the peak frequency), more than %d: "
+                                 "shorten it (the motion repeats after it)",
+                                 w->duration, nc, SPH_IRREGULAR_COMPONENTS);
+    }
+    if (w->order != 1 && w->order != 2)
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/order", "the order is 1 or 2");
+    if (w->order == 2 && (w->waves != SPH_WAVES_REGULAR || w->type != SPH_WAVEMAKER_PISTON))
+        return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/order",
+                             "second order (Madsen 1971) is for regular waves from a piston");
     if (solitary && w->type == SPH_WAVEMAKER_FLAP)
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/type",
                              "a solitary wave comes from a piston (Goring's law): use "
                              "\"piston\"");
-    if (!solitary && (!(w->period > 0.0) || !isfinite(w->period)))
+    if (w->waves == SPH_WAVES_REGULAR && (!(w->period > 0.0) || !isfinite(w->period)))
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/period",
                              "regular waves need a positive period [s]");
     if (solitary && w->period != 0.0)
@@ -170,35 +312,74 @@ int sph_wavemaker_check(const sph_config *c, sph_error *err)
                                  "first-order theory holds up to H/d = %.2g (d = %.4g m; the "
                                  "highest solitary wave is 0.78 d)",
                                  w->height / d.depth, SPH_SOLITARY_MAX, d.depth);
-    } else {
-        const double steep = w->height / d.length, limit = SPH_WAVE_BREAKING * tanh(d.k * d.depth);
+    } else if (!series) {
+        const double H = irregular ? w->hs : w->height;
+        const char *hp = irregular ? "/wavemaker/waves/hs" : "/wavemaker/waves/height";
+        const double steep = H / d.length, limit = SPH_WAVE_BREAKING * tanh(d.k * d.depth);
         if (steep > limit)
-            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/height",
-                                 "the wave would break: H/L = %.4g (L = %.4g m at d = %.4g m) "
+            return sph_error_set(err, SPH_ERR_INVALID, hp,
+                                 "the wave would break: H/L = %.4g (L = %.4g m at d = %.4g m%s) "
                                  "exceeds the breaking limit 0.142 tanh(kd) = %.4g: lower the "
                                  "height or lengthen the period",
-                                 steep, d.length, d.depth, limit);
+                                 steep, d.length, d.depth,
+                                 irregular ? ", Hs over the peak's L" : "", limit);
+        const double ursell = w->height * d.length * d.length / (d.depth * d.depth * d.depth);
+        if (w->order == 2 && ursell >= 8.0 * PI * PI / 3.0)
+            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/order",
+                                 "second-order theory holds for an Ursell number H L^2 / d^3 "
+                                 "below 8 pi^2 / 3 = 26.3; these waves' is %.3g: lower the height "
+                                 "or shorten the period",
+                                 ursell);
+    }
+    if (series && w->series) { /* checked once read (sph_case_load_files) */
+        const sph_wave_series *q = w->series;
+        const double vmax = sqrt(-c->gravity[c->dim - 1] * d.depth);
+        if (q->n < 2)
+            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/file",
+                                 "the series needs at least 2 rows");
+        for (long i = 0; i < q->n; i++) {
+            const double t0 = i > 0 ? q->t[i - 1] : 0.0, x0 = i > 0 ? q->x[i - 1] : 0.0;
+            if (i > 0 && !(q->t[i] > t0))
+                return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/file",
+                                     "the series' time does not increase at row %ld (t = %g s "
+                                     "after %g s)",
+                                     i + 1, q->t[i], t0);
+            if (i == 0 && !(q->t[0] >= 0.0))
+                return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/file",
+                                     "the series starts at t = %g s, before 0", q->t[0]);
+            const double dt = q->t[i] - t0, dxs = fabs(q->x[i] - x0);
+            if (!isfinite(q->x[i]) || (dxs > 0.0 && !(dxs <= vmax * dt)))
+                return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/file",
+                                     "the series jumps at row %ld (t = %g s): the paddle would "
+                                     "move %g m in %g s, faster than the long waves' speed "
+                                     "sqrt(g d) = %.3g m/s (the paddle rests at 0 until the "
+                                     "first row): smooth the motion or sample it finer",
+                                     i + 1, q->t[i], dxs, dt, vmax);
+        }
     }
     /* how far the paddle's particles travel back (behind the face) and forward (the face at the
-     * still water level): a piston's regular motion +-S/2, a solitary wave's 0 to S; a flap's
-     * back at the tank's top turns (top - hinge) / (d - l) times as far as the face */
-    double fwd = solitary ? d.stroke : 0.5 * d.stroke, bwd = solitary ? 0.0 : 0.5 * d.stroke;
+     * still water level): a piston's regular motion +-S/2 (+ the second harmonic), a solitary
+     * wave's 0 to S, an irregular sea's and a series' extremes; a flap's back at the tank's top
+     * turns (top - hinge) / (d - l) times as far as the face */
+    double fwd, bwd;
+    if (excursion(c, &d, &fwd, &bwd))
+        return sph_error_set(err, SPH_ERR_NOMEM, "/wavemaker", "out of memory");
     if (w->type == SPH_WAVEMAKER_FLAP)
         bwd *= fmax(c->tank.max[c->dim - 1] - c->tank.min[c->dim - 1] - w->hinge, 0.0) /
                (d.depth - w->hinge);
     const double back = w->x - w->layers * c->dx - bwd;
     if (back < c->tank.min[0] || back < c->domain.min[0])
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/x",
-                             "the paddle's stroke (S = %.4g m) takes its back to x = %.4g m, "
+                             "the paddle's stroke (%.4g m back) takes its back to x = %.4g m, "
                              "beyond the tank's wall at %g m: move the paddle's face at least "
                              "%.4g m from the wall",
-                             d.stroke, back, fmax(c->tank.min[0], c->domain.min[0]),
+                             bwd, back, fmax(c->tank.min[0], c->domain.min[0]),
                              w->layers * c->dx + bwd);
     if (w->x + fwd >= far)
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/height",
-                             "the paddle's stroke (S = %.4g m) takes its face to x = %.4g m, "
+                             "the paddle's stroke (%.4g m forward) takes its face to x = %.4g m, "
                              "past the fluid's far end at %g m",
-                             d.stroke, w->x + fwd, far);
+                             fwd, w->x + fwd, far);
     return absorption_check(c, back, w->x + fwd, err);
 }
 
@@ -230,7 +411,8 @@ int sph_paddle_init(sph_paddle *p, const sph_config *c, const sph_particles *P, 
 {
     p->first = first;
     p->np = sph_wavemaker_points(c, NULL);
-    p->rest = NULL;
+    p->rest = p->comp = NULL;
+    p->rows = (sph_wave_series){0};
     p->law = (sph_paddle_law){0};
     if (p->np == 0)
         return 0;
@@ -246,13 +428,37 @@ int sph_paddle_init(sph_paddle *p, const sph_config *c, const sph_particles *P, 
     sph_wave_design d;
     if (sph_wave_design_of(c, &d) == 0) /* checked: always */
         sph_paddle_law_of(c, &d, &p->law);
+    const sph_wavemaker_spec *m = &c->wavemaker;
+    if (m->waves == SPH_WAVES_IRREGULAR) {
+        const int n = sph_wave_components(c, d.depth, &p->comp);
+        if (n < 0)
+            return -1;
+        p->law.ncomp = n;
+        p->law.comp = p->comp;
+    } else if (m->waves == SPH_WAVES_SERIES && m->series && m->series->n > 0) {
+        const long n = m->series->n;
+        p->rows.t = malloc((size_t)n * sizeof *p->rows.t);
+        p->rows.x = malloc((size_t)n * sizeof *p->rows.x);
+        if (!p->rows.t || !p->rows.x)
+            return -1;
+        memcpy(p->rows.t, m->series->t, (size_t)n * sizeof *p->rows.t);
+        memcpy(p->rows.x, m->series->x, (size_t)n * sizeof *p->rows.x);
+        p->rows.n = p->law.nseries = n;
+        p->law.st = p->rows.t;
+        p->law.sx = p->rows.x;
+    } else if (m->waves == SPH_WAVES_SERIES) {
+        return -2;
+    }
     return 0;
 }
 
 void sph_paddle_law_of(const sph_config *c, const sph_wave_design *d, sph_paddle_law *law)
 {
     const sph_wavemaker_spec *m = &c->wavemaker;
-    *law = (sph_paddle_law){.stroke = d->stroke, .omega = d->omega, .tramp = m->ramp * m->period};
+    const double period = m->waves == SPH_WAVES_IRREGULAR ? m->tp : m->period;
+    *law = (sph_paddle_law){.stroke = d->stroke, .omega = d->omega, .tramp = m->ramp * period};
+    if (m->waves == SPH_WAVES_REGULAR && m->order == 2)
+        law->second = sph_madsen_second(d->k * d->depth, m->height, d->depth);
     if (m->waves == SPH_WAVES_SOLITARY) {
         law->solitary = 1;
         law->height = m->height;
@@ -272,7 +478,12 @@ void sph_paddle_law_of(const sph_config *c, const sph_wave_design *d, sph_paddle
 void sph_paddle_free(sph_paddle *p)
 {
     free(p->rest);
-    p->rest = NULL;
+    free(p->comp);
+    free(p->rows.t);
+    free(p->rows.x);
+    p->rest = p->comp = NULL;
+    p->rows = (sph_wave_series){0};
+    p->law = (sph_paddle_law){0};
     p->np = 0;
 }
 

@@ -27,14 +27,21 @@
 #include "sph_wave_law.h"
 
 typedef struct sph_paddle {
-    long first, np;     /* the paddle's particles: ids [first, first + np) */
-    double *rest;       /* 2 per particle: its position at rest [m], by id - first */
-    sph_paddle_law law; /* its motion */
+    long first, np;       /* the paddle's particles: ids [first, first + np) */
+    double *rest;         /* 2 per particle: its position at rest [m], by id - first */
+    sph_paddle_law law;   /* its motion (its arrays: comp and series) */
+    double *comp;         /* irregular waves: the components (law.comp), owned */
+    sph_wave_series rows; /* a series' rows (law.st, .sx), owned */
 } sph_paddle;
 
 /* The design of c's wavemaker (sph_config.h; type not none): 0, or -1 when the depth or gravity
  * leaves no waves. */
 int sph_wave_design_of(const sph_config *c, sph_wave_design *w);
+
+/* The components of c's irregular sea at the still water depth depth (sph_wave_law.h: 3 a
+ * component, the displacement's amplitude A_i [m], omega_i [rad/s], phase [rad]) into a new
+ * array *comp (the caller frees it); their count, 0 with none (*comp NULL), -1 out of memory. */
+int sph_wave_components(const sph_config *c, double depth, double **comp);
 
 /* Checks c's wavemaker and damping zone (after the shared checks: dx, domain, tank), err->path
  * at the field: a method, dimension, device or wall treatment that cannot move a paddle, fluid
@@ -49,7 +56,9 @@ int sph_wavemaker_check(const sph_config *c, sph_error *err);
 long sph_wavemaker_points(const sph_config *c, double *const *pos);
 
 /* Builds c's paddle over P's particles [first, first + np) as the fill left them (ids their
- * indices): 0, or -1 out of memory. A no-op (np 0) without a wavemaker. */
+ * indices), with its own copy of an irregular sea's components or a series' rows: 0, -1 out of
+ * memory, -2 for a series not read (c's wavemaker.series NULL). A no-op (np 0) without a
+ * wavemaker. */
 int sph_paddle_init(sph_paddle *p, const sph_config *c, const sph_particles *P, long first);
 void sph_paddle_free(sph_paddle *p);
 

@@ -57,6 +57,7 @@ typedef struct {
     double t, dt, amax, vmax;
     int64_t nstart;
     double moved;
+    int64_t nseries;
     sph_config cfg;
     sph_diag diag;
     sph_envelope wave;
@@ -244,6 +245,7 @@ static const sim_fault sim_faults[] = {
     {"mirror_not_a_number", 2, "mirror point that is not a number"},
     {"nlist_start_past_active", 3, "bad cell list"},
     {"nlist_moved_negative", 3, "bad cell list"},
+    {"series_rows_past_end", 0, "bad wave series"},
 };
 
 /* Applies the named fault to a copy of the valid state. */
@@ -281,6 +283,9 @@ static bytes apply_sim_fault(const char *name, const bytes *valid, const state_l
     } else if (strcmp(name, "nlist_moved_negative") == 0) { /* never rebuilt again */
         const double v = -1e300;
         put(&s, offsetof(sim_header, moved), &v, sizeof v);
+    } else if (strcmp(name, "series_rows_past_end") == 0) { /* a wave series' rows read past it */
+        const int64_t v = 1 << 20;
+        put(&s, offsetof(sim_header, nseries), &v, sizeof v);
     } else if (strcmp(name, "body_particle_typed_fluid") == 0) {
         put(&s, L->types + (size_t)L->body, &fluid, 1);
     } else if (strcmp(name, "body_type_on_fluid") == 0) { /* bodies' tables read by id */

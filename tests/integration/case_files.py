@@ -191,7 +191,72 @@ def main(sphd, sphctl, src):
                 d2.close()
     finally:
         d.close()
+    series(sphd, sphctl, src, work, t)
     return t.done()
+
+
+def series(sphd, sphctl, src, work, t):
+    """A wavemaker's series file travels like a mesh: sphctl sends it, sphd keeps it, checks its
+    rows (a jump is invalid_case at /wavemaker/waves/file naming the row), runs the job with it
+    and, after kill -9 and a restart, steps a paused one."""
+    with open(os.path.join(src, "cases", "wave_flume.json")) as f:
+        flume = json.load(f)
+    del flume["diagnostics"]["reflection"]
+    flume.update(name="series", dx=0.05, time=dict(flume["time"], end=0.3))
+    flume["wavemaker"] = dict(flume["wavemaker"], layers=3,
+                              waves={"type": "series", "file": "paddle/motion.csv"})
+    rows = "time,displacement\n" + "".join(
+        "%g,%g\n" % (0.01 * i, 0.01 * (0.01 * i) ** 2) for i in range(101))
+    os.makedirs(os.path.join(work, "paddle"), exist_ok=True)
+    with open(os.path.join(work, "paddle", "motion.csv"), "w") as f:
+        f.write(rows)
+    p = os.path.join(work, "series.json")
+    with open(p, "w") as f:
+        json.dump(flume, f)
+    d = Daemon(sphd)
+    try:
+        def ctl(*args):
+            r = subprocess.run([sphctl, "--endpoint", d.control, *args], capture_output=True,
+                               text=True, timeout=120)
+            return r.returncode, r.stdout + r.stderr
+
+        gone = dict(flume, wavemaker=dict(flume["wavemaker"],
+                                          waves={"type": "series", "file": "gone.csv"}))
+        q = os.path.join(work, "gone.json")
+        with open(q, "w") as f:
+            json.dump(gone, f)
+        rc, out = ctl("submit", q, "--no-start")
+        t.check(rc == 66 and "gone.csv" in out and "series" in out,
+                "a missing series: exit 66 naming it", (rc, out))
+        jump = "0,0\n0.1,0\n0.2,0.5\n1,0.5\n".encode()
+        r = d.request("submit", {"case": flume, "job": "jump", "start": False,
+                                 "files": {"paddle/motion.csv": entry(jump)}})
+        t.check(not r["ok"] and r["error"]["code"] == "invalid_case"
+                and r["error"]["path"] == "/wavemaker/waves/file"
+                and "row 3" in r["error"]["message"], "a jump: invalid_case naming the row", r)
+        t.check(not os.path.exists(os.path.join(d.state, "jobs", "jump")),
+                "the refused series left no job directory")
+        rc, out = ctl("--json", "submit", p, "--id", "ser", "--watch")
+        t.check(rc == 0, "a series flume runs to its end", (rc, out[-400:]))
+        jobdir = os.path.join(d.state, "jobs", "ser")
+        with open(os.path.join(jobdir, "files", "paddle", "motion.csv")) as f:
+            t.check(f.read() == rows, "the series is in JOBDIR/files/")
+        res = d.ok("results", {"job": "ser"})
+        t.check(any(f["name"] == "files/paddle/motion.csv" and f["kind"] == "input"
+                    for f in res["files"]), "results lists the series", res)
+        rc, out = ctl("--json", "submit", p, "--id", "ser2", "--no-start")
+        t.check(rc == 0, "a second series job, paused", (rc, out))
+        d.proc.kill()
+        d.proc.wait()
+        d2 = Daemon(sphd, "--state-dir", d.state)
+        try:
+            r = d2.request("step", {"job": "ser2", "n": 5})
+            t.check(r["ok"], "after kill -9 and a restart the series job steps (its series read "
+                    "again)", r)
+        finally:
+            d2.close()
+    finally:
+        d.close()
 
 
 if __name__ == "__main__":

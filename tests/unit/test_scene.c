@@ -583,7 +583,7 @@ static void restore_without_surface(void **state)
     sph_sim_destroy(b);
 }
 
-/* A mesh file read through the case (sph_case_load_meshes): a box as ASCII STL with one
+/* A mesh file read through the case (sph_case_load_files): a box as ASCII STL with one
  * degenerate facet more, which is dropped and counted in the job's note; the box fills as the
  * built-in box would on the same lattice. */
 static void mesh_file_through_case(void **state)
@@ -614,7 +614,7 @@ static void mesh_file_through_case(void **state)
     sph_error err;
     sph_case *c = parse(case3d("[{\"mesh\": \"box.stl\", \"role\": \"fluid\"}]", NULL), &err);
     assert_non_null(c);
-    if (sph_case_load_meshes(c, dir, NULL, &err))
+    if (sph_case_load_files(c, dir, NULL, &err))
         fail_msg("%s: %s", err.path, err.message);
     char note[256];
     int warn = 0;
@@ -636,7 +636,7 @@ static void mesh_file_through_case(void **state)
     remove(file);
     c = parse(case3d("[{\"mesh\": \"box.stl\", \"role\": \"fluid\"}]", NULL), &err);
     assert_non_null(c);
-    assert_int_not_equal(sph_case_load_meshes(c, dir, NULL, &err), 0);
+    assert_int_not_equal(sph_case_load_files(c, dir, NULL, &err), 0);
     assert_string_equal(err.path, "/geometry/0/mesh");
     assert_non_null(strstr(err.message, "box.stl"));
     drop(c);

@@ -47,6 +47,7 @@
 #include "sph_json.h"
 #include "sph_sim.h"
 #include "sph_wave_law.h"
+#include "sph_wavemaker.h"
 #include "sphd_waves.h"
 #include "unit_case.h"
 
@@ -54,6 +55,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static void transfer_function(void **state)
 {
@@ -654,6 +656,359 @@ static void reflection_refused(void **state)
     assert_non_null(strstr(err.message, "wavemaker"));
 }
 
+/* ---- second order, irregular seas, series (issue 45) ------------------------------------- */
+
+/* Madsen's second harmonic at kd = 0.6, H = 0.05 m, d = 0.4 m: 0.00203892942146992 m (mpmath,
+ * H^2 / (32 d) (3 cosh kd / sinh^3 kd - 2 / m1), m1 the piston's H/S); the law at order 2
+ * r(t) (S/2 sin(omega t) + a2 sin(2 omega t)), its rate a centred difference. */
+static void second_order_law(void **state)
+{
+    (void)state;
+    assert_true(fabs(sph_madsen_second(0.6, 0.05, 0.4) / 0.00203892942146992 - 1.0) < 1e-13);
+    const sph_paddle_law p = {.stroke = 0.1, .omega = 2.0, .tramp = 3.0, .second = 0.004};
+    for (double t = 0.1; t < 8.0; t += 0.37) {
+        double v, vp, vm, rate;
+        const double X = sph_paddle_motion(&p, t, &v);
+        const double r = sph_wave_ramp(t, p.tramp, &rate);
+        assert_true(fabs(X - r * (0.05 * sin(2.0 * t) + 0.004 * sin(4.0 * t))) < 1e-15);
+        const double h = 1e-6;
+        const double d =
+            (sph_paddle_motion(&p, t + h, &vp) - sph_paddle_motion(&p, t - h, &vm)) / (2.0 * h);
+        assert_true(fabs(v - d) < 1e-8);
+    }
+}
+
+/* cases/wave_flume.json with waves (a JSON object) and sets, without its reflection (of regular
+ * waves only), parsed into the whole case *c: 0 or the parser's error. */
+static int flume(const char *waves, const char *const *sets, sph_case *c, sph_error *err)
+{
+    char path[4096];
+    const char *src = getenv("SPH_SOURCE_DIR");
+    snprintf(path, sizeof path, "%s/cases/wave_flume.json", src ? src : ".");
+    json_t *root;
+    assert_int_equal(sph_case_load(path, &root, err), 0);
+    json_object_del(json_object_get(root, "diagnostics"), "reflection");
+    json_t *w = json_loads(waves, 0, NULL);
+    assert_non_null(w);
+    json_object_set_new(json_object_get(root, "wavemaker"), "waves", w);
+    for (; sets && *sets; sets++)
+        if (sph_json_apply_set(root, *sets, err) != 0)
+            fail_msg("--set %s: %s", *sets, err->message);
+    const int rc = sph_case_from_json(root, c, err);
+    json_decref(root);
+    return rc;
+}
+
+static const char *const IRREGULAR =
+    "{\"type\": \"irregular\", \"hs\": 0.04, \"tp\": 1.27, \"duration\": 1000, \"seed\": 7}";
+
+/* An irregular sea's components: the JONSWAP shape against mpmath at three frequencies (f = 0.5,
+ * fp, 1.2 Hz for Tp = 1.27 s, gamma 3.3); the frequencies i / D from 0.5 to 3 fp; the surface
+ * they make, sum a_i sin(omega_i t + phi_i) with a_i = A_i times the piston's H / S, sampled over
+ * the duration D: 4 sqrt(m0) = Hs (the components are orthogonal over D: to 1e-9) and its H1/3
+ * by zero up-crossing (sphd_waves_sea) within [0.85, 1.0] Hs (Rayleigh's 1.0 less the spectrum's
+ * width: about 0.95 for JONSWAP, Goda 2000); the largest component at the peak; the same seed
+ * the same phases, another seed others. */
+static void irregular_sea(void **state)
+{
+    (void)state;
+    const double fp = 1.0 / 1.27;
+    assert_true(fabs(sph_jonswap_shape(0.5, fp, 3.3) / 0.0146649738472036702 - 1.0) < 1e-12);
+    assert_true(fabs(sph_jonswap_shape(fp, fp, 3.3) / 3.12366493412966990 - 1.0) < 1e-12);
+    assert_true(fabs(sph_jonswap_shape(1.2, fp, 3.3) / 0.318755391902221371 - 1.0) < 1e-12);
+    sph_case *cs = calloc(1, sizeof *cs);
+    assert_non_null(cs);
+    sph_error err;
+    if (flume(IRREGULAR, NULL, cs, &err))
+        fail_msg("%s: %s", err.path, err.message);
+    const sph_config *c = &cs->sim;
+    const double D = 1000.0, g = 9.81;
+    sph_wave_design w;
+    assert_int_equal(sph_sim_wave_design(c, &w), 0);
+    double *comp;
+    const int n = sph_wave_components(c, w.depth, &comp);
+    const long lo = (long)ceil(0.5 * fp * D), hi = (long)floor(3.0 * fp * D);
+    assert_int_equal(n, hi - lo + 1);
+    int peak = 0;
+    for (int i = 0; i < n; i++) {
+        assert_true(fabs(comp[3 * i + 1] - 2.0 * PI * (double)(lo + i) / D) < 1e-12);
+        assert_true(comp[3 * i + 2] >= 0.0 && comp[3 * i + 2] < 2.0 * PI);
+        const double kd = sph_wave_number(comp[3 * i + 1], g, w.depth) * w.depth;
+        comp[3 * i] *= sph_piston_transfer(kd); /* the wave's amplitude */
+        if (comp[3 * i] > comp[3 * peak])
+            peak = i;
+    }
+    assert_true(fabs(comp[3 * peak + 1] / (2.0 * PI) - fp) <= 1.0 / D);
+    const long ns = 20000;
+    double *t = malloc(ns * sizeof *t), *eta = malloc(ns * sizeof *eta);
+    assert_true(t && eta);
+    double m0 = 0.0;
+    for (long j = 0; j < ns; j++) {
+        t[j] = D * (double)j / (double)ns;
+        eta[j] = 0.0;
+        for (int i = 0; i < n; i++)
+            eta[j] += comp[3 * i] * sin(comp[3 * i + 1] * t[j] + comp[3 * i + 2]);
+        m0 += eta[j] * eta[j] / (double)ns;
+    }
+    assert_true(fabs(4.0 * sqrt(m0) / 0.04 - 1.0) < 1e-9);
+    double hm0, h13;
+    const int waves = sphd_waves_sea(t, eta, 1, ns, 0.0, &hm0, &h13);
+    assert_true(waves > 500 && fabs(hm0 / 0.04 - 1.0) < 1e-3);
+    if (!(h13 / 0.04 >= 0.85 && h13 / 0.04 <= 1.0))
+        fail_msg("H1/3 = %g Hs", h13 / 0.04);
+    /* the same seed: the same phases; another: others */
+    double *again, *other;
+    assert_int_equal(sph_wave_components(c, w.depth, &again), n);
+    cs->sim.wavemaker.seed = 8;
+    assert_int_equal(sph_wave_components(c, w.depth, &other), n);
+    int same = 0;
+    for (int i = 0; i < n; i++) {
+        assert_true(again[3 * i + 2] == comp[3 * i + 2]);
+        same += other[3 * i + 2] == comp[3 * i + 2];
+    }
+    assert_int_equal(same, 0);
+    free(again);
+    free(other);
+    free(comp);
+    free(t);
+    free(eta);
+    sph_case_clear(cs);
+    free(cs);
+}
+
+/* A series' law: the rows' displacements at the rows, at rest (0 rate) at both ends and before
+ * and after them, the centred slope at the inner rows, continuous in X and rate across each row
+ * (the Hermite pieces meet), its rate the derivative of X (a centred difference). */
+static void series_law(void **state)
+{
+    (void)state;
+    const double ts[] = {0.0, 0.5, 1.0, 1.7, 2.0}, xs[] = {0.0, 0.01, -0.02, 0.005, 0.0};
+    const long n = 5;
+    double v;
+    for (long i = 0; i < n; i++) {
+        assert_true(fabs(sph_series_motion(ts, xs, n, ts[i], &v) - xs[i]) < 1e-15);
+        const double h = 1e-7;
+        double vl, vr;
+        const double xl = sph_series_motion(ts, xs, n, ts[i] - h, &vl);
+        const double xr = sph_series_motion(ts, xs, n, ts[i] + h, &vr);
+        assert_true(fabs(xl - xr) < 1e-8 && fabs(vl - vr) < 1e-5);
+        const double slope =
+            i == 0 || i == n - 1 ? 0.0 : (xs[i + 1] - xs[i - 1]) / (ts[i + 1] - ts[i - 1]);
+        assert_true(fabs(0.5 * (vl + vr) - slope) < 1e-6);
+    }
+    assert_true(sph_series_motion(ts, xs, n, -1.0, &v) == 0.0 && v == 0.0);
+    assert_true(sph_series_motion(ts, xs, n, 9.0, &v) == 0.0 && v == 0.0);
+    for (double t = 0.05; t < 2.0; t += 0.0731) {
+        double vp, vm;
+        const double h = 1e-6;
+        sph_series_motion(ts, xs, n, t, &v);
+        const double d =
+            (sph_series_motion(ts, xs, n, t + h, &vp) - sph_series_motion(ts, xs, n, t - h, &vm)) /
+            (2.0 * h);
+        assert_true(fabs(v - d) < 1e-7);
+    }
+}
+
+/* The series' text: a header, comments, blank lines and separators; its errors at
+ * /wavemaker/waves/file naming the line. */
+static void series_parse(void **state)
+{
+    (void)state;
+    sph_wave_series q;
+    sph_error err;
+    const char *ok = "time,displacement\n# a comment\n0, 0\n\n0.5;0.01\n1.0\t-0.02\r\n 1.5   0\n";
+    assert_int_equal(sph_wave_series_parse(ok, strlen(ok), "m.csv", &q, &err), 0);
+    assert_int_equal(q.n, 4);
+    assert_true(q.t[2] == 1.0 && q.x[2] == -0.02 && q.t[3] == 1.5 && q.x[1] == 0.01);
+    sph_wave_series_free(&q);
+    const struct {
+        const char *text, *needle;
+    } bad[] = {{"0,0\n1,0\n1,0.01\n", "line 3"},  {"0,0\n1,0\n0.5,0.01\n", "does not increase"},
+               {"0,0\n1,abc\n", "line 2"},        {"0,0\n1,0,3\n", "line 2"},
+               {"t,x\n0,0\n", "at least 2 rows"}, {"", "at least 2 rows"}};
+    for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
+        if (sph_wave_series_parse(bad[k].text, strlen(bad[k].text), "m.csv", &q, &err) == 0)
+            fail_msg("series %zu accepted", k);
+        assert_string_equal(err.path, "/wavemaker/waves/file");
+        if (!strstr(err.message, bad[k].needle) || !strstr(err.message, "m.csv"))
+            fail_msg("series %zu: \"%s\" lacks \"%s\"", k, err.message, bad[k].needle);
+        assert_true(q.n == 0 && q.t == NULL);
+    }
+}
+
+/* A series flume: cases/wave_flume.json's piston moved by rows (a ramped sine sampled every
+ * 0.01 s) written to a file next to a case that names it, read by sph_case_load_files; the
+ * paddle at rest + the law's X(t) after 300 steps; a checkpoint at step 100 (which carries the
+ * rows) continues to the same bits. A second-order piston and an irregular sea (their own
+ * laws) restart to the same bits too. */
+static void series_flume(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/sph_series_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char file[256];
+    snprintf(file, sizeof file, "%s/motion.csv", dir);
+    FILE *f = fopen(file, "w");
+    assert_non_null(f);
+    fprintf(f, "time,displacement\n");
+    for (int i = 0; i <= 300; i++) {
+        const double t = 0.01 * i, r = t < 2.54 ? t / 2.54 : 1.0;
+        fprintf(f, "%.17g,%.17g\n", t, 0.02 * r * r * sin(2.0 * PI * t / 1.27));
+    }
+    fclose(f);
+    const char *const sets[] = {"dx=0.05", "wavemaker.layers=3", NULL};
+    sph_case *cs = calloc(1, sizeof *cs);
+    assert_non_null(cs);
+    sph_error err;
+    assert_int_equal(flume("{\"type\": \"series\", \"file\": \"motion.csv\"}", sets, cs, &err), 0);
+    assert_null(cs->sim.wavemaker.series);
+    /* sph_sim_create refuses a series not read */
+    assert_null(sph_sim_create(&cs->sim, &err));
+    assert_string_equal(err.path, "/wavemaker/waves/file");
+    if (sph_case_load_files(cs, dir, NULL, &err))
+        fail_msg("%s: %s", err.path, err.message);
+    assert_non_null(cs->sim.wavemaker.series);
+    assert_int_equal(cs->sim.wavemaker.series->n, 301);
+    sph_sim *a = sph_sim_create(&cs->sim, &err);
+    assert_non_null(a);
+    const sph_wave_series *q = cs->sim.wavemaker.series;
+    assert_true(q->t[300] == 3.0);
+    assert_int_equal(sph_sim_advance(a, 100, INFINITY, &err), 0);
+    void *buf;
+    size_t len;
+    assert_int_equal(sph_sim_save(a, &buf, &len, &err), 0);
+    sph_case_clear(cs); /* the restored sim needs nothing of the case */
+    sph_sim *b = sph_sim_restore(buf, len, &err);
+    if (!b)
+        fail_msg("%s: %s", err.path, err.message);
+    free(buf);
+    assert_int_equal(sph_sim_advance(a, 200, INFINITY, &err), 0);
+    assert_int_equal(sph_sim_advance(b, 200, INFINITY, &err), 0);
+    unit_same_bits(a, b);
+    /* the paddle at rest + X(t), X from the file's rows (read again here) */
+    sph_wave_series rows;
+    {
+        FILE *g = fopen(file, "rb");
+        static char text[65536];
+        const size_t got = fread(text, 1, sizeof text, g);
+        fclose(g);
+        assert_int_equal(sph_wave_series_parse(text, got, "motion.csv", &rows, &err), 0);
+    }
+    double v;
+    const double X = sph_series_motion(rows.t, rows.x, rows.n, sph_sim_time(b), &v);
+    assert_true(fabs(X) > 1e-4); /* 0.3 s into the ramp */
+    sph_particle_view pv;
+    sph_sim_particles(b, &pv);
+    long np = 0;
+    for (long i = 0; i < pv.n; i++) {
+        if (pv.type[i] != 1 || pv.pos[1][i] < 0.0 || pv.pos[0][i] < 0.0 || pv.pos[0][i] > 0.3)
+            continue;
+        const double k = (0.2 - (pv.pos[0][i] - X)) / 0.05 - 0.5;
+        assert_true(fabs(k - round(k)) < 1e-9 && fabs(pv.vel[0][i] - v) < 1e-12);
+        np++;
+    }
+    assert_int_equal(np, 3 * 14);
+    sph_wave_series_free(&rows);
+    sph_sim_destroy(a);
+    sph_sim_destroy(b);
+    unlink(file);
+    rmdir(dir);
+    /* second order and an irregular sea: a restart to the same bits */
+    const char *waves[] = {
+        "{\"type\": \"regular\", \"height\": 0.05, \"period\": 1.27, \"order\": 2}",
+        "{\"type\": \"irregular\", \"hs\": 0.04, \"tp\": 1.27, \"duration\": 60}"};
+    for (int k = 0; k < 2; k++) {
+        assert_int_equal(flume(waves[k], sets, cs, &err), 0);
+        a = sph_sim_create(&cs->sim, &err);
+        assert_non_null(a);
+        assert_int_equal(sph_sim_advance(a, 60, INFINITY, &err), 0);
+        assert_int_equal(sph_sim_save(a, &buf, &len, &err), 0);
+        b = sph_sim_restore(buf, len, &err);
+        assert_non_null(b);
+        free(buf);
+        assert_int_equal(sph_sim_advance(a, 120, INFINITY, &err), 0);
+        assert_int_equal(sph_sim_advance(b, 120, INFINITY, &err), 0);
+        unit_same_bits(a, b);
+        sph_sim_destroy(a);
+        sph_sim_destroy(b);
+        sph_case_clear(cs);
+    }
+    free(cs);
+}
+
+/* The new kinds' bad inputs, each at its path. */
+static void bad_new_inputs(void **state)
+{
+    (void)state;
+    const struct {
+        const char *waves;
+        const char *const *sets;
+        const char *path;
+    } bad[] = {
+        /* second order: a flap; an Ursell number past 8 pi^2 / 3 (kd 0.34: T = 4 s) */
+        {"{\"type\": \"regular\", \"height\": 0.05, \"period\": 1.27, \"order\": 2}",
+         (const char *const[]){"wavemaker.type=flap", NULL}, "/wavemaker/waves/order"},
+        {"{\"type\": \"regular\", \"height\": 0.05, \"period\": 4, \"order\": 2}", NULL,
+         "/wavemaker/waves/order"},
+        {"{\"type\": \"regular\", \"height\": 0.05, \"period\": 1.27, \"order\": 3}", NULL,
+         "/wavemaker/waves/order"},
+        /* irregular: too short, too many components, too steep, a height instead of hs, an
+         * order, gamma out of range, no hs */
+        {"{\"type\": \"irregular\", \"hs\": 0.04, \"tp\": 1.27, \"duration\": 12}", NULL,
+         "/wavemaker/waves/duration"},
+        {"{\"type\": \"irregular\", \"hs\": 0.04, \"tp\": 1.27, \"duration\": 2000}", NULL,
+         "/wavemaker/waves/duration"},
+        {"{\"type\": \"irregular\", \"hs\": 0.3, \"tp\": 1.27, \"duration\": 60}", NULL,
+         "/wavemaker/waves/hs"},
+        {"{\"type\": \"irregular\", \"height\": 0.04, \"hs\": 0.04, \"tp\": 1.27, "
+         "\"duration\": 60}",
+         NULL, "/wavemaker/waves/height"},
+        {"{\"type\": \"irregular\", \"hs\": 0.04, \"tp\": 1.27, \"duration\": 60, \"order\": 1}",
+         NULL, "/wavemaker/waves/order"},
+        {"{\"type\": \"irregular\", \"hs\": 0.04, \"tp\": 1.27, \"duration\": 60, \"gamma\": 0.5}",
+         NULL, "/wavemaker/waves/gamma"},
+        {"{\"type\": \"irregular\", \"tp\": 1.27, \"duration\": 60}", NULL, "/wavemaker/waves/hs"},
+        /* a series without its file, with a height */
+        {"{\"type\": \"series\"}", NULL, "/wavemaker/waves/file"},
+        {"{\"type\": \"series\", \"file\": \"m.csv\", \"height\": 0.1}", NULL,
+         "/wavemaker/waves/height"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
+        sph_case *cs = calloc(1, sizeof *cs);
+        assert_non_null(cs);
+        sph_error err;
+        const int rc = flume(bad[k].waves, bad[k].sets, cs, &err);
+        sph_case_clear(cs);
+        free(cs);
+        if (rc == 0 || strcmp(err.path, bad[k].path) != 0)
+            fail_msg("case %zu: %s (%s), expected an error at %s", k, rc ? err.path : "accepted",
+                     rc ? err.message : "", bad[k].path);
+    }
+    /* a series' rows: a jump (from rest at t = 0 to 5 mm; 0.5 m in 0.1 s, faster than sqrt(g d)
+     * = 1.98 m/s), a stroke through the tank's wall */
+    const struct {
+        double t[3], x[3];
+        const char *path, *needle;
+    } rows[] = {{{0.0, 1.0, 2.0}, {0.005, 0.0, 0.0}, "/wavemaker/waves/file", "row 1"},
+                {{0.0, 0.1, 2.0}, {0.0, 0.5, 0.0}, "/wavemaker/waves/file", "row 2"},
+                {{0.0, 1.0, 2.0}, {0.0, -0.15, 0.0}, "/wavemaker/x", "back"}};
+    for (size_t k = 0; k < sizeof rows / sizeof *rows; k++) {
+        sph_case *cs = calloc(1, sizeof *cs);
+        assert_non_null(cs);
+        sph_error err;
+        assert_int_equal(flume("{\"type\": \"series\", \"file\": \"m.csv\"}", NULL, cs, &err), 0);
+        sph_wave_series q = {.n = 3, .t = (double *)rows[k].t, .x = (double *)rows[k].x};
+        cs->sim.wavemaker.series = &q;
+        const int rc = sph_sim_check(&cs->sim, &err);
+        cs->sim.wavemaker.series = NULL;
+        sph_case_clear(cs);
+        free(cs);
+        if (rc == 0 || strcmp(err.path, rows[k].path) != 0 || !strstr(err.message, rows[k].needle))
+            fail_msg("rows %zu: %s (%s), expected an error at %s", k, rc ? err.path : "accepted",
+                     rc ? err.message : "", rows[k].path);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -673,6 +1028,12 @@ int main(void)
         cmocka_unit_test(analysis_reflection),
         cmocka_unit_test(analysis_solitary),
         cmocka_unit_test(reflection_refused),
+        cmocka_unit_test(second_order_law),
+        cmocka_unit_test(irregular_sea),
+        cmocka_unit_test(series_law),
+        cmocka_unit_test(series_parse),
+        cmocka_unit_test(series_flume),
+        cmocka_unit_test(bad_new_inputs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

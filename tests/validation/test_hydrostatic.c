@@ -37,7 +37,7 @@ int main(int argc, char **argv)
     snprintf(dir, sizeof dir, "%s", file);
     *strrchr(dir, '/') = '\0'; /* the case's folder: its meshes are named relative to it */
     if (!c || sph_case_load(file, &root, &err) || sph_case_from_json(root, c, &err) ||
-        sph_case_load_meshes(c, dir, NULL, &err)) {
+        sph_case_load_files(c, dir, NULL, &err)) {
         fprintf(stderr, "FAIL: %s: %s %s\n", file, err.path, err.message);
         return 1;
     }
