@@ -37,7 +37,7 @@
          * (sph_wavemaker_spec.hinge, SPH_WAVES_SOLITARY); 27: run-up gauges                       \
          * (sph_gauge_spec.to); 28: second-order, irregular and series waves                       \
          * (sph_wavemaker_spec.order, .spectrum, .hs, .tp, .gamma, .duration, .seed, .file,        \
-         * .series; a series' rows follow the header) */
+         * .series, .active; a series' rows follow the header; the paddle's state) */
 
 typedef struct {
     char magic[8];
@@ -49,7 +49,8 @@ typedef struct {
     double t, dt, amax, vmax;
     int64_t nstart; /* the cells' starts saved (a reused neighbour list's build): 0 or ncells + 2 */
     double moved;   /* the neighbour list's displacement bound since its build [m] */
-    int64_t nseries; /* a series wavemaker's rows: their times then displacements follow */
+    int64_t nseries;         /* a series wavemaker's rows: their times then displacements follow */
+    sph_paddle_state paddle; /* a piston's active absorption */
     sph_config cfg;
     sph_diag diag;
     sph_envelope wave; /* the kinetic-energy peaks so far (initial fields with a theory) */
@@ -91,6 +92,7 @@ int sph_sim_save(const sph_sim *s, void **buf, size_t *len, sph_error *err)
     h.nstart = (int64_t)ns;
     h.moved = s->nlist.moved;
     h.nseries = (int64_t)nq;
+    h.paddle = s->paddle.st;
     h.cfg = s->cfg;
     h.cfg.wavemaker.series = NULL; /* an address: the rows follow */
     h.diag = s->diag;
@@ -191,6 +193,8 @@ static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
         goto done;
     }
     s = sph_sim_create(&h.cfg, err); /* its paddle copies the rows */
+    if (s)
+        s->paddle.st = h.paddle;
 done:
     free(q.t);
     free(q.x);

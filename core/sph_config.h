@@ -239,6 +239,7 @@ typedef struct sph_wavemaker_spec {
      * the case owns them, sph_case_load_files) */
     char file[SPH_GEOMETRY_FILE_MAX];
     const sph_wave_series *series;
+    int active; /* 1: active absorption at a piston (boundary/sph_wavemaker.h), 0: none */
 } sph_wavemaker_spec;
 
 /* A case's "absorption": a passive damping zone (Altomare et al. 2017) that relaxes the fluid's

@@ -68,6 +68,7 @@ static const char *const waves_names[] = {"regular", "solitary", "irregular", "s
 static const int waves_values[] = {SPH_WAVES_REGULAR, SPH_WAVES_SOLITARY, SPH_WAVES_IRREGULAR,
                                    SPH_WAVES_SERIES};
 static const char *const spectrum_names[] = {"jonswap", NULL};
+static const char *const paddle_absorption_names[] = {"none", "active", NULL};
 static const char *const absorption_names[] = {"damping", NULL};
 static const int absorption_values[] = {1};
 static const char *const shape_names[] = {"circle", "box", "polygon", NULL};
@@ -720,6 +721,12 @@ const sph_case_field sph_case_fields[] = {
      .hi = 1e6, .has_def = 1, .def = 0.0, CFG(wavemaker.hinge),
      .doc = "a flap's hinge, on its face, above the tank's bottom [m]: in the water column, from "
             "0 (the bottom) to below the still water level; a piston has none"},
+    {.path = "/wavemaker/absorption", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,
+     .names = paddle_absorption_names, .has_def = 1, .def = 0, CFG(wavemaker.active),
+     .doc = "active: the piston also absorbs the waves that come back to it, its velocity "
+            "corrected by -sqrt(g/d) times the level it measures at its face less the level its "
+            "waves should make there (section 1.8; regular first-order, irregular and solitary "
+            "waves, the CPU); none: it reflects them"},
     {.path = "/wavemaker/waves", .type = SPH_CF_OBJECT, .methods = SPH_CF_WCSPH,
      .required = SPH_CF_WCSPH, .doc = "the waves to make"},
     {.path = "/wavemaker/waves/type", .type = SPH_CF_ENUM, .methods = SPH_CF_WCSPH,

@@ -239,6 +239,31 @@ SPH_HD static inline double sph_paddle_motion(const sph_paddle_law *p, double t,
     return a * r * s;
 }
 
+/* The surface elevation [m] the law's waves make at the paddle's face at time t (linear
+ * theory's progressive wave, in phase with the paddle's velocity): regular waves r(t) H/2
+ * cos(omega t) (first order, H = S times the transfer function hs); an irregular sea the sum of
+ * its components' a_i cos(omega_i t + phi_i) (comp's A_i times their transfer functions in tf);
+ * a solitary wave H sech^2(theta(t)). Active absorption's target (sph_wavemaker.h). */
+SPH_HD static inline double sph_paddle_target(const sph_paddle_law *p, double t, double hs,
+                                              const double *tf)
+{
+    if (p->solitary) {
+        if (t <= 0.0)
+            return 0.0;
+        const double sech = 1.0 / cosh(sph_solitary_theta(p, t));
+        return p->height * sech * sech;
+    }
+    double rate;
+    const double r = sph_wave_ramp(t, p->tramp, &rate);
+    if (p->ncomp > 0) {
+        double e = 0.0;
+        for (int i = 0; i < p->ncomp; i++)
+            e += p->comp[3 * i] * tf[i] * cos(p->comp[3 * i + 1] * t + p->comp[3 * i + 2]);
+        return r * e;
+    }
+    return r * 0.5 * p->stroke * hs * cos(p->omega * t);
+}
+
 /* Where a paddle particle resting at (rx, ry) is when the paddle's displacement at the still
  * water level is X with the rate Xv (sph_paddle_motion): its position into x[2], its velocity
  * into u[2]. A piston moves it by X; a flap turns it rigidly about the hinge by phi =

@@ -257,6 +257,19 @@ int sph_wavemaker_check(const sph_config *c, sph_error *err)
     }
     if (w->order != 1 && w->order != 2)
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/order", "the order is 1 or 2");
+    if (w->active) {
+        const char *why = w->type != SPH_WAVEMAKER_PISTON ? "it moves a piston: use \"piston\""
+                          : series        ? "a series gives no level to aim at at the paddle"
+                          : w->order == 2 ? "its target is first-order theory's: use order 1"
+                          : c->device == SPH_DEVICE_GPU
+                              ? "it reads the water level at the paddle on the host after every "
+                                "step, which the GPU's step keeps on the device: run it on the "
+                                "CPU"
+                              : NULL;
+        if (why)
+            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/absorption",
+                                 "active absorption: %s", why);
+    }
     if (w->order == 2 && (w->waves != SPH_WAVES_REGULAR || w->type != SPH_WAVEMAKER_PISTON))
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/order",
                              "second order (Madsen 1971) is for regular waves from a piston");
@@ -407,13 +420,71 @@ long sph_wavemaker_points(const sph_config *c, double *const *pos)
     return i;
 }
 
+/* The water's top among P's first n fluid particles with x in [lo, hi] above bottom (-INFINITY:
+ * none there). */
+static double level_at(const sph_particles *P, long n, double lo, double hi, double bottom)
+{
+    const double *vert = P->dim == 3 ? P->z : P->y;
+    double top = -INFINITY;
+#pragma omp parallel for schedule(static) reduction(max : top) if (n >= SPH_OMP_MIN)
+    for (long i = 0; i < n; i++)
+        if (P->type[i] == SPH_FLUID && P->x[i] >= lo && P->x[i] <= hi && vert[i] > top)
+            top = vert[i];
+    return top - bottom;
+}
+
+/* Sets up active absorption for c's paddle over P as the fill left it: 0, or -1 out of memory. */
+static int active_init(sph_paddle *p, const sph_config *c, const sph_wave_design *d,
+                       const sph_particles *P)
+{
+    const sph_wavemaker_spec *m = &c->wavemaker;
+    p->active = 1;
+    p->face = m->x;
+    p->dx = c->dx;
+    p->bottom = c->tank.min[c->dim - 1];
+    p->sgd = sqrt(-c->gravity[c->dim - 1] / d->depth);
+    p->hs = m->waves == SPH_WAVES_REGULAR ? transfer(c, d->k * d->depth, d->depth) : 0.0;
+    p->tau = 10.0 * (m->waves == SPH_WAVES_SOLITARY    ? d->duration
+                     : m->waves == SPH_WAVES_IRREGULAR ? m->tp
+                                                       : m->period);
+    if (p->law.ncomp > 0) {
+        const double g = -c->gravity[c->dim - 1];
+        p->tf = malloc((size_t)p->law.ncomp * sizeof *p->tf);
+        if (!p->tf)
+            return -1;
+        for (int i = 0; i < p->law.ncomp; i++) {
+            const double kd = sph_wave_number(p->law.comp[3 * i + 1], g, d->depth) * d->depth;
+            p->tf[i] = transfer(c, kd, d->depth);
+        }
+    }
+    p->st.level0 = level_at(P, P->n, p->face + p->dx, p->face + 3.0 * p->dx, p->bottom);
+    return 0;
+}
+
+void sph_paddle_absorb(sph_paddle *p, const sph_particles *P, long n, double t, double dt)
+{
+    if (!p->active || !(dt > 0.0))
+        return;
+    double v;
+    const double face = p->face + sph_paddle_motion(&p->law, t, &v) + p->st.xc;
+    const double level = level_at(P, n, face + p->dx, face + 3.0 * p->dx, p->bottom);
+    const double eta = isfinite(level) ? level - p->st.level0 : 0.0;
+    const double e = eta - sph_paddle_target(&p->law, t, p->hs, p->tf);
+    const double a = fmin(dt / p->tau, 1.0);
+    p->st.ebar += a * (e - p->st.ebar);
+    p->st.vc = -p->sgd * (e - p->st.ebar) - p->st.xc / p->tau;
+    p->st.xc += p->st.vc * dt;
+}
+
 int sph_paddle_init(sph_paddle *p, const sph_config *c, const sph_particles *P, long first)
 {
     p->first = first;
     p->np = sph_wavemaker_points(c, NULL);
-    p->rest = p->comp = NULL;
+    p->rest = p->comp = p->tf = NULL;
     p->rows = (sph_wave_series){0};
     p->law = (sph_paddle_law){0};
+    p->active = 0;
+    p->st = (sph_paddle_state){0};
     if (p->np == 0)
         return 0;
     /* in 2D (x, y), in 3D (x, z): the plane the paddle moves in (y stays) */
@@ -449,6 +520,8 @@ int sph_paddle_init(sph_paddle *p, const sph_config *c, const sph_particles *P, 
     } else if (m->waves == SPH_WAVES_SERIES) {
         return -2;
     }
+    if (m->active && active_init(p, c, &d, P))
+        return -1;
     return 0;
 }
 
@@ -479,6 +552,8 @@ void sph_paddle_free(sph_paddle *p)
 {
     free(p->rest);
     free(p->comp);
+    free(p->tf);
+    p->tf = NULL;
     free(p->rows.t);
     free(p->rows.x);
     p->rest = p->comp = NULL;
@@ -492,7 +567,11 @@ void sph_paddle_move(const sph_paddle *p, sph_particles *P, long n, double t)
     if (p->np == 0)
         return;
     double v;
-    const double X = sph_paddle_motion(&p->law, t, &v);
+    double X = sph_paddle_motion(&p->law, t, &v);
+    if (p->active) {
+        X += p->st.xc;
+        v += p->st.vc;
+    }
     const int M = P->mixed;
 #pragma omp parallel for schedule(static) if (n >= SPH_OMP_MIN)
     for (long i = 0; i < n; i++)

@@ -26,12 +26,29 @@
 #include "sph_particles.h"
 #include "sph_wave_law.h"
 
+/* Active absorption's state across steps (zero without it). */
+typedef struct sph_paddle_state {
+    double xc;     /* the correction's displacement so far [m] */
+    double vc;     /* the correction's velocity of the last step [m/s] */
+    double ebar;   /* the level error's running mean [m] */
+    double level0; /* the level read in front of the face at t = 0 [m] */
+} sph_paddle_state;
+
 typedef struct sph_paddle {
     long first, np;       /* the paddle's particles: ids [first, first + np) */
     double *rest;         /* 2 per particle: its position at rest [m], by id - first */
     sph_paddle_law law;   /* its motion (its arrays: comp and series) */
     double *comp;         /* irregular waves: the components (law.comp), owned */
     sph_wave_series rows; /* a series' rows (law.st, .sx), owned */
+    /* active absorption (a piston; sph_paddle_absorb): the velocity correction -sqrt(g/d) (eta -
+     * eta_target - ebar) - xc / tau, eta the level read over [face + dx, face + 3 dx] less its
+     * reading at t = 0, ebar its mean error (an exponential average over tau), xc the correction's
+     * displacement so far */
+    int active;
+    double face, dx, bottom; /* the face at rest, the strip's unit, the tank's bottom [m] */
+    double sgd, hs, tau;     /* sqrt(g / d) [1/s], the transfer function H/S, tau [s] */
+    double *tf;              /* an irregular sea's transfer functions, a component each, owned */
+    sph_paddle_state st;     /* what lives across steps (a checkpoint saves it) */
 } sph_paddle;
 
 /* The design of c's wavemaker (sph_config.h; type not none): 0, or -1 when the depth or gravity
@@ -66,8 +83,15 @@ void sph_paddle_free(sph_paddle *p);
 void sph_paddle_law_of(const sph_config *c, const sph_wave_design *d, sph_paddle_law *law);
 
 /* Places the paddle's particles among P's first n at time t (sph_paddle_place: a piston at rest +
- * X(t) with the velocity dX/dt, a flap turned about its hinge). */
+ * X(t) with the velocity dX/dt, a flap turned about its hinge; with active absorption the
+ * correction's displacement and velocity added). */
 void sph_paddle_move(const sph_paddle *p, sph_particles *P, long n, double t);
+
+/* Active absorption after a step of dt that ended at t (a no-op without it): reads the water
+ * level in front of the piston among P's first n particles and updates the correction
+ * (Schaffer & Klopman 2000's shallow-water absorption, as DualSPHysics' AWAS applies it, with
+ * its mean error and displacement relaxed over tau = 10 periods so the paddle does not drift). */
+void sph_paddle_absorb(sph_paddle *p, const sph_particles *P, long n, double t, double dt);
 
 /* Particle i of P, when it is one of the paddle's (ids [first, first + np), a wall particle):
  * placed by the law at the displacement X with the rate v (sph_paddle_motion; rest: its table,

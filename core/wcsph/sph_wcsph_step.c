@@ -264,7 +264,8 @@ static int wcsph_step(sph_sim *s, double dt_cap, sph_error *err)
         s->vmax = fmax(s->vmax, sph_bodies_vmax(&s->bodies));
         s->timing.bodies += omp_get_wtime() - tb;
     }
-    sph_damping_apply(c, P, n, dt); /* a damping zone (Altomare et al. 2017) */
+    sph_damping_apply(c, P, n, dt);                     /* a damping zone (Altomare et al. 2017) */
+    sph_paddle_absorb(&s->paddle, P, n, s->t + dt, dt); /* a piston's active absorption */
     s->t += dt;
     s->step = step;
     s->timing.integration += omp_get_wtime() - t1;

@@ -58,6 +58,7 @@ typedef struct {
     int64_t nstart;
     double moved;
     int64_t nseries;
+    sph_paddle_state paddle;
     sph_config cfg;
     sph_diag diag;
     sph_envelope wave;

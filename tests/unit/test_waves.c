@@ -46,6 +46,7 @@
 #include "sph_case.h"
 #include "sph_json.h"
 #include "sph_sim.h"
+#include "sph_sim_impl.h"
 #include "sph_wave_law.h"
 #include "sph_wavemaker.h"
 #include "sphd_waves.h"
@@ -916,9 +917,12 @@ static void series_flume(void **state)
     /* second order and an irregular sea: a restart to the same bits */
     const char *waves[] = {
         "{\"type\": \"regular\", \"height\": 0.05, \"period\": 1.27, \"order\": 2}",
-        "{\"type\": \"irregular\", \"hs\": 0.04, \"tp\": 1.27, \"duration\": 60}"};
-    for (int k = 0; k < 2; k++) {
-        assert_int_equal(flume(waves[k], sets, cs, &err), 0);
+        "{\"type\": \"irregular\", \"hs\": 0.04, \"tp\": 1.27, \"duration\": 60}",
+        "{\"type\": \"regular\", \"height\": 0.05, \"period\": 1.27}"};
+    const char *const active[] = {"dx=0.05", "wavemaker.layers=3", "wavemaker.absorption=active",
+                                  "wavemaker.ramp=0.5", NULL};
+    for (int k = 0; k < 3; k++) {
+        assert_int_equal(flume(waves[k], k == 2 ? active : sets, cs, &err), 0);
         a = sph_sim_create(&cs->sim, &err);
         assert_non_null(a);
         assert_int_equal(sph_sim_advance(a, 60, INFINITY, &err), 0);
@@ -929,6 +933,10 @@ static void series_flume(void **state)
         assert_int_equal(sph_sim_advance(a, 120, INFINITY, &err), 0);
         assert_int_equal(sph_sim_advance(b, 120, INFINITY, &err), 0);
         unit_same_bits(a, b);
+        if (k == 2) { /* the correction has moved the piston off its law */
+            assert_true(fabs(a->paddle.st.xc) > 0.0 && a->paddle.st.xc == b->paddle.st.xc);
+            assert_true(a->paddle.st.level0 > 0.35 && a->paddle.st.level0 < 0.41);
+        }
         sph_sim_destroy(a);
         sph_sim_destroy(b);
         sph_case_clear(cs);
@@ -968,6 +976,16 @@ static void bad_new_inputs(void **state)
         {"{\"type\": \"irregular\", \"hs\": 0.04, \"tp\": 1.27, \"duration\": 60, \"gamma\": 0.5}",
          NULL, "/wavemaker/waves/gamma"},
         {"{\"type\": \"irregular\", \"tp\": 1.27, \"duration\": 60}", NULL, "/wavemaker/waves/hs"},
+        /* active absorption from a flap, with a series, with second order; an unknown kind */
+        {"{\"type\": \"regular\", \"height\": 0.05, \"period\": 1.27}",
+         (const char *const[]){"wavemaker.absorption=active", "wavemaker.type=flap", NULL},
+         "/wavemaker/absorption"},
+        {"{\"type\": \"series\", \"file\": \"m.csv\"}",
+         (const char *const[]){"wavemaker.absorption=active", NULL}, "/wavemaker/absorption"},
+        {"{\"type\": \"regular\", \"height\": 0.05, \"period\": 1.27, \"order\": 2}",
+         (const char *const[]){"wavemaker.absorption=active", NULL}, "/wavemaker/absorption"},
+        {"{\"type\": \"regular\", \"height\": 0.05, \"period\": 1.27}",
+         (const char *const[]){"wavemaker.absorption=passive", NULL}, "/wavemaker/absorption"},
         /* a series without its file, with a height */
         {"{\"type\": \"series\"}", NULL, "/wavemaker/waves/file"},
         {"{\"type\": \"series\", \"file\": \"m.csv\", \"height\": 0.1}", NULL,
@@ -983,6 +1001,22 @@ static void bad_new_inputs(void **state)
         if (rc == 0 || strcmp(err.path, bad[k].path) != 0)
             fail_msg("case %zu: %s (%s), expected an error at %s", k, rc ? err.path : "accepted",
                      rc ? err.message : "", bad[k].path);
+    }
+    /* active absorption on the GPU (the wavemaker's own check: a build without CUDA refuses the
+     * device first) */
+    {
+        sph_case *cs = calloc(1, sizeof *cs);
+        assert_non_null(cs);
+        sph_error err;
+        assert_int_equal(flume("{\"type\": \"regular\", \"height\": 0.05, \"period\": 1.27}",
+                               (const char *const[]){"wavemaker.absorption=active", NULL}, cs,
+                               &err),
+                         0);
+        cs->sim.device = SPH_DEVICE_GPU;
+        assert_int_not_equal(sph_wavemaker_check(&cs->sim, &err), 0);
+        assert_string_equal(err.path, "/wavemaker/absorption");
+        sph_case_clear(cs);
+        free(cs);
     }
     /* a series' rows: a jump (from rest at t = 0 to 5 mm; 0.5 m in 0.1 s, faster than sqrt(g d)
      * = 1.98 m/s), a stroke through the tank's wall */
