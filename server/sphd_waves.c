@@ -10,44 +10,66 @@
 #include <math.h>
 #include <stdlib.h>
 
-int sphd_waves_zero_up(const double *t, const double *eta, long stride, long n, double t0,
-                       double *height, double *period)
+/* The mean of eta over t >= t0 into *mean; the samples there (fewer than 3: nothing to take). */
+static long window_mean(const double *t, const double *eta, long stride, long n, double t0,
+                        double *mean)
 {
-    *height = NAN;
-    *period = NAN;
-    double mean = 0.0;
+    double sum = 0.0;
     long m = 0;
     for (long i = 0; i < n; i++)
         if (t[i] >= t0) {
-            mean += eta[i * stride];
+            sum += eta[i * stride];
             m++;
         }
-    if (m < 3)
-        return 0;
-    mean /= (double)m;
+    *mean = m > 0 ? sum / (double)m : NAN;
+    return m;
+}
+
+/* The zero-up-crossing waves of eta over t >= t0 about mean: each from one up-crossing (linearly
+ * interpolated) to the next, its height the series' range between them, into h[count] (h NULL:
+ * not kept); their sum into *hsum and the first and last crossings' times. Returns the count. */
+static int zero_up_walk(const double *t, const double *eta, long stride, long n, double t0,
+                        double mean, double *h, double *hsum, double *first, double *last)
+{
     int count = 0;
-    double hsum = 0.0, first = NAN, last = NAN, lo = INFINITY, hi = -INFINITY;
+    double lo = INFINITY, hi = -INFINITY;
+    *hsum = 0.0;
+    *first = *last = NAN;
     for (long i = 1; i < n; i++) {
         if (t[i - 1] < t0)
             continue;
         const double e0 = eta[(i - 1) * stride], a = e0 - mean, b = eta[i * stride] - mean;
-        if (isfinite(first)) {
+        if (isfinite(*first)) {
             lo = fmin(lo, e0);
             hi = fmax(hi, e0);
         }
         if (a < 0.0 && b >= 0.0) {
             const double tc = t[i - 1] + (t[i] - t[i - 1]) * (-a) / (b - a);
-            if (isfinite(first)) {
-                hsum += hi - lo;
+            if (isfinite(*first)) {
+                *hsum += hi - lo;
+                if (h)
+                    h[count] = hi - lo;
                 count++;
-                last = tc;
+                *last = tc;
             } else {
-                first = tc;
+                *first = tc;
             }
             lo = INFINITY;
             hi = -INFINITY;
         }
     }
+    return count;
+}
+
+int sphd_waves_zero_up(const double *t, const double *eta, long stride, long n, double t0,
+                       double *height, double *period)
+{
+    *height = NAN;
+    *period = NAN;
+    double mean, hsum, first, last;
+    if (window_mean(t, eta, stride, n, t0, &mean) < 3)
+        return 0;
+    const int count = zero_up_walk(t, eta, stride, n, t0, mean, NULL, &hsum, &first, &last);
     if (count == 0)
         return 0;
     *height = hsum / count;
@@ -102,42 +124,18 @@ int sphd_waves_sea(const double *t, const double *eta, long stride, long n, doub
                    double *h13)
 {
     *hm0 = *h13 = NAN;
-    double mean = 0.0, var = 0.0;
-    long m = 0;
-    for (long i = 0; i < n; i++)
-        if (t[i] >= t0) {
-            mean += eta[i * stride];
-            m++;
-        }
+    double mean, var = 0.0, hsum, first, last;
+    const long m = window_mean(t, eta, stride, n, t0, &mean);
     if (m < 3)
         return 0;
-    mean /= (double)m;
     for (long i = 0; i < n; i++)
         if (t[i] >= t0)
             var += (eta[i * stride] - mean) * (eta[i * stride] - mean);
     *hm0 = 4.0 * sqrt(var / (double)m);
-    /* the zero-up-crossing waves' heights, as sphd_waves_zero_up takes them */
-    double *h = malloc((size_t)m * sizeof *h);
+    double *h = malloc((size_t)m * sizeof *h); /* fewer waves than samples */
     if (!h)
         return 0;
-    int count = 0, started = 0;
-    double lo = INFINITY, hi = -INFINITY;
-    for (long i = 1; i < n; i++) {
-        if (t[i - 1] < t0)
-            continue;
-        const double e0 = eta[(i - 1) * stride], a = e0 - mean, b = eta[i * stride] - mean;
-        if (started) {
-            lo = fmin(lo, e0);
-            hi = fmax(hi, e0);
-        }
-        if (a < 0.0 && b >= 0.0) {
-            if (started)
-                h[count++] = hi - lo;
-            started = 1;
-            lo = INFINITY;
-            hi = -INFINITY;
-        }
-    }
+    const int count = zero_up_walk(t, eta, stride, n, t0, mean, h, &hsum, &first, &last);
     if (count > 0) {
         qsort(h, (size_t)count, sizeof *h, cmp_desc);
         const int third = count / 3 > 0 ? count / 3 : 1;

@@ -39,6 +39,13 @@ STL = box_stl((1.2, 0.3, 0.0), (1.4, 0.5, 0.2))
 MAX_FILE = 8 << 20
 
 
+def run_ctl(sphctl, d, *args):
+    """sphctl against daemon d: (exit code, its output)."""
+    p = subprocess.run([sphctl, "--endpoint", d.control, *args], capture_output=True, text=True,
+                       timeout=120)
+    return p.returncode, p.stdout + p.stderr
+
+
 def entry(data, crc=None, size=None):
     return {"data": base64.b64encode(data).decode(),
             "crc32": crc if crc is not None else f"{zlib.crc32(data) & 0xffffffff:08x}",
@@ -63,9 +70,7 @@ def main(sphd, sphctl, src):
     d = Daemon(sphd)
     try:
         def ctl(*args):
-            p = subprocess.run([sphctl, "--endpoint", d.control, *args], capture_output=True,
-                               text=True, timeout=60)
-            return p.returncode, p.stdout + p.stderr
+            return run_ctl(sphctl, d, *args)
 
         # sphctl's own checks: a missing file (66), a name with '..' (65), a file too large (65)
         rc, out = ctl("submit", write_case("missing.json", dict(
@@ -216,9 +221,7 @@ def series(sphd, sphctl, src, work, t):
     d = Daemon(sphd)
     try:
         def ctl(*args):
-            r = subprocess.run([sphctl, "--endpoint", d.control, *args], capture_output=True,
-                               text=True, timeout=120)
-            return r.returncode, r.stdout + r.stderr
+            return run_ctl(sphctl, d, *args)
 
         gone = dict(flume, wavemaker=dict(flume["wavemaker"],
                                           waves={"type": "series", "file": "gone.csv"}))
