@@ -767,7 +767,14 @@ int sph_wave_series_parse(const char *text, size_t len, const char *name, sph_wa
             e++;
         line++;
         char buf[256];
-        size_t m = e - i < sizeof buf - 1 ? e - i : sizeof buf - 1;
+        if (e - i > sizeof buf - 1) {
+            rc = sph_error_set(err, SPH_ERR_INVALID, path,
+                               "%s line %ld: longer than %zu characters: expected 'time, "
+                               "displacement'",
+                               name, line, sizeof buf - 1);
+            break;
+        }
+        const size_t m = e - i;
         memcpy(buf, text + i, m);
         buf[m] = '\0';
         i = e + 1;

@@ -824,9 +824,17 @@ static void series_parse(void **state)
     sph_wave_series_free(&q);
     const struct {
         const char *text, *needle;
-    } bad[] = {{"0,0\n1,0\n1,0.01\n", "line 3"},  {"0,0\n1,0\n0.5,0.01\n", "does not increase"},
-               {"0,0\n1,abc\n", "line 2"},        {"0,0\n1,0,3\n", "line 2"},
-               {"t,x\n0,0\n", "at least 2 rows"}, {"", "at least 2 rows"}};
+    } bad[] = {{"0,0\n1,0\n1,0.01\n", "line 3"},
+               {"0,0\n1,0\n0.5,0.01\n", "does not increase"},
+               {"0,0\n1,abc\n", "line 2"},
+               {"0,0\n1,0,3\n", "line 2"},
+               {"t,x\n0,0\n", "at least 2 rows"},
+               {"0,0\n1,0                                                                    "
+                "                                                                             "
+                "                                                                             "
+                "                  x\n",
+                "line 2"},
+               {"", "at least 2 rows"}};
     for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
         if (sph_wave_series_parse(bad[k].text, strlen(bad[k].text), "m.csv", &q, &err) == 0)
             fail_msg("series %zu accepted", k);
