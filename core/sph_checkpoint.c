@@ -192,6 +192,13 @@ static sph_sim *restore(const void *buf, size_t len, int device, sph_error *err)
         sph_error_set(err, SPH_ERR_IO, "", "simulation state does not match its configuration");
         goto done;
     }
+    if (!isfinite(h.paddle.xc) || !isfinite(h.paddle.vc) || !isfinite(h.paddle.ebar) ||
+        (!isfinite(h.paddle.level0) && !isinf(h.paddle.level0)) ||
+        (!h.cfg.wavemaker.active &&
+         (h.paddle.xc != 0.0 || h.paddle.vc != 0.0 || h.paddle.ebar != 0.0))) {
+        sph_error_set(err, SPH_ERR_IO, "", "simulation state has a bad paddle state");
+        goto done;
+    }
     s = sph_sim_create(&h.cfg, err); /* its paddle copies the rows */
     if (s)
         s->paddle.st = h.paddle;

@@ -766,6 +766,16 @@ int sph_wave_series_parse(const char *text, size_t len, const char *name, sph_wa
         while (e < len && text[e] != '\n')
             e++;
         line++;
+        size_t b = i;
+        if (line == 1 && len - b >= 3 && memcmp(text + b, "\xef\xbb\xbf", 3) == 0)
+            b += 3; /* a UTF-8 byte order mark */
+        while (b < e && (text[b] == ' ' || text[b] == '\t' || text[b] == '\r'))
+            b++;
+        if (b == e || text[b] == '#') { /* blank, or a comment of any length */
+            i = e + 1;
+            continue;
+        }
+        i = b;
         char buf[256];
         if (e - i > sizeof buf - 1) {
             rc = sph_error_set(err, SPH_ERR_INVALID, path,
@@ -795,8 +805,8 @@ int sph_wave_series_parse(const char *text, size_t len, const char *name, sph_wa
             end2++;
         if (end == p || end2 == end || *end2 != '\0' || errno == ERANGE || !isfinite(t) ||
             !isfinite(x)) {
-            if (q->n == 0 && line == 1)
-                continue; /* a header */
+            if (q->n == 0 && line == 1 && !strchr("+-.0123456789", *p))
+                continue; /* a header: it starts with no number */
             rc = sph_error_set(err, SPH_ERR_INVALID, path,
                                "%s line %ld: expected 'time, displacement' (two numbers, s and "
                                "m), found \"%.40s\"",

@@ -26,9 +26,10 @@
  *                                amplitude sqrt(2 S(f_i) df) and a random phase, made at first
  *                                order: X(t) = r(t) sum A_i sin(omega_i t + phi_i), A_i = that
  *                                amplitude over the transfer function at k_i d
- *   series: X(t) from a table of rows (t_i, X_i) by cubic Hermite interpolation, the slopes
- *                                centred differences inside and 0 at both ends (the paddle
- *                                starts and stops at rest), X_0 before the first row and X_n-1
+ *   series: X(t) from a table of rows (t_i, X_i) by monotone cubic Hermite interpolation
+ *                                (Fritsch & Butland's slopes inside, 0 at both ends: the paddle
+ *                                starts and stops at rest and never passes the rows' extremes),
+ *                                from an implied row (0, 0) when the first is later, X_n-1
  *                                after the last
  *   solitary wave (Goring 1978): a piston with dX/dt = c eta(X, t) / (d + eta(X, t)), eta = H
  *                                sech^2(theta), theta = kappa (c t - X) - theta0, kappa =
@@ -130,7 +131,22 @@ SPH_HD static inline double sph_jonswap_shape(double f, double fp, double gamma)
     return pow(f, -5.0) * exp(-1.25 * q * q * q * q) * pow(gamma, exp(-0.5 * e * e));
 }
 
-/* X(t) of a series of n >= 1 rows (t increasing) and its rate (sph_paddle_motion's series). */
+/* The slope of a series' interpolant at row i of n (sph_series_motion): 0 at both ends and
+ * where the neighbouring chords differ in sign or one is flat, else their weighted harmonic mean
+ * (Fritsch & Butland 1984, Brodlie's weights: monotone between rows, no overshoot). */
+SPH_HD static inline double sph_series_slope(const double *ts, const double *xs, long n, long i)
+{
+    if (i <= 0 || i >= n - 1)
+        return 0.0;
+    const double h0 = ts[i] - ts[i - 1], h1 = ts[i + 1] - ts[i];
+    const double d0 = (xs[i] - xs[i - 1]) / h0, d1 = (xs[i + 1] - xs[i]) / h1;
+    if (!(d0 * d1 > 0.0))
+        return 0.0;
+    return 3.0 * (h0 + h1) / ((2.0 * h1 + h0) / d0 + (h1 + 2.0 * h0) / d1);
+}
+
+/* X(t) of a series of n >= 1 rows (t increasing) and its rate (sph_paddle_motion's series):
+ * the cubic Hermite piece between the rows around t with sph_series_slope's slopes. */
 SPH_HD static inline double sph_series_motion(const double *ts, const double *xs, long n, double t,
                                               double *v)
 {
@@ -148,8 +164,7 @@ SPH_HD static inline double sph_series_motion(const double *ts, const double *xs
             hi = mid;
     }
     const double h = ts[hi] - ts[lo], s = (t - ts[lo]) / h;
-    const double m0 = lo > 0 ? (xs[hi] - xs[lo - 1]) / (ts[hi] - ts[lo - 1]) : 0.0;
-    const double m1 = hi < n - 1 ? (xs[hi + 1] - xs[lo]) / (ts[hi + 1] - ts[lo]) : 0.0;
+    const double m0 = sph_series_slope(ts, xs, n, lo), m1 = sph_series_slope(ts, xs, n, hi);
     const double s2 = s * s, s3 = s2 * s;
     const double h00 = 2.0 * s3 - 3.0 * s2 + 1.0, h10 = s3 - 2.0 * s2 + s;
     const double h01 = -2.0 * s3 + 3.0 * s2, h11 = s3 - s2;

@@ -136,20 +136,39 @@ static int excursion(const sph_config *c, const sph_wave_design *d, double *fwd,
             *bwd = fmax(*bwd, -m->series->x[i]);
         }
         return 0;
-    case SPH_WAVES_IRREGULAR: { /* sampled 16 times a period of the highest component */
+    case SPH_WAVES_IRREGULAR: { /* sampled 8 times a period of the highest component, each
+                                 * component's phase turned by rotation, not sin and cos */
         double *comp;
         const int n = sph_wave_components(c, d->depth, &comp);
         if (n < 0)
             return -1;
-        sph_paddle_law law = {.ncomp = n, .comp = comp};
+        double *rot = n > 0 ? malloc((size_t)n * 4 * sizeof *rot) : NULL;
+        if (n > 0 && !rot) {
+            free(comp);
+            return -1;
+        }
         const double wmax = n > 0 ? comp[3 * (n - 1) + 1] : 1.0;
-        const long ns = (long)ceil(16.0 * m->duration * wmax / (2.0 * PI));
+        const long ns = (long)ceil(8.0 * m->duration * wmax / (2.0 * PI));
+        const double step = m->duration / (double)(ns > 0 ? ns : 1);
+        for (int i = 0; i < n; i++) { /* (cos, sin) of the phase, and of its step */
+            rot[4 * i] = cos(comp[3 * i + 2]);
+            rot[4 * i + 1] = sin(comp[3 * i + 2]);
+            rot[4 * i + 2] = cos(comp[3 * i + 1] * step);
+            rot[4 * i + 3] = sin(comp[3 * i + 1] * step);
+        }
         for (long j = 0; j < ns && n > 0; j++) {
-            double v;
-            const double X = sph_paddle_motion(&law, m->duration * (double)j / (double)ns, &v);
+            double X = 0.0;
+            for (int i = 0; i < n; i++) {
+                double *q = rot + 4 * i;
+                X += comp[3 * i] * q[1];
+                const double cj = q[0] * q[2] - q[1] * q[3], sj = q[1] * q[2] + q[0] * q[3];
+                q[0] = cj;
+                q[1] = sj;
+            }
             *fwd = fmax(*fwd, X);
             *bwd = fmax(*bwd, -X);
         }
+        free(rot);
         free(comp);
         return 0;
     }
@@ -241,6 +260,14 @@ int sph_wavemaker_check(const sph_config *c, sph_error *err)
             return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/gamma",
                                  "the peak enhancement factor must be from 1 (Pierson-Moskowitz) "
                                  "to 10");
+        if (!(w->duration <= 1e5) || !(w->duration <= 1e6 * w->tp))
+            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/duration",
+                                 "the irregular sea's duration must be at most 1e5 s and a "
+                                 "million peak periods");
+        if (!(w->ramp > 0.0))
+            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/ramp",
+                                 "an irregular sea starts at a random displacement: give it a "
+                                 "ramp (more than 0 peak periods; 2 is the default)");
         long lo, hi;
         const long nc = component_range(w, &lo, &hi);
         if (!(w->duration >= 10.0 * w->tp) || !isfinite(w->duration))
@@ -269,6 +296,14 @@ int sph_wavemaker_check(const sph_config *c, sph_error *err)
         if (why)
             return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/absorption",
                                  "active absorption: %s", why);
+        int wet = 0; /* it reads the level over [x + dx, x + 3 dx] */
+        for (int b = 0; b < c->nfluid; b++)
+            wet |= c->fluid[b].min[0] <= w->x + c->dx && c->fluid[b].max[0] >= w->x + 3.0 * c->dx;
+        if (!wet)
+            return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/absorption",
+                                 "active absorption reads the water level just in front of the "
+                                 "piston: a fluid box must start at its face (x = %g m)",
+                                 w->x);
     }
     if (w->order == 2 && (w->waves != SPH_WAVES_REGULAR || w->type != SPH_WAVEMAKER_PISTON))
         return sph_error_set(err, SPH_ERR_INVALID, "/wavemaker/waves/order",
@@ -468,7 +503,8 @@ void sph_paddle_absorb(sph_paddle *p, const sph_particles *P, long n, double t, 
     double v;
     const double face = p->face + sph_paddle_motion(&p->law, t, &v) + p->st.xc;
     const double level = level_at(P, n, face + p->dx, face + 3.0 * p->dx, p->bottom);
-    const double eta = isfinite(level) ? level - p->st.level0 : 0.0;
+    const double eta =
+        isfinite(level) && isfinite(p->st.level0) ? level - p->st.level0 : 0.0; /* dry: none */
     const double e = eta - sph_paddle_target(&p->law, t, p->hs, p->tf);
     const double a = fmin(dt / p->tau, 1.0);
     p->st.ebar += a * (e - p->st.ebar);
@@ -507,13 +543,15 @@ int sph_paddle_init(sph_paddle *p, const sph_config *c, const sph_particles *P, 
         p->law.ncomp = n;
         p->law.comp = p->comp;
     } else if (m->waves == SPH_WAVES_SERIES && m->series && m->series->n > 0) {
-        const long n = m->series->n;
+        /* at rest at 0 until the first row: an implied row (0, 0) before a later one */
+        const long k = m->series->t[0] > 0.0 ? 1 : 0, n = m->series->n + k;
         p->rows.t = malloc((size_t)n * sizeof *p->rows.t);
         p->rows.x = malloc((size_t)n * sizeof *p->rows.x);
         if (!p->rows.t || !p->rows.x)
             return -1;
-        memcpy(p->rows.t, m->series->t, (size_t)n * sizeof *p->rows.t);
-        memcpy(p->rows.x, m->series->x, (size_t)n * sizeof *p->rows.x);
+        p->rows.t[0] = p->rows.x[0] = 0.0;
+        memcpy(p->rows.t + k, m->series->t, (size_t)m->series->n * sizeof *p->rows.t);
+        memcpy(p->rows.x + k, m->series->x, (size_t)m->series->n * sizeof *p->rows.x);
         p->rows.n = p->law.nseries = n;
         p->law.st = p->rows.t;
         p->law.sx = p->rows.x;
