@@ -1,5 +1,6 @@
 #include "sph_case.h"
 #include "sph_case_table.h"
+#include "sph_fileio.h"
 #include "sph_fill.h"
 #include "sph_inputs.h"
 #include "sph_mesh_io.h"
@@ -716,15 +717,6 @@ int sph_case_files(const json_t *root, sph_case_file *files, int max)
     return n;
 }
 
-int sph_case_file_names(const json_t *root, const char **names, int max)
-{
-    sph_case_file f[SPH_CASE_FILES_MAX];
-    const int n = sph_case_files(root, f, SPH_CASE_FILES_MAX);
-    for (int i = 0; i < n && i < max && i < SPH_CASE_FILES_MAX; i++)
-        names[i] = f[i].name;
-    return n;
-}
-
 void sph_wave_series_free(sph_wave_series *q)
 {
     if (!q)
@@ -842,20 +834,17 @@ static int load_series(sph_case *c, const char *dir, sph_error *err)
     if (sph_input_name_check(m->file, why, sizeof why) != 0)
         return sph_error_set(err, SPH_ERR_INVALID, path, "%s", why);
     snprintf(file, sizeof file, "%s/%s", dir && *dir ? dir : ".", m->file);
-    FILE *fp = fopen(file, "rb");
-    if (!fp)
-        return sph_error_set(err, SPH_ERR_INVALID, path, "cannot read %s: %s", m->file,
-                             strerror(errno));
-    char *buf = malloc((size_t)SPH_INPUT_MAX_FILE + 1);
-    const size_t got = buf ? fread(buf, 1, (size_t)SPH_INPUT_MAX_FILE + 1, fp) : 0;
-    fclose(fp);
-    if (!buf)
+    char *buf;
+    size_t got;
+    const int rd = sph_read_file(file, (size_t)SPH_INPUT_MAX_FILE, &buf, &got);
+    if (rd == -3)
         return sph_error_set(err, SPH_ERR_NOMEM, path, "out of memory");
-    if (got > (size_t)SPH_INPUT_MAX_FILE) {
-        free(buf);
+    if (rd == -2)
         return sph_error_set(err, SPH_ERR_INVALID, path, "%s is larger than %ld bytes", m->file,
                              (long)SPH_INPUT_MAX_FILE);
-    }
+    if (rd)
+        return sph_error_set(err, SPH_ERR_INVALID, path, "cannot read %s: %s", m->file,
+                             errno ? strerror(errno) : "not a regular file, or it changed");
     sph_wave_series *q = calloc(1, sizeof *q);
     int rc = q ? sph_wave_series_parse(buf, got, m->file, q, err)
                : sph_error_set(err, SPH_ERR_NOMEM, path, "out of memory");

@@ -116,9 +116,6 @@ typedef struct sph_case_file {
  * possible). The one list sphctl sends and sphd expects, writes and reads (PROTOCOL.md 3.11). */
 int sph_case_files(const json_t *root, sph_case_file *files, int max);
 
-/* The names of sph_case_files into names[0 .. max). */
-int sph_case_file_names(const json_t *root, const char **names, int max);
-
 /* Steering (PROTOCOL.md 3.12): 0 if the case field at a dotted path (an assignment's left side,
  * "physics.viscosity.alpha") may change in a running job: the viscous term's coefficients,
  * delta-SPH's, gravity (or one of its components), the CFL number, the end time, the triggers,

@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -77,5 +78,42 @@ int sph_write_atomic(const char *path, const void *data, size_t len, mode_t mode
         errno = saved;
         return -1;
     }
+    return 0;
+}
+
+int sph_read_file(const char *path, size_t max, char **data, size_t *len)
+{
+    *data = NULL;
+    *len = 0;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return -1;
+    struct stat st;
+    const int stated = fstat(fileno(f), &st) == 0, e = errno;
+    if (!stated || !S_ISREG(st.st_mode)) {
+        fclose(f);
+        errno = stated ? 0 : e;
+        return -1;
+    }
+    *len = (size_t)st.st_size;
+    if ((unsigned long long)st.st_size > (unsigned long long)max) {
+        fclose(f);
+        return -2;
+    }
+    char *buf = malloc(*len ? *len : 1);
+    if (!buf) {
+        fclose(f);
+        return -3;
+    }
+    errno = 0;
+    const size_t got = fread(buf, 1, *len, f);
+    const int bad = ferror(f), re = errno;
+    fclose(f);
+    if (bad || got != *len) {
+        free(buf);
+        errno = bad ? re : 0;
+        return -4;
+    }
+    *data = buf;
     return 0;
 }

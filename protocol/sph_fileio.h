@@ -17,4 +17,10 @@ int sph_write_all(int fd, const void *p, size_t n);
  * (errno). */
 int sph_write_atomic(const char *path, const void *data, size_t len, mode_t mode);
 
+/* Reads the regular file at path whole into a new buffer *data (the caller frees it) of *len
+ * bytes, at most max: 0; -1 when it cannot be opened or is not a regular file (errno, 0 for not
+ * regular), -2 when it holds more than max bytes (*len: its size), -3 out of memory, -4 on a read
+ * error or when it changed while read (errno, 0 for changed). */
+int sph_read_file(const char *path, size_t max, char **data, size_t *len);
+
 #endif

@@ -398,36 +398,24 @@ int sph_mesh_read_file(const char *file, const char *name, const sph_mesh_limits
     memset(out, 0, sizeof *out);
     if (!name)
         name = file;
-    FILE *f = fopen(file, "rb");
-    if (!f)
-        return sph_error_set(err, SPH_ERR_IO, path, "cannot open %s: %s", file, strerror(errno));
-    struct stat st;
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        int e = errno;
-        fclose(f);
+    char *buf;
+    size_t len;
+    switch (sph_read_file(file, lim->max_bytes, &buf, &len)) {
+    case -1:
         return sph_error_set(err, SPH_ERR_IO, path, "cannot open %s: %s", file,
-                             e ? strerror(e) : "not a regular file");
-    }
-    if ((unsigned long long)st.st_size > (unsigned long long)lim->max_bytes) {
-        fclose(f);
+                             errno ? strerror(errno) : "not a regular file");
+    case -2:
         return sph_error_set(err, SPH_ERR_INVALID, path,
                              "mesh file %s has %lld bytes, more than the limit of %zu: simplify "
                              "it",
-                             file, (long long)st.st_size, lim->max_bytes);
-    }
-    size_t len = (size_t)st.st_size;
-    char *buf = malloc(len ? len : 1);
-    if (!buf) {
-        fclose(f);
+                             file, (long long)len, lim->max_bytes);
+    case -3:
         return sph_error_set(err, SPH_ERR_NOMEM, path, "out of memory reading %s", file);
-    }
-    size_t got = fread(buf, 1, len, f);
-    int bad = ferror(f);
-    fclose(f);
-    if (bad || got != len) {
-        free(buf);
+    case -4:
         return sph_error_set(err, SPH_ERR_IO, path, "cannot read %s: %s", file,
-                             bad ? strerror(errno) : "the file changed while being read");
+                             errno ? strerror(errno) : "the file changed while being read");
+    default:
+        break;
     }
     int rc = sph_mesh_read_memory(buf, len, name, lim, out, path, err);
     free(buf);

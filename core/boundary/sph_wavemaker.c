@@ -82,18 +82,23 @@ static long component_range(const sph_wavemaker_spec *m, long *lo, long *hi)
     return *hi >= *lo ? *hi - *lo + 1 : 0;
 }
 
-int sph_wave_components(const sph_config *c, double depth, double **comp)
+int sph_wave_components(const sph_config *c, double depth, double **comp, double **tf)
 {
     const sph_wavemaker_spec *m = &c->wavemaker;
     const double g = -c->gravity[c->dim - 1];
     long lo, hi;
     const long n = component_range(m, &lo, &hi);
     *comp = NULL;
+    if (tf)
+        *tf = NULL;
     if (n < 1 || n > SPH_IRREGULAR_COMPONENTS || !(depth > 0.0) || !(g > 0.0))
         return 0;
-    double *a = malloc((size_t)n * 3 * sizeof *a);
-    if (!a)
+    double *a = malloc((size_t)n * 3 * sizeof *a), *h = tf ? malloc((size_t)n * sizeof *h) : NULL;
+    if (!a || (tf && !h)) {
+        free(a);
+        free(h);
         return -1;
+    }
     const double fp = 1.0 / m->tp, df = 1.0 / m->duration;
     double sum = 0.0;
     for (long i = 0; i < n; i++) {
@@ -105,12 +110,16 @@ int sph_wave_components(const sph_config *c, double depth, double **comp)
     for (long i = 0; i < n; i++) {
         const double f = (double)(lo + i) * df, omega = 2.0 * PI * f;
         const double amp = sqrt(2.0 * scale * a[3 * i] * df); /* the wave's amplitude */
-        const double kd = sph_wave_number(omega, g, depth) * depth;
-        a[3 * i] = amp / transfer(c, kd, depth);
+        const double kd = sph_wave_number(omega, g, depth) * depth, hs = transfer(c, kd, depth);
+        a[3 * i] = amp / hs;
+        if (h)
+            h[i] = hs;
         a[3 * i + 1] = omega;
         a[3 * i + 2] = 2.0 * PI * (double)(splitmix64(&state) >> 11) * 0x1.0p-53;
     }
     *comp = a;
+    if (tf)
+        *tf = h;
     return (int)n;
 }
 
@@ -139,7 +148,7 @@ static int excursion(const sph_config *c, const sph_wave_design *d, double *fwd,
     case SPH_WAVES_IRREGULAR: { /* sampled 8 times a period of the highest component, each
                                  * component's phase turned by rotation, not sin and cos */
         double *comp;
-        const int n = sph_wave_components(c, d->depth, &comp);
+        const int n = sph_wave_components(c, d->depth, &comp, NULL);
         if (n < 0)
             return -1;
         double *rot = n > 0 ? malloc((size_t)n * 4 * sizeof *rot) : NULL;
@@ -482,16 +491,6 @@ static int active_init(sph_paddle *p, const sph_config *c, const sph_wave_design
     p->tau = 10.0 * (m->waves == SPH_WAVES_SOLITARY    ? d->duration
                      : m->waves == SPH_WAVES_IRREGULAR ? m->tp
                                                        : m->period);
-    if (p->law.ncomp > 0) {
-        const double g = -c->gravity[c->dim - 1];
-        p->tf = malloc((size_t)p->law.ncomp * sizeof *p->tf);
-        if (!p->tf)
-            return -1;
-        for (int i = 0; i < p->law.ncomp; i++) {
-            const double kd = sph_wave_number(p->law.comp[3 * i + 1], g, d->depth) * d->depth;
-            p->tf[i] = transfer(c, kd, d->depth);
-        }
-    }
     p->st.level0 = level_at(P, P->n, p->face + p->dx, p->face + 3.0 * p->dx, p->bottom);
     return 0;
 }
@@ -514,13 +513,7 @@ void sph_paddle_absorb(sph_paddle *p, const sph_particles *P, long n, double t, 
 
 int sph_paddle_init(sph_paddle *p, const sph_config *c, const sph_particles *P, long first)
 {
-    p->first = first;
-    p->np = sph_wavemaker_points(c, NULL);
-    p->rest = p->comp = p->tf = NULL;
-    p->rows = (sph_wave_series){0};
-    p->law = (sph_paddle_law){0};
-    p->active = 0;
-    p->st = (sph_paddle_state){0};
+    *p = (sph_paddle){.first = first, .np = sph_wavemaker_points(c, NULL)};
     if (p->np == 0)
         return 0;
     /* in 2D (x, y), in 3D (x, z): the plane the paddle moves in (y stays) */
@@ -536,8 +529,8 @@ int sph_paddle_init(sph_paddle *p, const sph_config *c, const sph_particles *P, 
     if (sph_wave_design_of(c, &d) == 0) /* checked: always */
         sph_paddle_law_of(c, &d, &p->law);
     const sph_wavemaker_spec *m = &c->wavemaker;
-    if (m->waves == SPH_WAVES_IRREGULAR) {
-        const int n = sph_wave_components(c, d.depth, &p->comp);
+    if (m->waves == SPH_WAVES_IRREGULAR) { /* with active absorption, their transfer functions */
+        const int n = sph_wave_components(c, d.depth, &p->comp, m->active ? &p->tf : NULL);
         if (n < 0)
             return -1;
         p->law.ncomp = n;
@@ -591,13 +584,9 @@ void sph_paddle_free(sph_paddle *p)
     free(p->rest);
     free(p->comp);
     free(p->tf);
-    p->tf = NULL;
     free(p->rows.t);
     free(p->rows.x);
-    p->rest = p->comp = NULL;
-    p->rows = (sph_wave_series){0};
-    p->law = (sph_paddle_law){0};
-    p->np = 0;
+    *p = (sph_paddle){0};
 }
 
 void sph_paddle_move(const sph_paddle *p, sph_particles *P, long n, double t)

@@ -57,8 +57,9 @@ int sph_wave_design_of(const sph_config *c, sph_wave_design *w);
 
 /* The components of c's irregular sea at the still water depth depth (sph_wave_law.h: 3 a
  * component, the displacement's amplitude A_i [m], omega_i [rad/s], phase [rad]) into a new
- * array *comp (the caller frees it); their count, 0 with none (*comp NULL), -1 out of memory. */
-int sph_wave_components(const sph_config *c, double depth, double **comp);
+ * array *comp, and with tf not NULL each one's transfer function H/S into a new array *tf (the
+ * caller frees them); their count, 0 with none (NULLs), -1 out of memory. */
+int sph_wave_components(const sph_config *c, double depth, double **comp, double **tf);
 
 /* Checks c's wavemaker and damping zone (after the shared checks: dx, domain, tank), err->path
  * at the field: a method, dimension, device or wall treatment that cannot move a paddle, fluid

@@ -727,7 +727,7 @@ static void irregular_sea(void **state)
     sph_wave_design w;
     assert_int_equal(sph_sim_wave_design(c, &w), 0);
     double *comp;
-    const int n = sph_wave_components(c, w.depth, &comp);
+    const int n = sph_wave_components(c, w.depth, &comp, NULL);
     const long lo = (long)ceil(0.5 * fp * D), hi = (long)floor(3.0 * fp * D);
     assert_int_equal(n, hi - lo + 1);
     int peak = 0;
@@ -759,9 +759,9 @@ static void irregular_sea(void **state)
         fail_msg("H1/3 = %g Hs", h13 / 0.04);
     /* the same seed: the same phases; another: others */
     double *again, *other;
-    assert_int_equal(sph_wave_components(c, w.depth, &again), n);
+    assert_int_equal(sph_wave_components(c, w.depth, &again, NULL), n);
     cs->sim.wavemaker.seed = 8;
-    assert_int_equal(sph_wave_components(c, w.depth, &other), n);
+    assert_int_equal(sph_wave_components(c, w.depth, &other, NULL), n);
     int same = 0;
     for (int i = 0; i < n; i++) {
         assert_true(again[3 * i + 2] == comp[3 * i + 2]);
